@@ -1,0 +1,160 @@
+"""The robot description: frozen dataclasses, no derivation.
+
+A :class:`Robot` is a Denavit–Hartenberg table plus what surrounds it (parameters, base and
+tool transforms, gravity, joint limits, optional inertial data).  Every DH entry is a SymPy
+expression in SI units and **radians**; angle units of a robot file are converted on load
+(``symkin.io.robot_file``).  Change a robot with :func:`dataclasses.replace`, never by mutation.
+
+Conventions (docs/conventions.md):
+
+* standard (distal) DH:  ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
+* modified DH (Craig):   ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, where the
+  joint row holds the ``alpha``/``a`` that precede it.
+* revolute joint:  ``theta_i = q_i + theta`` (``theta`` is the offset), ``d`` constant;
+  prismatic joint: ``d_i = q_i + d`` (``d`` is the offset), ``theta`` constant.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Literal
+
+import sympy as sp
+
+from symkin.errors import RobotError
+
+JointType = Literal["revolute", "prismatic"]
+Convention = Literal["standard", "modified"]
+
+NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
+DEFAULT_GRAVITY: tuple[sp.Expr, sp.Expr, sp.Expr] = (
+    sp.Integer(0),
+    sp.Integer(0),
+    sp.Float("-9.81"),
+)
+IDENTITY = sp.ImmutableMatrix(sp.eye(4))
+
+
+@dataclass(frozen=True)
+class Link:
+    """Inertial data of the link moved by a joint (link i, in frame-i axes).
+
+    ``inertia`` holds the tensor elements ``(ixx, iyy, izz, ixy, ixz, iyz)`` about the centre
+    of mass (URDF convention: ``ixy`` is the (1,2) element of the tensor, i.e. minus the
+    engineering product of inertia).  Friction: ``coulomb * sign(dq) + viscous * dq``, or the
+    Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.
+    """
+
+    mass: sp.Expr
+    com: tuple[sp.Expr, sp.Expr, sp.Expr]
+    inertia: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr]
+    motor_inertia: sp.Expr = sp.Integer(0)
+    coulomb: sp.Expr = sp.Integer(0)
+    viscous: sp.Expr = sp.Integer(0)
+    stribeck_static: sp.Expr | None = None
+    stribeck_velocity: sp.Expr | None = None
+
+    @property
+    def inertia_matrix(self) -> sp.ImmutableMatrix:
+        """The 3x3 inertia tensor about the centre of mass, frame-i axes."""
+        ixx, iyy, izz, ixy, ixz, iyz = self.inertia
+        return sp.ImmutableMatrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One row of the DH table (SI units, radians)."""
+
+    type: JointType
+    theta: sp.Expr = sp.Integer(0)
+    d: sp.Expr = sp.Integer(0)
+    a: sp.Expr = sp.Integer(0)
+    alpha: sp.Expr = sp.Integer(0)
+    name: str | None = None
+    limits: tuple[float, float] | None = None
+    link: Link | None = None
+
+    def __post_init__(self) -> None:
+        if self.type not in ("revolute", "prismatic"):
+            raise RobotError(f"joint 'type' must be \"revolute\" or \"prismatic\", got {self.type!r}")
+        for key in ("theta", "d", "a", "alpha"):
+            object.__setattr__(self, key, sp.sympify(getattr(self, key)))
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A serial robot described by a DH table.
+
+    ``parameters`` maps each named constant to its default value (``None`` when it has no
+    value and stays a pure symbol).  In derivations every parameter is a SymPy symbol of that
+    name; numeric evaluation substitutes the values.  ``base`` and ``tool`` are 4x4
+    homogeneous transforms applied before the first and after the last joint:
+    ``T = base * A_1 * ... * A_n * tool``.
+    """
+
+    name: str
+    joints: tuple[Joint, ...]
+    convention: Convention = "standard"
+    parameters: tuple[tuple[str, float | None], ...] = ()
+    gravity: tuple[sp.Expr, sp.Expr, sp.Expr] = DEFAULT_GRAVITY
+    base: sp.ImmutableMatrix = IDENTITY
+    tool: sp.ImmutableMatrix = IDENTITY
+    title: str = ""
+    source: str = ""
+    file: str | None = field(default=None, compare=False)
+
+    def __post_init__(self) -> None:
+        if not NAME_PATTERN.match(self.name):
+            raise RobotError(f"'name' must match [a-z][a-z0-9_]*, got {self.name!r}")
+        if not self.joints:
+            raise RobotError("a robot needs at least one joint, the joint list is empty")
+        if self.convention not in ("standard", "modified"):
+            raise RobotError(
+                f"'convention' must be \"standard\" or \"modified\", got {self.convention!r}"
+            )
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "parameters", tuple((n, v) for n, v in self.parameters))
+        object.__setattr__(self, "gravity", tuple(sp.sympify(g) for g in self.gravity))
+        object.__setattr__(self, "base", sp.ImmutableMatrix(self.base))
+        object.__setattr__(self, "tool", sp.ImmutableMatrix(self.tool))
+        names = [n for n, _ in self.parameters]
+        if len(set(names)) != len(names):
+            raise RobotError(f"duplicate parameter names in {names}")
+        joint_names = [j.name for j in self.joints if j.name is not None]
+        if len(set(joint_names)) != len(joint_names):
+            raise RobotError(f"duplicate joint names in {joint_names}")
+
+    @property
+    def dof(self) -> int:
+        """Number of joints n."""
+        return len(self.joints)
+
+    @property
+    def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
+        """The parameters as real SymPy symbols, in file order."""
+        return tuple(sp.Symbol(n, real=True) for n, _ in self.parameters)
+
+    def parameter_values(self, overrides: Mapping[str, float] | None = None) -> dict[str, float]:
+        """Numeric value of every parameter, ``overrides`` taking precedence.
+
+        Raises :class:`RobotError` naming the parameters that have no value.
+        """
+        overrides = dict(overrides or {})
+        unknown = sorted(set(overrides) - {n for n, _ in self.parameters})
+        if unknown:
+            known = ", ".join(n for n, _ in self.parameters) or "none"
+            raise RobotError(f"unknown parameter(s) {', '.join(unknown)}; this robot has: {known}")
+        values = {n: overrides.get(n, v) for n, v in self.parameters}
+        missing = [n for n, v in values.items() if v is None]
+        if missing:
+            raise RobotError(
+                f"parameter(s) {', '.join(missing)} have no value; give one with --set NAME=VALUE"
+            )
+        return {n: float(v) for n, v in values.items()}  # type: ignore[arg-type]
+
+
+def joint_symbols(n: int, prefix: str = "q") -> tuple[sp.Symbol, ...]:
+    """Joint variables ``q1..qn`` (or ``dq1..``, ``ddq1..`` with another prefix), real."""
+    return tuple(sp.Symbol(f"{prefix}{i}", real=True) for i in range(1, n + 1))
