@@ -365,7 +365,7 @@ def test_joint_without_link_table_has_no_link() -> None:
 
 
 def test_parameter_named_like_link_symbol_is_fine_when_link_has_data() -> None:
-    text = HEADER + '[parameters]\nm1 = 3\n' + REV + '[joints.link]\nmass = "m1"\n'
+    text = HEADER + "[parameters]\nm1 = 3\n" + REV + '[joints.link]\nmass = "m1"\n'
     assert load(text).joints[0].link.mass == S("m1")  # type: ignore[union-attr]
 
 

@@ -35,6 +35,7 @@ DEFAULT_GRAVITY: tuple[sp.Expr, sp.Expr, sp.Expr] = (
     sp.Float("-9.81"),
 )
 IDENTITY = sp.ImmutableMatrix(sp.eye(4))
+ZERO = sp.Integer(0)
 
 
 @dataclass(frozen=True)
@@ -50,9 +51,9 @@ class Link:
     mass: sp.Expr
     com: tuple[sp.Expr, sp.Expr, sp.Expr]
     inertia: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr]
-    motor_inertia: sp.Expr = sp.Integer(0)
-    coulomb: sp.Expr = sp.Integer(0)
-    viscous: sp.Expr = sp.Integer(0)
+    motor_inertia: sp.Expr = ZERO
+    coulomb: sp.Expr = ZERO
+    viscous: sp.Expr = ZERO
     stribeck_static: sp.Expr | None = None
     stribeck_velocity: sp.Expr | None = None
 
@@ -68,17 +69,17 @@ class Joint:
     """One row of the DH table (SI units, radians)."""
 
     type: JointType
-    theta: sp.Expr = sp.Integer(0)
-    d: sp.Expr = sp.Integer(0)
-    a: sp.Expr = sp.Integer(0)
-    alpha: sp.Expr = sp.Integer(0)
+    theta: sp.Expr = ZERO
+    d: sp.Expr = ZERO
+    a: sp.Expr = ZERO
+    alpha: sp.Expr = ZERO
     name: str | None = None
     limits: tuple[float, float] | None = None
     link: Link | None = None
 
     def __post_init__(self) -> None:
         if self.type not in ("revolute", "prismatic"):
-            raise RobotError(f"joint 'type' must be \"revolute\" or \"prismatic\", got {self.type!r}")
+            raise RobotError(f'joint \'type\' must be "revolute" or "prismatic", got {self.type!r}')
         for key in ("theta", "d", "a", "alpha"):
             object.__setattr__(self, key, sp.sympify(getattr(self, key)))
 
@@ -112,7 +113,7 @@ class Robot:
             raise RobotError("a robot needs at least one joint, the joint list is empty")
         if self.convention not in ("standard", "modified"):
             raise RobotError(
-                f"'convention' must be \"standard\" or \"modified\", got {self.convention!r}"
+                f'\'convention\' must be "standard" or "modified", got {self.convention!r}'
             )
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "parameters", tuple((n, v) for n, v in self.parameters))

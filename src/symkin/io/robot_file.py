@@ -404,7 +404,7 @@ def _joint(table: Any, ctx: _Context) -> Joint:
 
 def _joint_type(table: Mapping[str, Any], ctx: _Context) -> str:
     if "type" not in table:
-        raise ctx.error("'type' is missing; it must be \"revolute\" or \"prismatic\"")
+        raise ctx.error('\'type\' is missing; it must be "revolute" or "prismatic"')
     return _choice(table, "type", JOINT_TYPES, ctx)
 
 

@@ -1,0 +1,156 @@
+"""Symbolic derivations: a :class:`Robot` in, an immutable :class:`Model` out.
+
+Nothing here reads files, prints or imports code emitters.  Each quantity is derived on first
+use and cached on the model; :func:`derive` caches models per robot.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+
+import sympy as sp
+
+from symkin.derive import jacobians
+from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
+from symkin.derive.motion import PointMotion, point_motion
+from symkin.robot import Robot, joint_symbols
+
+__all__ = ["Model", "PointMotion", "derive"]
+
+
+@dataclass(frozen=True)
+class Model:
+    """Closed-form kinematics of one robot (SymPy expressions in ``q1..qn`` and parameters).
+
+    Velocities use ``dq1..dqn`` and accelerations ``ddq1..ddqn``.
+    """
+
+    robot: Robot
+
+    @cached_property
+    def kinematics(self) -> Kinematics:
+        return kinematics_from_robot(self.robot)
+
+    @property
+    def q(self) -> tuple[sp.Symbol, ...]:
+        return self.kinematics.q
+
+    @cached_property
+    def dq(self) -> tuple[sp.Symbol, ...]:
+        return joint_symbols(self.robot.dof, "dq")
+
+    @cached_property
+    def ddq(self) -> tuple[sp.Symbol, ...]:
+        return joint_symbols(self.robot.dof, "ddq")
+
+    @property
+    def link_transforms(self) -> tuple[sp.ImmutableMatrix, ...]:
+        """``A_1 .. A_n``: pose of frame i in frame i-1."""
+        return self.kinematics.link_transforms
+
+    @property
+    def frame_transforms(self) -> tuple[sp.ImmutableMatrix, ...]:
+        """``T_0_0 (= base) .. T_0_n``."""
+        return self.kinematics.frame_transforms
+
+    @property
+    def forward_kinematics(self) -> sp.ImmutableMatrix:
+        """``T = base A_1 ... A_n tool``."""
+        return self.kinematics.forward_kinematics
+
+    @property
+    def tool_position(self) -> sp.ImmutableMatrix:
+        return self.kinematics.tool_position
+
+    @cached_property
+    def euler_zyx(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """``(psi, theta, phi)`` with ``R = Rz(psi) Ry(theta) Rx(phi)``."""
+        return euler_zyx_of_tool(self.kinematics, "atan2")
+
+    @cached_property
+    def euler_zyx_lecture(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """The same angles by the lecture's eq. (14.7) form of ``theta``."""
+        return euler_zyx_of_tool(self.kinematics, "lecture")
+
+    @cached_property
+    def geometric_jacobian(self) -> sp.ImmutableMatrix:
+        """6 x n, base frame, linear rows first."""
+        return jacobians.geometric_jacobian(self.robot, self.kinematics)
+
+    @cached_property
+    def geometric_jacobian_tool(self) -> sp.ImmutableMatrix:
+        """The geometric Jacobian with both blocks expressed in the tool frame."""
+        rotation = self.kinematics.tool_rotation.T
+        return jacobians.rotate_jacobian(self.kinematics, self.geometric_jacobian, rotation)
+
+    @cached_property
+    def position_jacobian(self) -> sp.ImmutableMatrix:
+        """Analytic ``dp/dq`` (3 x n)."""
+        return jacobians.position_jacobian(self.kinematics)
+
+    @cached_property
+    def euler_zyx_jacobian(self) -> sp.ImmutableMatrix:
+        """Analytic Jacobian of ``[p; psi, theta, phi]`` (6 x n)."""
+        return jacobians.analytic_jacobian(self.kinematics, self.euler_zyx)
+
+    @cached_property
+    def geometric_jacobian_derivative(self) -> sp.ImmutableMatrix:
+        """``dJ/dt`` of the geometric Jacobian, in ``q`` and ``dq``."""
+        return jacobians.jacobian_derivative(self.kinematics, self.geometric_jacobian, self.dq)
+
+    @cached_property
+    def task_rows(self) -> tuple[str, ...]:
+        """Default rows of the task Jacobian (see :func:`jacobians.default_task_rows`)."""
+        return jacobians.default_task_rows(self.geometric_jacobian)
+
+    def task_jacobian(self, rows: Sequence[str] | None = None) -> sp.ImmutableMatrix:
+        """The chosen rows (names ``x y z wx wy wz``) of the geometric Jacobian."""
+        return jacobians.task_jacobian(self.geometric_jacobian, rows or self.task_rows)
+
+    def determinant(self, rows: Sequence[str] | None = None) -> sp.Expr | None:
+        """Factored determinant of the task Jacobian; ``None`` when it is not square."""
+        return self._determinant(tuple(rows or self.task_rows))
+
+    @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
+    def _determinant(self, rows: tuple[str, ...]) -> sp.Expr | None:
+        jacobians.rows_from_names(rows)
+        return jacobians.task_jacobian_determinant(
+            self.robot, self.kinematics, self.geometric_jacobian, rows
+        )
+
+    def singular_configurations(self, rows: Sequence[str] | None = None) -> tuple[sp.Eq, ...]:
+        """Where the task Jacobian's determinant vanishes (empty when it is not square)."""
+        determinant = self.determinant(rows)
+        if determinant is None:
+            return ()
+        return jacobians.singular_configurations(determinant, self.q)
+
+    def inverse_task_jacobian(self, rows: Sequence[str] | None = None) -> sp.ImmutableMatrix:
+        """``adj(J) / det(J)`` of the square task Jacobian."""
+        determinant = self.determinant(rows)
+        if determinant is None:
+            raise ValueError("the task Jacobian is not square; choose n rows")
+        return jacobians.inverse_from_adjugate(
+            self.kinematics, self.task_jacobian(rows), determinant
+        )
+
+    def manipulability(self, rows: Sequence[str] | None = None) -> sp.Expr:
+        """Yoshikawa's ``sqrt(det(J J^T))`` of the task Jacobian (``|det J|`` when square)."""
+        determinant = self.determinant(rows)
+        if determinant is not None:
+            return sp.Abs(determinant)
+        jacobian = self.task_jacobian(rows)
+        gram = self.kinematics.contract(jacobian * jacobian.T)
+        return sp.sqrt(gram.det(method="berkowitz"))
+
+    def point_motion(self, link: int, point: Sequence[sp.Expr]) -> PointMotion:
+        """Position, velocity and acceleration of a point fixed in ``link`` (base frame)."""
+        return point_motion(self.robot, self.kinematics, link, point, self.dq, self.ddq)
+
+
+@lru_cache(maxsize=32)
+def derive(robot: Robot) -> Model:
+    """The symbolic model of ``robot`` (cached: the same robot gives the same model)."""
+    return Model(robot)

@@ -1,0 +1,173 @@
+"""Analytic and geometric Jacobians, dJ/dt, task Jacobian, determinant and singularities.
+
+Geometric Jacobian ``J = [Jv; Jw]`` (6 x n, linear rows first, base frame; Spong eq. 4.52)::
+
+    revolute i:   [ z_{i-1} x (p - o_{i-1}) ;  z_{i-1} ]
+    prismatic i:  [ z_{i-1}                 ;  0       ]
+
+where ``z_{i-1}``, ``o_{i-1}`` are the axis and origin of joint i (frame i-1 in standard DH,
+frame i in modified DH) and ``p`` the tool position.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+
+from symkin.derive.kinematics import Kinematics
+from symkin.derive.simplify import factored_determinant
+from symkin.errors import SymkinError
+from symkin.robot import Robot
+
+ROW_NAMES = ("x", "y", "z", "wx", "wy", "wz")
+# Rows a task Jacobian draws from, in order of preference (planar arms: x, y, then wz).
+TASK_ROW_PREFERENCE = ("x", "y", "z", "wz", "wx", "wy")
+
+
+def _geometric_columns(
+    robot: Robot, kinematics: Kinematics, point: sp.MatrixBase
+) -> list[sp.Matrix]:
+    columns = []
+    for joint, frame in zip(robot.joints, kinematics.joint_frames, strict=True):
+        axis, origin = frame[:3, 2], frame[:3, 3]
+        if joint.type == "revolute":
+            columns.append(sp.Matrix.vstack(axis.cross(point - origin), axis))
+        else:
+            columns.append(sp.Matrix.vstack(axis, sp.zeros(3, 1)))
+    return columns
+
+
+def geometric_jacobian(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatrix:
+    """6 x n geometric Jacobian of the tool point, base frame, linear rows first."""
+    columns = _geometric_columns(robot, kinematics, kinematics.tool_position)
+    return kinematics.contract(sp.Matrix.hstack(*columns))
+
+
+def rotate_jacobian(
+    kinematics: Kinematics, jacobian: sp.MatrixBase, rotation: sp.MatrixBase
+) -> sp.ImmutableMatrix:
+    """``diag(R, R) J``: a 6-row Jacobian expressed in another frame."""
+    block = sp.diag(sp.Matrix(rotation), sp.Matrix(rotation))
+    return kinematics.contract(block * jacobian)
+
+
+def position_jacobian(kinematics: Kinematics) -> sp.ImmutableMatrix:
+    """Analytic position Jacobian ``dp/dq`` (3 x n)."""
+    return kinematics.contract(kinematics.tool_position.jacobian(kinematics.q))
+
+
+def analytic_jacobian(kinematics: Kinematics, orientation: Sequence[sp.Expr]) -> sp.ImmutableMatrix:
+    """Analytic Jacobian of ``[p; orientation]`` (e.g. Z-Y-X Euler angles), ``d/dq``."""
+    pose = sp.Matrix.vstack(kinematics.tool_position, sp.Matrix(orientation))
+    return sp.ImmutableMatrix(pose.jacobian(kinematics.q).applyfunc(sp.cancel))
+
+
+def jacobian_derivative(
+    kinematics: Kinematics, jacobian: sp.MatrixBase, dq: Sequence[sp.Symbol]
+) -> sp.ImmutableMatrix:
+    """``dJ/dt = sum_i dJ/dq_i * dq_i``."""
+    rate = sp.zeros(*jacobian.shape)
+    for qi, dqi in zip(kinematics.q, dq, strict=True):
+        rate += jacobian.diff(qi) * dqi
+    return kinematics.contract(rate)
+
+
+def rows_from_names(names: Sequence[str]) -> tuple[int, ...]:
+    """Row indices of a geometric Jacobian from names such as ``("x", "y", "wz")``."""
+    unknown = [n for n in names if n not in ROW_NAMES]
+    if unknown:
+        raise SymkinError(
+            f"unknown task row(s) {', '.join(unknown)}; expected names from {', '.join(ROW_NAMES)}"
+        )
+    if len(set(names)) != len(names):
+        raise SymkinError(f"task rows repeat: {', '.join(names)}")
+    return tuple(ROW_NAMES.index(n) for n in names)
+
+
+def default_task_rows(jacobian: sp.MatrixBase) -> tuple[str, ...]:
+    """The rows of the task Jacobian when the user chooses none.
+
+    All six when n = 6; otherwise the first n rows that are not identically zero, in the order
+    x, y, z, wz, wx, wy (planar 2R: x, y; SCARA with prismatic z: x, y, z; planar 3R: x, y, wz).
+    """
+    n = jacobian.cols
+    if n == 6:
+        return ROW_NAMES
+    nonzero = [
+        name
+        for name in TASK_ROW_PREFERENCE
+        if any(e != 0 for e in jacobian.row(ROW_NAMES.index(name)))
+    ]
+    return tuple(nonzero[:n])
+
+
+def task_jacobian(jacobian: sp.MatrixBase, rows: Sequence[str]) -> sp.ImmutableMatrix:
+    """The rows ``rows`` (names) of a geometric Jacobian."""
+    return sp.ImmutableMatrix(sp.Matrix.vstack(*(jacobian.row(i) for i in rows_from_names(rows))))
+
+
+def flange_jacobian(robot: Robot, kinematics: Kinematics) -> sp.Matrix:
+    """The geometric Jacobian of the origin of frame n (the flange, before the tool).
+
+    It has the same determinant as the tool-point Jacobian: moving the velocity reference
+    point by ``r`` multiplies ``J`` by ``[[I, -[r]x], [0, I]]``, whose determinant is 1.  Its
+    entries are shorter because the tool offset drops out.
+    """
+    flange = kinematics.frame_transforms[-1][:3, 3]
+    return sp.Matrix.hstack(*_geometric_columns(robot, kinematics, flange))
+
+
+def task_jacobian_determinant(
+    robot: Robot, kinematics: Kinematics, jacobian: sp.MatrixBase, rows: Sequence[str]
+) -> sp.Expr | None:
+    """Factored determinant of the task Jacobian, or ``None`` when it is not square."""
+    if len(rows) != robot.dof:
+        return None
+    if tuple(rows) == ROW_NAMES:
+        return factored_determinant(flange_jacobian(robot, kinematics), kinematics.q)
+    return factored_determinant(task_jacobian(jacobian, rows), kinematics.q)
+
+
+def _solve_simple_factor(factor: sp.Expr, variable: sp.Symbol) -> list[sp.Expr] | None:
+    """Roots of ``sin(q)``, ``cos(q)`` (in (-pi, pi]) or a low-degree polynomial in ``q``.
+
+    Other factors are left as equations: ``solve`` would turn ``a3 sin(q3) + d4 cos(q3)``
+    into ``2 atan(...)`` forms that read worse than the equation itself.
+    """
+    if isinstance(factor, sp.sin | sp.cos) and factor.args[0] == variable:
+        roots = [sp.Integer(0), sp.pi] if isinstance(factor, sp.sin) else [-sp.pi / 2, sp.pi / 2]
+        return roots
+    if factor.is_polynomial(variable) and sp.degree(factor, variable) <= 2:
+        return sorted(sp.solve(factor, variable), key=sp.default_sort_key)
+    return None
+
+
+def singular_configurations(determinant: sp.Expr, q: Sequence[sp.Symbol]) -> tuple[sp.Eq, ...]:
+    """Conditions under which a factored determinant vanishes.
+
+    A factor ``sin(qi)``, ``cos(qi)`` or polynomial in one joint variable is solved for it
+    (``sin(q2)`` gives ``q2 = 0`` and ``q2 = pi``); any other factor is returned as the equation
+    ``factor = 0``.
+    """
+    joint_set = set(q)
+    conditions: list[sp.Eq] = []
+    for factor in sp.Mul.make_args(determinant):
+        base = factor.base if factor.is_Pow else factor
+        variables = sorted(base.free_symbols & joint_set, key=lambda s: s.name)
+        if not variables:
+            continue
+        roots = _solve_simple_factor(base, variables[0]) if len(variables) == 1 else None
+        if roots is None:
+            conditions.append(sp.Eq(base, 0))
+        else:
+            conditions.extend(sp.Eq(variables[0], root) for root in roots)
+    return tuple(conditions)
+
+
+def inverse_from_adjugate(
+    kinematics: Kinematics, matrix: sp.MatrixBase, determinant: sp.Expr
+) -> sp.ImmutableMatrix:
+    """``J^-1 = adj(J) / det(J)``, the adjugate contracted entry by entry."""
+    adjugate = kinematics.contract(sp.Matrix(matrix).adjugate(method="berkowitz"))
+    return sp.ImmutableMatrix(adjugate / determinant)

@@ -1,0 +1,154 @@
+"""Link transforms and forward kinematics (pure SymPy).
+
+Standard DH (Spong; docs/conventions.md)::
+
+    A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)
+
+Modified DH (Craig, eq. 3.6)::
+
+    A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)
+
+and ``T = base * A_1 * ... * A_n * tool``.  Each product is contracted with
+:func:`~symkin.derive.simplify.contract_trig` as it is formed, so ``T_0_i`` stays readable
+(``sin(q2 + q3)`` rather than four products).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import sympy as sp
+
+from symkin.derive.simplify import contract_matrix
+from symkin.robot import Joint, Robot, joint_symbols
+from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z
+
+
+def joint_dh_values(joint: Joint, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
+    """``(theta, d, a, alpha)`` of one joint with its variable ``q`` inserted."""
+    if joint.type == "revolute":
+        return q + joint.theta, joint.d, joint.a, joint.alpha
+    return joint.theta, q + joint.d, joint.a, joint.alpha
+
+
+def standard_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -> sp.Matrix:
+    """``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` in closed form."""
+    ct, st, ca, sa = sp.cos(theta), sp.sin(theta), sp.cos(alpha), sp.sin(alpha)
+    return sp.Matrix(
+        [
+            [ct, -st * ca, st * sa, a * ct],
+            [st, ct * ca, -ct * sa, a * st],
+            [0, sa, ca, d],
+            [0, 0, 0, 1],
+        ]
+    )
+
+
+def modified_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -> sp.Matrix:
+    """``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` in closed form (Craig's eq. 3.6)."""
+    ct, st, ca, sa = sp.cos(theta), sp.sin(theta), sp.cos(alpha), sp.sin(alpha)
+    return sp.Matrix(
+        [
+            [ct, -st, 0, a],
+            [st * ca, ct * ca, -sa, -sa * d],
+            [st * sa, ct * sa, ca, ca * d],
+            [0, 0, 0, 1],
+        ]
+    )
+
+
+def link_transform(joint: Joint, q: sp.Symbol, convention: str) -> sp.ImmutableMatrix:
+    """``A_i``: pose of frame i in frame i-1 for one joint."""
+    matrix = standard_dh_matrix if convention == "standard" else modified_dh_matrix
+    return sp.ImmutableMatrix(matrix(*joint_dh_values(joint, q)))
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """Forward kinematics of a robot, all in the base frame of ``base``'s parent.
+
+    ``frame_transforms[i]`` is ``T_0_i = base * A_1 ... A_i`` (index 0 is ``base``), and
+    ``forward_kinematics`` is ``T = T_0_n * tool``.  ``joint_frames[i]`` is the frame whose
+    z axis is joint i+1's axis: frame i in standard DH, frame i+1 in modified DH.
+    """
+
+    q: tuple[sp.Symbol, ...]
+    link_transforms: tuple[sp.ImmutableMatrix, ...]
+    frame_transforms: tuple[sp.ImmutableMatrix, ...]
+    joint_frames: tuple[sp.ImmutableMatrix, ...]
+    forward_kinematics: sp.ImmutableMatrix
+    angle_sums: bool
+
+    def contract(self, matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
+        """The simplification policy for this chain (see :func:`contract_matrix`)."""
+        return contract_matrix(matrix, self.angle_sums)
+
+    @property
+    def tool_position(self) -> sp.ImmutableMatrix:
+        """Tool position ``p`` (3x1), the translation of ``T``."""
+        return self.forward_kinematics[:3, 3]
+
+    @property
+    def tool_rotation(self) -> sp.ImmutableMatrix:
+        """Tool orientation ``R`` (3x3), the rotation of ``T``."""
+        return self.forward_kinematics[:3, :3]
+
+
+def _rotation_between_revolute_axes(robot: Robot, j: int, k: int) -> sp.Matrix:
+    """Constant part of the rotation from joint j's axis frame to joint k's (0-based, j < k).
+
+    The variable rotation about joint j's own axis is left out: it cannot tilt that axis.
+    """
+    rotation = sp.eye(3)
+    joints = robot.joints
+    if robot.convention == "standard":
+        rotation *= rot_x(joints[j].alpha)
+        for m in range(j + 1, k):
+            rotation *= rot_z(joints[m].theta) * rot_x(joints[m].alpha)
+    else:
+        for m in range(j + 1, k):
+            rotation *= rot_x(joints[m].alpha) * rot_z(joints[m].theta)
+        rotation *= rot_x(joints[k].alpha)
+    return rotation
+
+
+def has_parallel_revolute_axes(robot: Robot) -> bool:
+    """Whether two successive revolute joints have parallel axes in every configuration.
+
+    Only then can sums of joint angles (``sin(q2 + q3)``) arise in the kinematics; a chain
+    like the Panda's, with every axis at 90 degrees to the next, has none.
+    """
+    revolute = [i for i, joint in enumerate(robot.joints) if joint.type == "revolute"]
+    for j, k in itertools.pairwise(revolute):
+        z_component = sp.nsimplify(_rotation_between_revolute_axes(robot, j, k)[2, 2])
+        if not z_component.is_number or abs(z_component) == 1:
+            return True
+    return False
+
+
+def kinematics_from_robot(robot: Robot) -> Kinematics:
+    """Per-joint and cumulative transforms and ``T`` of ``robot`` (symbolic)."""
+    q = joint_symbols(robot.dof)
+    links = tuple(
+        link_transform(joint, qi, robot.convention)
+        for joint, qi in zip(robot.joints, q, strict=True)
+    )
+    angle_sums = has_parallel_revolute_axes(robot)
+    frames = [robot.base]
+    for link in links:
+        frames.append(contract_matrix(frames[-1] * link, angle_sums))
+    joint_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
+    tool = contract_matrix(frames[-1] * robot.tool, angle_sums)
+    return Kinematics(q, links, tuple(frames), tuple(joint_frames), tool, angle_sums)
+
+
+def euler_zyx_of_tool(kinematics: Kinematics, method: str = "atan2") -> tuple[sp.Expr, ...]:
+    """``(psi, theta, phi)`` with ``R = Rz(psi) Ry(theta) Rx(phi)``, symbolic.
+
+    ``method="atan2"`` uses ``theta = atan2(-r31, sqrt(r11^2 + r21^2))``;
+    ``method="lecture"`` the lecture's eq. (14.7)
+    ``theta = atan2(-r31, r11 cos psi + r21 sin psi)``.
+    """
+    angles = euler_zyx_from_rotation(kinematics.tool_rotation, method=method)
+    return tuple(sp.sympify(a) for a in (angles.psi, angles.theta, angles.phi))

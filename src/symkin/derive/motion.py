@@ -1,0 +1,82 @@
+"""Position, velocity and acceleration of a point fixed in a link (U-matrix method).
+
+With ``W_i = base A_1 ... A_i`` and a point ``r`` given in frame i (homogeneous
+coordinates)::
+
+    p = W_i r
+    v = sum_j U_ij r dq_j
+    a = (sum_j sum_k U_ijk dq_j dq_k + sum_j U_ij ddq_j) r
+
+``U_ij = dW_i/dq_j`` and ``U_ijk = d^2 W_i / dq_j dq_k`` (zero for j > i).  The derivative
+of a joint transform is ``Q A`` with ``Q_R = [[0,-1,0,0],[1,0,0,0],0,0]`` for a revolute
+and ``Q_P`` with a single 1 at (3,4) for a prismatic joint, taken in the joint's own frame
+``Z_j`` (frame j-1 in standard DH, frame j in modified DH).  Carried to the base frame this is
+the twist matrix ``D_j = Z_j Q_j Z_j^-1``, and (Paul, "Robot Manipulators", ch. 6)::
+
+    U_ij  = D_j W_i
+    U_ijk = D_min(j,k) D_max(j,k) W_i
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+
+from symkin.derive.kinematics import Kinematics
+from symkin.errors import SymkinError
+from symkin.robot import Robot
+from symkin.spatial import transform_inverse
+
+Q_REVOLUTE = sp.ImmutableMatrix([[0, -1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]])
+Q_PRISMATIC = sp.ImmutableMatrix([[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
+
+
+@dataclass(frozen=True)
+class PointMotion:
+    """Base-frame position, velocity and acceleration (3x1 each) of a point on a link."""
+
+    position: sp.ImmutableMatrix
+    velocity: sp.ImmutableMatrix
+    acceleration: sp.ImmutableMatrix
+
+
+def twist_matrices(robot: Robot, kinematics: Kinematics) -> tuple[sp.ImmutableMatrix, ...]:
+    """``D_j = Z_j Q_j Z_j^-1`` for every joint (4x4, base frame)."""
+    twists = []
+    for joint, frame in zip(robot.joints, kinematics.joint_frames, strict=True):
+        q_matrix = Q_REVOLUTE if joint.type == "revolute" else Q_PRISMATIC
+        twists.append(kinematics.contract(frame * q_matrix * transform_inverse(frame)))
+    return tuple(twists)
+
+
+def point_motion(
+    robot: Robot,
+    kinematics: Kinematics,
+    link: int,
+    point: Sequence[sp.Expr],
+    dq: Sequence[sp.Symbol],
+    ddq: Sequence[sp.Symbol],
+) -> PointMotion:
+    """Motion of ``point`` (coordinates in frame ``link``; 0 is the base frame)."""
+    if not 0 <= link <= robot.dof:
+        raise SymkinError(f"link must be between 0 and {robot.dof}, got {link}")
+    if len(point) != 3:
+        raise SymkinError(f"a point needs 3 coordinates, got {len(point)}")
+    twists = twist_matrices(robot, kinematics)[:link]
+    world = kinematics.frame_transforms[link] * sp.Matrix([*point, 1])
+    velocity = sp.zeros(4, 1)
+    acceleration = sp.zeros(4, 1)
+    for j, twist_j in enumerate(twists):
+        u_j = twist_j * world
+        velocity += u_j * dq[j]
+        acceleration += u_j * ddq[j]
+        for k, twist_k in enumerate(twists):
+            first, second = (twist_k, twist_j) if k <= j else (twist_j, twist_k)
+            acceleration += first * second * world * dq[j] * dq[k]
+    return PointMotion(
+        kinematics.contract(world[:3, 0]),
+        kinematics.contract(velocity[:3, 0]),
+        kinematics.contract(acceleration[:3, 0]),
+    )

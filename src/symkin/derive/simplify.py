@@ -1,0 +1,116 @@
+"""The one simplification policy of symkin.
+
+General-purpose ``simplify``/``trigsimp`` do not finish on a 6-DOF arm in reasonable time, so
+symkin uses two targeted steps instead:
+
+* :func:`contract_trig`: expand, then contract products of sines and cosines into sines and
+  cosines of sums of angles (Fu et al.'s rule TR10i), e.g.
+  ``cos(q1)cos(q2) - sin(q1)sin(q2) -> cos(q1 + q2)``.  Applied after every matrix product
+  it keeps forward kinematics readable and small.
+* :func:`factor_trig`: factor an expression that is polynomial in the sines and cosines of
+  the joint angles (a Jacobian determinant).  Sines and cosines become polynomial variables
+  ``s_i``, ``c_i``, the polynomial is factored exactly, factors equal to ``s_i^2 + c_i^2``
+  (identically one) are dropped, and each remaining factor is contracted back to trigonometric
+  form.  A SCARA's determinant comes out as ``L1*L2*sin(q2)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+from sympy.simplify.fu import TR10i
+
+
+def contract_trig(expr: sp.Expr, angle_sums: bool = True) -> sp.Expr:
+    """Expand ``expr`` and contract sums of products into functions of summed angles.
+
+    With ``angle_sums=False`` (a chain without parallel joint axes, where no sum of joint
+    angles can arise) only expand: TR10i's pairwise search costs seconds on a 7-DOF arm
+    and would find nothing.
+    """
+    expanded = sp.expand(expr)
+    if not angle_sums or not expanded.has(sp.sin, sp.cos):
+        return expanded
+    return TR10i(expanded)
+
+
+def contract_matrix(matrix: sp.MatrixBase, angle_sums: bool = True) -> sp.ImmutableMatrix:
+    """:func:`contract_trig` applied to every entry."""
+    return sp.ImmutableMatrix(matrix.applyfunc(lambda e: contract_trig(e, angle_sums)))
+
+
+@dataclass(frozen=True)
+class _CircleVariables:
+    """Polynomial stand-ins ``s_i = sin(q_i)``, ``c_i = cos(q_i)`` for a set of angles."""
+
+    forward: dict[sp.Expr, sp.Symbol]
+    back: dict[sp.Symbol, sp.Expr]
+    pairs: tuple[tuple[sp.Symbol, sp.Symbol], ...]
+
+    @classmethod
+    def of(cls, angles: Sequence[sp.Symbol]) -> _CircleVariables:
+        pairs = tuple((sp.Dummy(f"c_{q}"), sp.Dummy(f"s_{q}")) for q in angles)
+        forward: dict[sp.Expr, sp.Symbol] = {}
+        for q, (c, s) in zip(angles, pairs, strict=True):
+            forward[sp.cos(q)], forward[sp.sin(q)] = c, s
+        return cls(forward, {v: k for k, v in forward.items()}, pairs)
+
+    def polynomial(self, expr: sp.Expr) -> sp.Expr:
+        # expand_trig first: sin(q1 + q2) must become products of s_i, c_i.
+        return sp.expand(sp.expand_trig(expr)).xreplace(self.forward)
+
+    def constant_value(self, factor: sp.Expr) -> sp.Expr | None:
+        """The value of ``factor`` if it is constant on ``c_i^2 + s_i^2 = 1``, else ``None``.
+
+        Catches ``c_1^2 + s_1^2`` and compound forms such as ``s_1^2 s_2^2 + c_1^2 s_2^2 +
+        c_2^2`` (a Stanford arm's determinant has one).
+        """
+        pairs = [(c, s) for c, s in self.pairs if factor.has(c) or factor.has(s)]
+        if not pairs:
+            return None
+        ideal = [c**2 + s**2 - 1 for c, s in pairs]
+        generators = [v for pair in pairs for v in pair]
+        _, remainder = sp.reduced(factor, ideal, *generators)
+        return remainder if remainder.is_number else None
+
+    def factor(self, polynomial: sp.Expr) -> sp.Expr:
+        """Exact factorisation; constant factors on the circle folded into the coefficient."""
+        if polynomial.has(sp.Float):
+            # Factoring over floating-point coefficients is not exact; contract instead.
+            return contract_trig(polynomial.xreplace(self.back))
+        coefficient, factors = sp.factor_list(polynomial)
+        result = coefficient
+        for factor, multiplicity in factors:
+            constant = self.constant_value(factor)
+            if constant is None:
+                result *= contract_trig(factor.xreplace(self.back)) ** multiplicity
+            else:
+                result *= constant**multiplicity
+        return result
+
+
+def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
+    """Factor ``expr``, polynomial in ``sin``/``cos`` of ``angles``, into readable factors."""
+    circle = _CircleVariables.of(angles)
+    return circle.factor(circle.polynomial(expr))
+
+
+def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> sp.Expr:
+    """Determinant of a square matrix polynomial in ``sin``/``cos`` of ``angles``, factored.
+
+    The determinant is computed exactly on the polynomial ring (SymPy's ``DomainMatrix``),
+    which is orders of magnitude faster than expanding trigonometric cofactors.
+    """
+    if not matrix.is_square:
+        raise ValueError("determinant of a non-square matrix")
+    circle = _CircleVariables.of(angles)
+    polynomial_matrix = sp.Matrix(matrix).applyfunc(circle.polynomial)
+    if polynomial_matrix.has(sp.Float):
+        determinant = sp.expand(polynomial_matrix.det(method="berkowitz"))
+    else:
+        domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
+        determinant = domain_matrix.domain.to_sympy(domain_matrix.det())
+    return circle.factor(determinant)
