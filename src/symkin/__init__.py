@@ -1,6 +1,34 @@
-"""symkin: Denavit–Hartenberg tables to closed-form kinematics and verified code."""
+"""symkin: Denavit–Hartenberg tables to closed-form kinematics and verified code.
 
+The public API::
+
+    robot = symkin.load_robot("scara")        # catalogue name or path to a .toml file
+    model = symkin.derive(robot)               # closed-form kinematics (SymPy)
+    model.forward_kinematics, model.geometric_jacobian, model.determinant()
+    state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+"""
+
+from symkin.derive import Model, PointMotion, derive
 from symkin.errors import RobotError, SymkinError
+from symkin.evaluate import KinematicState, PointState, kinematic_state, numeric_function
+from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.robot import Joint, Link, Robot, joint_symbols
 
-__all__ = ["Joint", "Link", "Robot", "RobotError", "SymkinError", "joint_symbols"]
+__all__ = [
+    "Joint",
+    "KinematicState",
+    "Link",
+    "Model",
+    "PointMotion",
+    "PointState",
+    "Robot",
+    "RobotError",
+    "SymkinError",
+    "catalogue_names",
+    "derive",
+    "joint_symbols",
+    "kinematic_state",
+    "load_robot",
+    "numeric_function",
+    "robot_from_toml",
+]

@@ -1,5 +1,343 @@
-"""The `symkin` command (placeholder until the CLI lands)."""
+"""The ``symkin`` command: a thin layer over the public API.
+
+User mistakes (bad files, bad values) print one ``symkin: error: ...`` line and exit with
+status 2; they never show a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+
+import numpy as np
+import sympy as sp
+
+from symkin.derive import Model, derive
+from symkin.derive.kinematics import joint_dh_values
+from symkin.errors import SymkinError
+from symkin.evaluate import KinematicState, kinematic_state
+from symkin.io import catalogue_names, load_robot
+from symkin.robot import Robot
+
+DEFAULT_ROBOT = "scara"
+# Options whose values may start with a minus sign ("--q -30deg,45deg").
+VALUE_OPTIONS = frozenset({"--q", "--dq", "--ddq", "--set", "--point", "--task"})
 
 
-def main() -> int:
+# ---------------------------------------------------------------- value parsing
+
+
+def number_from_text(text: str, what: str) -> float:
+    """A float from ``"0.5"``, ``"-30deg"`` or ``"pi/2"``-free plain numbers."""
+    raw = text.strip()
+    scale = 1.0
+    if raw.endswith("deg"):
+        raw, scale = raw[: -len("deg")], math.pi / 180
+    try:
+        value = float(raw)
+    except ValueError:
+        raise SymkinError(f"{what}: expected a number such as 0.5 or 30deg, got {text!r}") from None
+    if not math.isfinite(value):
+        raise SymkinError(f"{what}: expected a finite number, got {text!r}")
+    return value * scale
+
+
+def joint_values(text: str, option: str, robot: Robot) -> list[float]:
+    """One value per joint from ``"v1,v2,..."``; ``deg`` only for revolute joints."""
+    parts = [p for p in text.split(",")]
+    if len(parts) != robot.dof:
+        raise SymkinError(
+            f"{option}: {robot.name} has {robot.dof} joints, got {len(parts)} value(s) in {text!r}"
+        )
+    values = []
+    for i, (part, joint) in enumerate(zip(parts, robot.joints, strict=True), start=1):
+        if part.strip().endswith("deg") and joint.type == "prismatic":
+            raise SymkinError(f"{option}: joint {i} is prismatic; give a length, not {part!r}")
+        values.append(number_from_text(part, f"{option} joint {i}"))
+    return values
+
+
+def parameter_overrides(items: Sequence[str]) -> dict[str, float]:
+    """``["L1=0.3", ...]`` as a dict."""
+    overrides = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise SymkinError(f"--set: expected NAME=VALUE, got {item!r}")
+        overrides[name.strip()] = number_from_text(value, f"--set {name.strip()}")
+    return overrides
+
+
+def point_from_text(text: str, robot: Robot) -> tuple[int, list[float]]:
+    """``"LINK:X,Y,Z"`` as ``(link, [x, y, z])``."""
+    link_text, sep, coordinates = text.partition(":")
+    try:
+        link = int(link_text)
+    except ValueError:
+        link = -1
+    if not sep or not 0 <= link <= robot.dof:
+        raise SymkinError(
+            f"--point: expected LINK:X,Y,Z with LINK from 0 to {robot.dof}, got {text!r}"
+        )
+    values = coordinates.split(",")
+    if len(values) != 3:
+        raise SymkinError(f"--point: expected three coordinates X,Y,Z, got {coordinates!r}")
+    return link, [number_from_text(v, "--point") for v in values]
+
+
+def task_rows_from_text(text: str | None) -> tuple[str, ...] | None:
+    """``"x,y,wz"`` as a tuple of row names (validated by the model)."""
+    if text is None:
+        return None
+    return tuple(part.strip() for part in text.split(",") if part.strip())
+
+
+def join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``["--q", "-30deg"]`` -> ``["--q=-30deg"]`` so argparse does not see an option."""
+    joined: list[str] = []
+    i = 0
+    while i < len(argv):
+        arg = argv[i]
+        if arg in VALUE_OPTIONS and i + 1 < len(argv) and argv[i + 1].startswith("-"):
+            joined.append(f"{arg}={argv[i + 1]}")
+            i += 2
+        else:
+            joined.append(arg)
+            i += 1
+    return joined
+
+
+# ---------------------------------------------------------------- output
+
+
+def text_matrix(matrix: sp.MatrixBase) -> str:
+    """One line per row, entries in SymPy syntax."""
+    return "\n".join(
+        "  [" + ", ".join(sp.sstr(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)
+    )
+
+
+def condition_text(condition: sp.Eq) -> str:
+    return f"{sp.sstr(condition.lhs)} = {sp.sstr(condition.rhs)}"
+
+
+def dh_table_text(model: Model) -> str:
+    """The DH table with each joint's variable inserted (radians)."""
+    columns = ("theta", "d", "a", "alpha")
+    lines = [f"  {'i':>2}  {'type':<9}" + "".join(f"  {c:<14}" for c in columns)]
+    for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
+        values = joint_dh_values(joint, q)
+        lines.append(
+            f"  {i:>2}  {joint.type:<9}" + "".join(f"  {sp.sstr(v):<14}" for v in values)
+        )
+    return "\n".join(lines)
+
+
+def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
+    robot = model.robot
+    parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
+    out = [
+        f"{robot.name}: {robot.title}",
+        f"source: {robot.source or '(not given)'}",
+        f"{robot.dof} joints, {robot.convention} DH; parameters: {parameters or 'none'}",
+        "",
+        "DH table (angles in rad):",
+        dh_table_text(model),
+    ]
+    for i, link in enumerate(model.link_transforms, start=1):
+        out += ["", f"A_{i} (frame {i} in frame {i - 1}):", text_matrix(link)]
+    out += ["", "T (tool in base):", text_matrix(model.forward_kinematics)]
+    out += [
+        "",
+        "Geometric Jacobian (rows x y z wx wy wz, base frame):",
+        text_matrix(model.geometric_jacobian),
+    ]
+    task = rows or model.task_rows
+    out += ["", f"Task Jacobian rows: {', '.join(task)}"]
+    determinant = model.determinant(task)
+    if determinant is None:
+        out.append("  not square: no determinant (manipulability sqrt(det(J J^T)) applies)")
+    else:
+        out.append(f"  det J = {sp.sstr(determinant)}")
+        conditions = model.singular_configurations(task)
+        out.append("  singular when:" if conditions else "  no singular configurations")
+        out += [f"    {condition_text(c)}" for c in conditions]
+    return "\n".join(out)
+
+
+def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
+    determinant = model.determinant(rows)
+    return {
+        "robot": model.robot.name,
+        "q": [s.name for s in model.q],
+        "task_rows": list(rows or model.task_rows),
+        "T": [[sp.sstr(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
+        "jacobian": [
+            [sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)
+        ],
+        "det": None if determinant is None else sp.sstr(determinant),
+        "singular": [sp.sstr(c) for c in model.singular_configurations(rows)],
+    }
+
+
+def _array(values: np.ndarray | None) -> list | None:
+    return None if values is None else np.asarray(values).tolist()
+
+
+def eval_json(state: KinematicState) -> dict:
+    result = {
+        "T": _array(state.transform),
+        "position": _array(state.position),
+        "euler_zyx": _array(state.euler_zyx),
+        "euler_zyx_singular": state.euler_zyx_singular,
+        "jacobian": _array(state.jacobian),
+        "task_rows": list(state.task_rows),
+        "det": state.determinant,
+        "manipulability": state.manipulability,
+    }
+    if state.points:
+        result["points"] = [
+            {
+                "link": p.link,
+                "point": list(p.point),
+                "position": _array(p.position),
+                "velocity": _array(p.velocity),
+                "acceleration": _array(p.acceleration),
+            }
+            for p in state.points
+        ]
+    return result
+
+
+def eval_text(state: KinematicState) -> str:
+    def fmt(values: np.ndarray) -> str:
+        # "+ 0.0" turns -0.0 into 0.0 so exact zeros print without a sign.
+        return np.array2string(np.asarray(values) + 0.0, precision=6, suppress_small=True)
+
+    psi, theta, phi = state.euler_zyx
+    out = [
+        "T =",
+        fmt(state.transform),
+        f"position = {fmt(state.position)}",
+        f"euler_zyx [psi, theta, phi] = {fmt(state.euler_zyx)} rad "
+        f"({math.degrees(psi):.3f}, {math.degrees(theta):.3f}, {math.degrees(phi):.3f} deg)"
+        + ("  (gimbal lock: phi set to 0)" if state.euler_zyx_singular else ""),
+        "geometric Jacobian (rows x y z wx wy wz) =",
+        fmt(state.jacobian),
+        f"task rows {', '.join(state.task_rows)}: "
+        + (f"det = {state.determinant:.6g}, " if state.determinant is not None else "")
+        + f"manipulability = {state.manipulability:.6g}",
+    ]
+    for p in state.points:
+        out.append(f"point {list(p.point)} on link {p.link}: position {fmt(p.position)}")
+        if p.velocity is not None:
+            out.append(f"  velocity {fmt(p.velocity)}")
+        if p.acceleration is not None:
+            out.append(f"  acceleration {fmt(p.acceleration)}")
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------- commands
+
+
+def command_list(_: argparse.Namespace) -> None:
+    for name in catalogue_names():
+        robot = load_robot(name)
+        print(f"{name:<24} {robot.dof} DOF  {robot.convention:<8}  {robot.title}")
+
+
+def command_show(args: argparse.Namespace) -> None:
+    model = derive(load_robot(args.robot))
+    rows = task_rows_from_text(args.task)
+    if args.json:
+        print(json.dumps(show_json(model, rows), indent=2))
+    else:
+        print(show_text(model, rows))
+
+
+def command_eval(args: argparse.Namespace) -> None:
+    robot = load_robot(args.robot)
+    model = derive(robot)
+    overrides = parameter_overrides(args.set)
+    robot.parameter_values(overrides)  # reject unknown names and missing values first
+    dq = joint_values(args.dq, "--dq", robot) if args.dq else None
+    ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
+    if ddq is not None and dq is None:
+        raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
+    state = kinematic_state(
+        model,
+        joint_values(args.q, "--q", robot),
+        dq,
+        ddq,
+        overrides,
+        [point_from_text(p, robot) for p in args.point],
+        task_rows_from_text(args.task),
+    )
+    print(json.dumps(eval_json(state), indent=2) if args.json else eval_text(state))
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="symkin",
+        description="Closed-form kinematics from Denavit-Hartenberg tables.",
+        epilog="ROBOT is a built-in name (see 'symkin list') or a path to a .toml robot file.",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    listing = commands.add_parser("list", help="list the built-in robots")
+    listing.set_defaults(run=command_list)
+
+    task_help = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
+    show = commands.add_parser(
+        "show", help="DH table, transforms, Jacobian determinant and singularities"
+    )
+    show.add_argument("robot", metavar="ROBOT")
+    show.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
+    show.add_argument("--task", metavar="ROWS", help=task_help)
+    show.set_defaults(run=command_show)
+
+    evaluate = commands.add_parser(
+        "eval",
+        help="numbers at one configuration",
+        description="Evaluate pose, Jacobian, determinant and point motion at one state. "
+        "Values are radians (or metres for prismatic joints); append 'deg' for degrees.",
+    )
+    evaluate.add_argument("robot", metavar="ROBOT")
+    evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
+    evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
+    evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
+    evaluate.add_argument(
+        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
+    )
+    evaluate.add_argument(
+        "--point",
+        action="append",
+        default=[],
+        metavar="LINK:X,Y,Z",
+        help="a point fixed in link LINK (0 = base), coordinates in that link's frame",
+    )
+    evaluate.add_argument("--task", metavar="ROWS", help=task_help)
+    evaluate.add_argument("--json", action="store_true", help="print a JSON object")
+    evaluate.set_defaults(run=command_eval)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
+    try:
+        args.run(args)
+    except SymkinError as error:
+        print(f"symkin: error: {error}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        # Output piped into `head` and closed early: not an error of ours.
+        sys.stderr.close()
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

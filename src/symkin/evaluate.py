@@ -1,0 +1,133 @@
+"""Reference numeric evaluator: the symbolic model evaluated with NumPy at given states.
+
+Parameters take their file values unless overridden.  This is the yardstick the generated
+code is compared against; it favours clarity over speed (``sympy.lambdify`` per call).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from symkin.derive import Model
+from symkin.errors import SymkinError
+from symkin.spatial import euler_zyx_from_rotation
+
+
+@dataclass(frozen=True)
+class PointState:
+    """A point fixed in a link: its coordinates in that link's frame and its base-frame motion.
+
+    ``velocity`` needs joint velocities and ``acceleration`` joint accelerations too;
+    either is ``None`` when they were not given.
+    """
+
+    link: int
+    point: tuple[float, float, float]
+    position: np.ndarray
+    velocity: np.ndarray | None
+    acceleration: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class KinematicState:
+    """Numeric kinematics at one configuration (SI units, radians, base frame)."""
+
+    transform: np.ndarray
+    position: np.ndarray
+    euler_zyx: np.ndarray
+    euler_zyx_singular: bool
+    jacobian: np.ndarray
+    task_rows: tuple[str, ...]
+    determinant: float | None
+    manipulability: float
+    points: tuple[PointState, ...]
+
+
+def parameter_substitution(
+    model: Model, overrides: Mapping[str, float] | None = None
+) -> dict[sp.Symbol, float]:
+    """Parameter symbols mapped to their numbers (file values, ``overrides`` first)."""
+    values = model.robot.parameter_values(overrides)
+    return {s: values[s.name] for s in model.robot.parameter_symbols}
+
+
+def numeric_function(
+    model: Model,
+    expr: sp.MatrixBase | sp.Expr,
+    overrides: Mapping[str, float] | None = None,
+):
+    """``f(q, dq, ddq) -> ndarray`` for a symbolic quantity of ``model``."""
+    substituted = sp.sympify(expr).xreplace(parameter_substitution(model, overrides))
+    function = sp.lambdify([model.q, model.dq, model.ddq], substituted, modules="numpy")
+
+    def evaluate(q, dq=None, ddq=None) -> np.ndarray:
+        zeros = np.zeros(model.robot.dof)
+        dq = zeros if dq is None else dq
+        ddq = zeros if ddq is None else ddq
+        return np.asarray(function(q, dq, ddq), dtype=float)
+
+    return evaluate
+
+
+def _check_length(name: str, values: Sequence[float] | None, n: int) -> None:
+    if values is not None and len(values) != n:
+        raise SymkinError(f"{name} needs {n} values (one per joint), got {len(values)}")
+
+
+def kinematic_state(
+    model: Model,
+    q: Sequence[float],
+    dq: Sequence[float] | None = None,
+    ddq: Sequence[float] | None = None,
+    overrides: Mapping[str, float] | None = None,
+    points: Sequence[tuple[int, Sequence[float]]] = (),
+    rows: Sequence[str] | None = None,
+) -> KinematicState:
+    """Pose, Jacobian, determinant, manipulability and point motion at one state.
+
+    The determinant and manipulability are those of the task Jacobian (``rows``, or the
+    model's default task rows), computed numerically from the evaluated Jacobian.
+    """
+    n = model.robot.dof
+    for name, values in (("--q", q), ("--dq", dq), ("--ddq", ddq)):
+        _check_length(name, values, n)
+    transform = numeric_function(model, model.forward_kinematics, overrides)(q)
+    jacobian = numeric_function(model, model.geometric_jacobian, overrides)(q)
+    euler = euler_zyx_from_rotation(transform[:3, :3])
+    rows = tuple(rows or model.task_rows)
+    task = numeric_function(model, model.task_jacobian(rows), overrides)(q)
+    determinant = float(np.linalg.det(task)) if task.shape[0] == task.shape[1] else None
+    manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
+    states = []
+    for link, point in points:
+        motion = model.point_motion(link, [sp.Float(c) for c in point])
+        evaluate = {
+            key: numeric_function(model, getattr(motion, key), overrides)
+            for key in ("position", "velocity", "acceleration")
+        }
+        states.append(
+            PointState(
+                link=link,
+                point=tuple(float(c) for c in point),
+                position=evaluate["position"](q).ravel(),
+                velocity=None if dq is None else evaluate["velocity"](q, dq).ravel(),
+                acceleration=None
+                if dq is None or ddq is None
+                else evaluate["acceleration"](q, dq, ddq).ravel(),
+            )
+        )
+    return KinematicState(
+        transform=transform,
+        position=transform[:3, 3].copy(),
+        euler_zyx=np.array([euler.psi, euler.theta, euler.phi], dtype=float),
+        euler_zyx_singular=bool(euler.singular),
+        jacobian=jacobian,
+        task_rows=rows,
+        determinant=determinant,
+        manipulability=manipulability,
+        points=tuple(states),
+    )
