@@ -24,14 +24,21 @@ __all__ = ["Model", "PointMotion", "derive"]
 class Model:
     """Closed-form kinematics of one robot (SymPy expressions in ``q1..qn`` and parameters).
 
-    Velocities use ``dq1..dqn`` and accelerations ``ddq1..ddqn``.
+    Velocities use ``dq1..dqn`` and accelerations ``ddq1..ddqn``.  With ``simplified=False``
+    every quantity keeps its raw product form: the input of code generation.
     """
 
     robot: Robot
+    simplified: bool = True
 
     @cached_property
     def kinematics(self) -> Kinematics:
-        return kinematics_from_robot(self.robot)
+        return kinematics_from_robot(self.robot, self.simplified)
+
+    @cached_property
+    def product_form(self) -> Model:
+        """The same model unsimplified (shortest generated code after CSE)."""
+        return self if not self.simplified else Model(self.robot, simplified=False)
 
     @property
     def q(self) -> tuple[sp.Symbol, ...]:

@@ -15,6 +15,7 @@ and ``T = base * A_1 * ... * A_n * tool``.  Each product is contracted with
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass
 
@@ -79,9 +80,16 @@ class Kinematics:
     joint_frames: tuple[sp.ImmutableMatrix, ...]
     forward_kinematics: sp.ImmutableMatrix
     angle_sums: bool
+    simplified: bool = True
 
     def contract(self, matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
-        """The simplification policy for this chain (see :func:`contract_matrix`)."""
+        """The simplification policy for this chain (see :func:`contract_matrix`).
+
+        Unsimplified kinematics keep the raw product form: it reads worse but, after common
+        subexpression elimination, gives the shortest code (a recursive product, in effect).
+        """
+        if not self.simplified:
+            return sp.ImmutableMatrix(matrix)
         return contract_matrix(matrix, self.angle_sums)
 
     @property
@@ -127,20 +135,28 @@ def has_parallel_revolute_axes(robot: Robot) -> bool:
     return False
 
 
-def kinematics_from_robot(robot: Robot) -> Kinematics:
-    """Per-joint and cumulative transforms and ``T`` of ``robot`` (symbolic)."""
+def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
+    """Per-joint and cumulative transforms and ``T`` of ``robot`` (symbolic).
+
+    ``simplified=False`` keeps every product unexpanded (the form code generation uses).
+    """
     q = joint_symbols(robot.dof)
     links = tuple(
         link_transform(joint, qi, robot.convention)
         for joint, qi in zip(robot.joints, q, strict=True)
     )
-    angle_sums = has_parallel_revolute_axes(robot)
+    policy = Kinematics(q, links, (), (), robot.tool, has_parallel_revolute_axes(robot), simplified)
     frames = [robot.base]
     for link in links:
-        frames.append(contract_matrix(frames[-1] * link, angle_sums))
+        frames.append(policy.contract(frames[-1] * link))
     joint_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
-    tool = contract_matrix(frames[-1] * robot.tool, angle_sums)
-    return Kinematics(q, links, tuple(frames), tuple(joint_frames), tool, angle_sums)
+    tool = policy.contract(frames[-1] * robot.tool)
+    return dataclasses.replace(
+        policy,
+        frame_transforms=tuple(frames),
+        joint_frames=tuple(joint_frames),
+        forward_kinematics=tool,
+    )
 
 
 def euler_zyx_of_tool(kinematics: Kinematics, method: str = "atan2") -> tuple[sp.Expr, ...]:

@@ -1,0 +1,199 @@
+"""Kernels: named inputs, named outputs and one common-subexpression elimination.
+
+A :class:`Kernel` is what every backend prints.  The CSE runs once, here, so the NumPy, C and
+CasADi versions of a kernel share the same intermediates and the same operation counts.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import sympy as sp
+
+from symkin.derive import Model
+
+# Kinds reported in operation counts, from SymPy's count_ops(visual=True) names.
+OPERATION_KINDS: Mapping[str, tuple[str, ...]] = {
+    "additions": ("ADD", "SUB"),
+    "multiplications": ("MUL", "NEG"),
+    "divisions": ("DIV",),
+    "trig": ("SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ATAN2"),
+    "sqrt": ("SQRT",),
+    "powers": ("POW",),
+}
+
+
+@dataclass(frozen=True)
+class KernelInput:
+    """A vector input: its name in generated code and its symbols in order."""
+
+    name: str
+    symbols: tuple[sp.Symbol, ...]
+    description: str
+
+
+@dataclass(frozen=True)
+class KernelOutput:
+    """A matrix output (row-major in C), expressed in the kernel's intermediates."""
+
+    name: str
+    matrix: sp.ImmutableMatrix
+    description: str
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.matrix.shape
+
+    @property
+    def size(self) -> int:
+        return self.matrix.rows * self.matrix.cols
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """One function of generated code: ``outputs = f(inputs)`` after CSE."""
+
+    name: str
+    description: str
+    inputs: tuple[KernelInput, ...]
+    outputs: tuple[KernelOutput, ...]
+    assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
+
+    @cached_property
+    def operation_counts(self) -> dict[str, int]:
+        """Operations by kind over all assignments and outputs, plus ``total``."""
+        expressions = [e for _, e in self.assignments]
+        expressions += [e for output in self.outputs for e in output.matrix]
+        return count_operations(expressions)
+
+
+def _sqrt_count(expr: sp.Expr) -> int:
+    return sum(
+        1
+        for node in sp.preorder_traversal(expr)
+        if node.is_Pow and node.exp in (sp.S.Half, -sp.S.Half)
+    )
+
+
+def count_operations(expressions: Sequence[sp.Expr]) -> dict[str, int]:
+    """Arithmetic operations by kind (SymPy's ``count_ops``, square roots split from powers)."""
+    raw: Counter[str] = Counter()
+    for expr in expressions:
+        visual = sp.count_ops(expr, visual=True)
+        for term in sp.Add.make_args(visual):
+            coefficient, symbol = term.as_coeff_Mul()
+            if isinstance(symbol, sp.Symbol):
+                raw[symbol.name] += int(coefficient)
+        square_roots = _sqrt_count(expr)
+        raw["SQRT"] += square_roots
+        raw["POW"] -= square_roots
+    counts = {kind: sum(raw[name] for name in names) for kind, names in OPERATION_KINDS.items()}
+    counts["total"] = sum(counts.values())
+    return counts
+
+
+def _intermediate_prefix(expressions: Sequence[sp.Expr]) -> str:
+    """``t`` for intermediates ``t0, t1, ...``, unless an input is already named ``t<k>``."""
+    names = {s.name for e in expressions for s in e.free_symbols}
+    prefix = "t"
+    while any(n.startswith(prefix) and n[len(prefix) :].isdigit() for n in names):
+        prefix += "_"
+    return prefix
+
+
+def kernel_from_outputs(
+    name: str,
+    description: str,
+    inputs: Sequence[KernelInput],
+    outputs: Sequence[tuple[str, sp.MatrixBase, str]],
+) -> Kernel:
+    """Run one CSE over all outputs and package the result.
+
+    The intermediates are numbered deterministically in the order SymPy's ``cse`` emits them.
+    """
+    matrices = [sp.ImmutableMatrix(matrix) for _, matrix, _ in outputs]
+    prefix = _intermediate_prefix([e for m in matrices for e in m])
+    assignments, reduced = sp.cse(matrices, symbols=sp.numbered_symbols(prefix, real=True))
+    kernel_outputs = tuple(
+        KernelOutput(out_name, sp.ImmutableMatrix(matrix), out_description)
+        for (out_name, _, out_description), matrix in zip(outputs, reduced, strict=True)
+    )
+    return Kernel(name, description, tuple(inputs), kernel_outputs, tuple(assignments))
+
+
+def standard_inputs(model: Model, *, velocities: bool = False) -> tuple[KernelInput, ...]:
+    """``q`` (and ``dq``), then the robot's parameters ``p`` in file order."""
+    inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
+    if velocities:
+        inputs.append(KernelInput("dq", model.dq, "joint velocities (rad/s or m/s)"))
+    if model.robot.parameters:
+        names = ", ".join(n for n, _ in model.robot.parameters)
+        inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
+    return tuple(inputs)
+
+
+def _shortest_kernel(
+    name: str,
+    description: str,
+    inputs: Sequence[KernelInput],
+    outputs_by_form: Sequence[Sequence[tuple[str, sp.MatrixBase, str]]],
+) -> Kernel:
+    """The kernel with the fewest operations among equivalent forms of the same outputs.
+
+    The contracted form wins on short chains (``cos(q1 + q2)``), the raw product form on long
+    ones (a 7-DOF Jacobian expanded is ten times longer than its product form after CSE).
+    Ties go to the first form.
+    """
+    candidates = [kernel_from_outputs(name, description, inputs, o) for o in outputs_by_form]
+    return min(candidates, key=lambda k: k.operation_counts["total"])
+
+
+def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
+    """The kinematics kernels of one robot, in a fixed order.
+
+    ``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
+    ``position_jacobian`` (dp/dq, 3 x n), ``fk_jacobian`` (T and J in one pass, the kernel
+    controllers call) and, when the task Jacobian is square, ``det``.  Each comes from the
+    simplified or the raw product form of the model, whichever is shorter.
+    """
+    inputs = standard_inputs(model)
+    n = model.robot.dof
+    forms = (model, model.product_form)
+
+    def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
+        table = {
+            "T": lambda m: ("T", m.forward_kinematics, "pose of the tool in the base frame (4x4)"),
+            "p": lambda m: ("p_tool", m.tool_position, "tool position in the base frame (3x1)"),
+            "J": lambda m: (
+                "J",
+                m.geometric_jacobian,
+                f"geometric Jacobian (6x{n}, rows vx vy vz wx wy wz, base frame)",
+            ),
+            "Jp": lambda m: ("Jp", m.position_jacobian, f"dp/dq (3x{n})"),
+        }
+        return [[table[key](form) for key in keys] for form in forms]
+
+    kernels = [
+        _shortest_kernel("fk", "forward kinematics", inputs, outputs("T")),
+        _shortest_kernel("position", "tool position", inputs, outputs("p")),
+        _shortest_kernel("jacobian", "geometric Jacobian", inputs, outputs("J")),
+        _shortest_kernel("position_jacobian", "analytic position Jacobian", inputs, outputs("Jp")),
+        _shortest_kernel(
+            "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
+        ),
+    ]
+    determinant = model.determinant()
+    if determinant is not None:
+        rows = ", ".join(model.task_rows)
+        kernels.append(
+            kernel_from_outputs(
+                "det",
+                f"determinant of the task Jacobian (rows {rows})",
+                inputs,
+                [("det", sp.Matrix([[determinant]]), "det J (1x1)")],
+            )
+        )
+    return tuple(kernels)
