@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: run test lint bench clean
+.PHONY: run test lint bench clean generate
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -16,6 +16,10 @@ $(STAMP): $(BIN)/python pyproject.toml
 
 run: $(STAMP)
 	$(BIN)/symkin show scara
+	$(BIN)/symkin derive scara --out out/scara
+
+generate: $(STAMP)
+	$(BIN)/symkin generate
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests bench

@@ -11,14 +11,23 @@ import json
 import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model, derive
 from symkin.derive.kinematics import joint_dh_values
+from symkin.emit.c import PRECISIONS
 from symkin.errors import SymkinError
 from symkin.evaluate import KinematicState, kinematic_state
+from symkin.generate import (
+    BACKENDS,
+    check_backends,
+    files_for_robot,
+    generate_catalogue,
+    write_files,
+)
 from symkin.io import catalogue_names, load_robot
 from symkin.robot import Robot
 
@@ -130,9 +139,7 @@ def dh_table_text(model: Model) -> str:
     lines = [f"  {'i':>2}  {'type':<9}" + "".join(f"  {c:<14}" for c in columns)]
     for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
         values = joint_dh_values(joint, q)
-        lines.append(
-            f"  {i:>2}  {joint.type:<9}" + "".join(f"  {sp.sstr(v):<14}" for v in values)
-        )
+        lines.append(f"  {i:>2}  {joint.type:<9}" + "".join(f"  {sp.sstr(v):<14}" for v in values))
     return "\n".join(lines)
 
 
@@ -175,9 +182,7 @@ def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
         "q": [s.name for s in model.q],
         "task_rows": list(rows or model.task_rows),
         "T": [[sp.sstr(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
-        "jacobian": [
-            [sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)
-        ],
+        "jacobian": [[sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
         "det": None if determinant is None else sp.sstr(determinant),
         "singular": [sp.sstr(c) for c in model.singular_configurations(rows)],
     }
@@ -279,6 +284,36 @@ def command_eval(args: argparse.Namespace) -> None:
     print(json.dumps(eval_json(state), indent=2) if args.json else eval_text(state))
 
 
+def progress(message: str) -> None:
+    print(f"symkin: {message}", file=sys.stderr, flush=True)
+
+
+def command_derive(args: argparse.Namespace) -> None:
+    backends = check_backends(args.emit.split(","))
+    robot = load_robot(args.robot)
+    progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
+    files = files_for_robot(robot, backends, args.precision)
+    out = Path(args.out)
+    write_files(out, files)
+    print(f"wrote {len(files)} files to {out}/:")
+    for relative in files:
+        print(f"  {out / relative}")
+    if "c" in backends:
+        print(f"compile and run the C example: make -C {out / 'c'} && {out / 'c' / 'example'}")
+
+
+def command_generate(args: argparse.Namespace) -> None:
+    root = Path(args.root)
+    diff = generate_catalogue(root, args.check, lambda name: progress(f"rendering {name}"))
+    if args.check:
+        if diff:
+            sys.stdout.write(diff)
+            raise SymkinError(f"{root}/ is out of date; run 'symkin generate' and commit")
+        print(f"{root}/ is up to date")
+    else:
+        print(f"wrote {root}/ for {len(catalogue_names())} robots")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="symkin",
@@ -322,6 +357,29 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--task", metavar="ROWS", help=task_help)
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
     evaluate.set_defaults(run=command_eval)
+
+    derive_parser = commands.add_parser(
+        "derive", help="write generated code (NumPy, C, CasADi) for one robot"
+    )
+    derive_parser.add_argument("robot", metavar="ROBOT")
+    derive_parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    derive_parser.add_argument(
+        "--emit",
+        default=",".join(BACKENDS),
+        metavar="LIST",
+        help=f"backends, comma-separated (default: {','.join(BACKENDS)}; latex is planned)",
+    )
+    derive_parser.add_argument(
+        "--precision", choices=PRECISIONS, default="double", help="C floating-point type"
+    )
+    derive_parser.set_defaults(run=command_derive)
+
+    generate = commands.add_parser(
+        "generate", help="regenerate generated/<robot>/ for every built-in robot"
+    )
+    generate.add_argument("--check", action="store_true", help="compare only; exit 2 on a diff")
+    generate.add_argument("--root", default="generated", metavar="DIR", help="default: generated")
+    generate.set_defaults(run=command_generate)
     return parser
 
 

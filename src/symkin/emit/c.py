@@ -1,0 +1,51 @@
+"""Embedded C backend: one ``.h``/``.c`` pair per robot, an example and a Makefile."""
+
+from __future__ import annotations
+
+from functools import partial
+
+from symkin.emit.layout import kernel_layout
+from symkin.emit.printers import c_code
+from symkin.emit.render import preamble_lines, render
+from symkin.kernel import Kernel
+from symkin.robot import Robot
+
+PRECISIONS = ("double", "float")
+
+
+def c_literal(value: float, precision: str) -> str:
+    text = repr(float(value))
+    return f"{text}F" if precision == "float" else text
+
+
+def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double") -> dict[str, str]:
+    """``c/<robot>.h``, ``c/<robot>.c``, ``c/example.c`` and ``c/Makefile``."""
+    header, source = f"{robot.name}.h", f"{robot.name}.c"
+    context = {
+        "robot": robot.name,
+        "prefix": robot.name,
+        "macro": robot.name.upper(),
+        "guard": f"{robot.name.upper()}_KINEMATICS_H",
+        "real": precision,
+        "dof": robot.dof,
+        "header": header,
+        "source": source,
+        "parameter_names": [n for n, _ in robot.parameters],
+        # A parameter without a value has no default; NAN makes misuse visible, not silent.
+        "parameter_values": [
+            "NAN" if v is None else c_literal(v, precision) for _, v in robot.parameters
+        ],
+        "example_q": [c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)],
+        "kernels": [kernel_layout(k, partial(c_code, precision=precision)) for k in kernels],
+    }
+    what = f"C kinematics ({precision})"
+    return {
+        f"c/{header}": render(
+            "c/header.h.j2", preamble=preamble_lines(robot, kernels, what), **context
+        ),
+        f"c/{source}": render(
+            "c/source.c.j2", preamble=preamble_lines(robot, kernels, what), **context
+        ),
+        "c/example.c": render("c/example.c.j2", **context),
+        "c/Makefile": render("c/Makefile.j2", **context),
+    }

@@ -1,0 +1,107 @@
+"""What every backend's template needs from a kernel, printed by one printer.
+
+Python decides here (which inputs a kernel reads, what each entry says); templates only lay
+the pieces out.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import sympy as sp
+
+from symkin.kernel import Kernel, KernelOutput
+
+
+@dataclass(frozen=True)
+class Unpack:
+    """``symbol = input[index]`` for a symbol the kernel reads."""
+
+    symbol: str
+    input: str
+    index: int
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One output entry: 0-based row/column, row-major flat index, printed expression."""
+
+    row: int
+    col: int
+    flat: int
+    code: str
+    is_zero: bool
+
+
+@dataclass(frozen=True)
+class OutputLayout:
+    name: str
+    description: str
+    rows: int
+    cols: int
+    entries: tuple[Entry, ...]
+
+    @property
+    def size(self) -> int:
+        return self.rows * self.cols
+
+    @property
+    def numpy_shape(self) -> tuple[int, ...]:
+        """``(rows, cols)``; a column vector is ``(rows,)`` and a 1x1 output a scalar ``()``."""
+        if self.cols == 1:
+            return () if self.rows == 1 else (self.rows,)
+        return (self.rows, self.cols)
+
+    def numpy_index(self, entry: Entry) -> str:
+        """Index of an entry after the batch dimensions: ``"..., 0, 1"``."""
+        position = {(): (), (self.rows,): (entry.row,)}.get(
+            self.numpy_shape, (entry.row, entry.col)
+        )
+        return ", ".join(["...", *map(str, position)])
+
+
+@dataclass(frozen=True)
+class KernelLayout:
+    name: str
+    description: str
+    counts: dict[str, int]
+    unpack: tuple[Unpack, ...]
+    unused_inputs: tuple[str, ...]
+    assignments: tuple[tuple[str, str], ...]
+    outputs: tuple[OutputLayout, ...]
+
+
+def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> OutputLayout:
+    entries = tuple(
+        Entry(i, j, i * output.matrix.cols + j, printer(e), e == 0)
+        for i in range(output.matrix.rows)
+        for j in range(output.matrix.cols)
+        for e in (output.matrix[i, j],)
+    )
+    return OutputLayout(
+        output.name, output.description, output.matrix.rows, output.matrix.cols, entries
+    )
+
+
+def kernel_layout(kernel: Kernel, printer: Callable[[sp.Expr], str]) -> KernelLayout:
+    used = set().union(
+        *(e.free_symbols for _, e in kernel.assignments),
+        *(o.matrix.free_symbols for o in kernel.outputs),
+    )
+    unpack = tuple(
+        Unpack(symbol.name, kernel_input.name, index)
+        for kernel_input in kernel.inputs
+        for index, symbol in enumerate(kernel_input.symbols)
+        if symbol in used
+    )
+    read = {u.input for u in unpack}
+    return KernelLayout(
+        name=kernel.name,
+        description=kernel.description,
+        counts=kernel.operation_counts,
+        unpack=unpack,
+        unused_inputs=tuple(i.name for i in kernel.inputs if i.name not in read),
+        assignments=tuple((symbol.name, printer(expr)) for symbol, expr in kernel.assignments),
+        outputs=tuple(_output_layout(o, printer) for o in kernel.outputs),
+    )

@@ -1,0 +1,28 @@
+"""NumPy backend: one Python module per robot, every function batched over leading axes."""
+
+from __future__ import annotations
+
+from symkin.emit.layout import kernel_layout
+from symkin.emit.printers import numpy_code
+from symkin.emit.render import preamble_lines, render
+from symkin.kernel import Kernel
+from symkin.robot import Robot
+
+
+def module_name(robot: Robot) -> str:
+    return f"{robot.name}_kinematics"
+
+
+def emit_numpy(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
+    """``{"numpy/<robot>_kinematics.py": source}``."""
+    text = render(
+        "numpy/module.py.j2",
+        preamble=preamble_lines(robot, kernels, "NumPy kinematics"),
+        dof=robot.dof,
+        parameter_names=[n for n, _ in robot.parameters],
+        parameter_values=[
+            repr(float(v)) if v is not None else "numpy.nan" for _, v in robot.parameters
+        ],
+        kernels=[kernel_layout(k, numpy_code) for k in kernels],
+    )
+    return {f"numpy/{module_name(robot)}.py": text}
