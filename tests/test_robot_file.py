@@ -578,8 +578,8 @@ ERROR_CASES: list[tuple[str, str, list[str]]] = [
     ("inertia-principal-triangle",
      link_with("mass = 1\ninertia = { ixx = 1, iyy = 1, izz = 1, ixy = 0.9 }\n"),
      ["joint 1: 'link.inertia': the principal moments", "triangle inequality"]),
-    ("inertia-parameter-defaults", HEADER + "[parameters]\nJ = 3\n" + REV
-     + '[joints.link]\nmass = 1\ninertia = { ixx = 1, iyy = 1, izz = "J" }\n',
+    ("inertia-parameter-defaults", HEADER + "[parameters]\nJzz = 3\n" + REV
+     + '[joints.link]\nmass = 1\ninertia = { ixx = 1, iyy = 1, izz = "Jzz" }\n',
      ["'link.inertia' violates the triangle inequality"]),
     ("inertia-not-table", link_with("mass = 1\ninertia = [1, 1, 1]\n"),
      ["joint 1: 'link.inertia' must be a table"]),

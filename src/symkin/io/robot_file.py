@@ -70,6 +70,14 @@ RESERVED_NAMES = frozenset(
         "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "atan2",
         "sinh", "cosh", "tanh", "exp", "log", "ln", "sqrt", "cbrt", "abs", "Abs",
         "sign", "sgn", "min", "max", "Min", "Max", "floor", "ceiling", "re", "im",
+        # names the generated NumPy, C and CasADi code uses for its own variables
+        "q", "dq", "ddq", "p", "T", "J", "Jp", "p_tool", "det", "batch", "count",
+        "numpy", "casadi", "math", "symbol_type",
+        # C keywords and types a parameter name would collide with
+        "auto", "break", "case", "char", "const", "continue", "default", "do", "double",
+        "else", "enum", "extern", "float", "for", "goto", "if", "inline", "int", "long",
+        "register", "restrict", "return", "short", "signed", "sizeof", "static", "struct",
+        "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "size_t",
     }
 )  # fmt: skip
 
@@ -334,7 +342,7 @@ def _check_parameter_name(name: str, key: str, ctx: _Context) -> None:
     if not PARAMETER_PATTERN.match(name) or keyword.iskeyword(name):
         raise ctx.error(f"{key!r}: a parameter name must be an identifier, got {_show(name)}")
     if name in RESERVED_NAMES:
-        raise ctx.error(f"{key!r}: {name!r} is reserved (a constant or function name)")
+        raise ctx.error(f"{key!r}: {name!r} is reserved (a SymPy constant or function, a C keyword or a name generated code uses)")
     if JOINT_VARIABLE_PATTERN.match(name):
         raise ctx.error(f"{key!r}: {name!r} is reserved for a joint variable (q<i>, dq<i>, ddq<i>)")
 
