@@ -16,9 +16,11 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from symkin.build import build_extension
 from symkin.derive import Model, derive
 from symkin.derive.kinematics import joint_dh_values
 from symkin.emit.c import PRECISIONS
+from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
 from symkin.evaluate import KinematicState, kinematic_state
 from symkin.generate import (
@@ -298,7 +300,13 @@ def command_derive(args: argparse.Namespace) -> None:
     print(f"wrote {len(files)} files to {out}/:")
     for relative in files:
         print(f"  {out / relative}")
-    if "c" in backends:
+    if "python" in backends and not args.no_build:
+        progress("compiling the Python extension ...")
+        extension = build_extension(
+            out / "python" / f"{extension_name(robot)}.c", out / "c" / f"{robot.name}.c"
+        )
+        print(f"built {extension} (import it with symkin.build.load_extension)")
+    if "c" in backends or "python" in backends:
         print(f"compile and run the C example: make -C {out / 'c'} && {out / 'c' / 'example'}")
 
 
@@ -371,6 +379,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     derive_parser.add_argument(
         "--precision", choices=PRECISIONS, default="double", help="C floating-point type"
+    )
+    derive_parser.add_argument(
+        "--no-build", action="store_true", help="do not compile the Python extension"
     )
     derive_parser.set_defaults(run=command_derive)
 

@@ -14,12 +14,14 @@ from symkin.derive import derive
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
 from symkin.emit.numpy import emit_numpy
+from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
 from symkin.io import catalogue_names, load_robot
 from symkin.kernel import kinematics_kernels
 from symkin.robot import Robot
 
-BACKENDS = ("numpy", "c", "casadi")
+# "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
+BACKENDS = ("numpy", "c", "python", "casadi")
 PLANNED_BACKENDS = {"latex": "the LaTeX backend is not available yet (it is planned)"}
 
 
@@ -48,6 +50,10 @@ def files_for_robot(
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels),
         "c": lambda: emit_c(robot, kernels, precision),
+        "python": lambda: {
+            **emit_c(robot, kernels, precision),
+            **emit_python_extension(robot, kernels, precision),
+        },
         "casadi": lambda: emit_casadi(robot, kernels),
     }
     files: dict[str, str] = {}

@@ -342,7 +342,10 @@ def _check_parameter_name(name: str, key: str, ctx: _Context) -> None:
     if not PARAMETER_PATTERN.match(name) or keyword.iskeyword(name):
         raise ctx.error(f"{key!r}: a parameter name must be an identifier, got {_show(name)}")
     if name in RESERVED_NAMES:
-        raise ctx.error(f"{key!r}: {name!r} is reserved (a SymPy constant or function, a C keyword or a name generated code uses)")
+        raise ctx.error(
+            f"{key!r}: {name!r} is reserved "
+            "(a SymPy constant or function, a C keyword or a name generated code uses)"
+        )
     if JOINT_VARIABLE_PATTERN.match(name):
         raise ctx.error(f"{key!r}: {name!r} is reserved for a joint variable (q<i>, dq<i>, ddq<i>)")
 

@@ -1,0 +1,62 @@
+"""Compile a generated CPython extension with the system C compiler and load it.
+
+This is the one place symkin runs a compiler for users (``symkin derive`` with the C backend).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+import subprocess
+import sysconfig
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+
+from symkin.errors import SymkinError
+
+OPTIMISATION_FLAGS = ("-O2",)
+
+
+def extension_path(source: Path) -> Path:
+    """``<robot>_ext.cpython-311-x86_64-linux-gnu.so`` beside the source."""
+    return source.with_name(source.stem + sysconfig.get_config_var("EXT_SUFFIX"))
+
+
+def build_extension(source: Path, kernels_source: Path) -> Path:
+    """Compile ``python/<robot>_ext.c`` with ``c/<robot>.c`` into an importable module."""
+    compiler = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        raise SymkinError("no C compiler found (looked for $CC, cc, gcc); install gcc")
+    target = extension_path(source)
+    command = [
+        compiler,
+        *OPTIMISATION_FLAGS,
+        "-shared",
+        "-fPIC",
+        f"-I{sysconfig.get_paths()['include']}",
+        f"-I{np.get_include()}",
+        str(source),
+        str(kernels_source),
+        "-o",
+        str(target),
+        "-lm",
+    ]
+    completed = subprocess.run(command, capture_output=True, text=True, check=False)
+    if completed.returncode != 0:
+        first_lines = "\n".join(completed.stderr.splitlines()[:15])
+        raise SymkinError(f"compiling {source.name} failed:\n{first_lines}")
+    return target
+
+
+def load_extension(path: Path) -> ModuleType:
+    """Import a compiled extension from its file."""
+    name = path.name.split(".")[0]
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise SymkinError(f"cannot load {path}")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
