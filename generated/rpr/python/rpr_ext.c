@@ -47,7 +47,7 @@ static PyObject *run_kernel(PyObject *const *args, Py_ssize_t nargs, batch_kerne
         PyErr_SetString(PyExc_TypeError, "expected (q) or (q, p)");
         return NULL;
     }
-    q = (PyArrayObject *)PyArray_FROMANY(args[0], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY);
+    q = (PyArrayObject *)PyArray_FROMANY(args[0], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     if (q == NULL) {
         return NULL;
     }
@@ -58,7 +58,7 @@ static PyObject *run_kernel(PyObject *const *args, Py_ssize_t nargs, batch_kerne
     }
     count = batched ? PyArray_DIM(q, 0) : 1;
     if (nargs == 2 && args[1] != Py_None) {
-        p = (PyArrayObject *)PyArray_FROMANY(args[1], NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY);
+        p = (PyArrayObject *)PyArray_FROMANY(args[1], NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
         if (p == NULL) {
             goto done;
         }
