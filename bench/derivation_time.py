@@ -24,11 +24,13 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
 import json
 import math
 import os
 import platform
+import signal
 import statistics
 import subprocess
 import sys
@@ -42,33 +44,76 @@ DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN = "<!-- derivation-time:begin -->"
 END = "<!-- derivation-time:end -->"
 
-# Catalogue robot -> Robotics Toolbox model of the same arm.
-PEERS = {"puma560": "Puma560", "panda": "Panda"}
+# Catalogue robot -> (Robotics Toolbox model of the same arm, how the table names it).
+PEERS = {
+    "puma560": ("Puma560", "RTB `DH.Puma560(symbolic=True)`"),
+    "panda": ("Panda", "RTB `DH.Panda` table with exact twists"),
+}
 # The issue's targets for readable FK + Jacobian, in seconds.
 TARGETS = {"puma560": 1.0, "panda": 3.0}
+# The clock of every timing: CPU seconds of the child process.  For these single-threaded
+# computations it equals wall time on an idle machine, and unlike wall time it is barely
+# moved by other programs sharing the machine's two cores.
+CLOCK = time.process_time
+
+
+def backstop(limit: float) -> float:
+    """Wall seconds after which the parent kills a child whose CPU limit is ``limit``."""
+    return 10 * limit + 300
 
 
 # --------------------------------------------------------------------------- children
 # Each child prints exactly one JSON object on its last line of stdout.
 
 
-def _child_symkin(name: str) -> dict:
+class _TimeLimit(BaseException):
+    """Raised in a child when its timed section runs out of time (not an ``Exception``, so
+    that no ``except Exception`` inside a library swallows it)."""
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float):
+    """Interrupt the block after ``seconds`` of CPU time (as :data:`CLOCK` counts it)."""
+
+    def expire(signum, frame):
+        raise _TimeLimit
+
+    previous = signal.signal(signal.SIGPROF, expire)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, previous)
+
+
+def _child_symkin(name: str, limit: float) -> dict:
     import sympy
 
     import symkin
 
     robot = symkin.load_robot(name)
-    start = time.perf_counter()
-    model = symkin.derive(robot)
-    fk = model.forward_kinematics
-    jac = model.geometric_jacobian
-    fk_jac_s = time.perf_counter() - start
-    start = time.perf_counter()
-    det = model.determinant()
-    det_s = time.perf_counter() - start
-    ops = int(sympy.count_ops([*fk, *jac]))
-    return {"dof": robot.dof, "fk_jac_s": fk_jac_s, "det_s": None if det is None else det_s,
-            "ops": ops}
+    try:
+        with _time_limit(limit):
+            start = CLOCK()
+            model = symkin.derive(robot)
+            fk = model.forward_kinematics
+            jac = model.geometric_jacobian
+            fk_jac_s = CLOCK() - start
+    except _TimeLimit:
+        return {"timeout": limit}
+    result = {"dof": robot.dof, "fk_jac_s": fk_jac_s, "det_s": None}
+    try:
+        with _time_limit(limit):
+            start = CLOCK()
+            det = model.determinant()
+            det_s = CLOCK() - start
+        if det is not None:
+            result["det_s"] = det_s
+    except _TimeLimit:
+        result["det_timeout"] = limit
+    result["ops"] = int(sympy.count_ops([*fk, *jac]))
+    return result
 
 
 def _rtb_robot(model: str):
@@ -95,31 +140,66 @@ def _rtb_robot(model: str):
     raise ValueError(model)
 
 
-def _child_rtb(model: str, simplify: bool) -> dict:
+def _disagreement(robot, catalogue_name: str) -> float:
+    """Largest difference of RTB's and symkin's Jacobian and tool rotation at random ``q``.
+
+    (Positions are left out: RTB's PUMA 560 stands on a 0.672 m pedestal.)
+    """
+    import numpy as np
+
+    import symkin
+
+    model = symkin.derive(symkin.load_robot(catalogue_name))
+    rng = np.random.default_rng(560)
+    worst = 0.0
+    for _ in range(3):
+        q = rng.uniform(-np.pi, np.pi, robot.n)
+        state = symkin.kinematic_state(model, q=list(q))
+        jacobian = np.asarray(robot.jacob0(q), dtype=float)
+        rotation = np.asarray(robot.fkine(q).A, dtype=float)[:3, :3]
+        worst = max(
+            worst,
+            float(np.abs(np.asarray(state.jacobian, dtype=float) - jacobian).max()),
+            float(np.abs(np.asarray(state.transform, dtype=float)[:3, :3] - rotation).max()),
+        )
+    return worst
+
+
+def _child_rtb(model: str, simplify: bool, limit: float) -> dict:
     try:
         import roboticstoolbox  # noqa: F401
         import spatialmath.base.symbolic as sym
         import sympy
-    except Exception as error:  # an install that is missing or broken
-        return {"error": f"not installed ({type(error).__name__}: {error})"}
+    except ModuleNotFoundError:
+        return {"error": "not installed"}
+    except Exception as error:  # an install that is broken, e.g. by a numpy mismatch
+        return {"error": f"not importable ({type(error).__name__}: {error})"}
 
     robot = _rtb_robot(model)
     q = sym.symbol(f"q1:{robot.n + 1}")
-    start = time.perf_counter()
-    entries = [*robot.fkine(q).A.flat, *robot.jacob0(q).flat]
-    if simplify:
-        entries = [sympy.trigsimp(sympy.sympify(e)) for e in entries]
-    seconds = time.perf_counter() - start
+    try:
+        with _time_limit(limit):
+            start = CLOCK()
+            entries = [*robot.fkine(q).A.flat, *robot.jacob0(q).flat]
+            if simplify:
+                entries = [sympy.trigsimp(sympy.sympify(e)) for e in entries]
+            seconds = CLOCK() - start
+    except _TimeLimit:
+        return {"timeout": limit}
     ops = int(sympy.count_ops([sympy.sympify(e) for e in entries]))
-    return {"dof": robot.n, "seconds": seconds, "ops": ops}
+    result = {"dof": robot.n, "seconds": seconds, "ops": ops}
+    if not simplify:  # after the timing: is it the same arm as symkin's?
+        (catalogue_name,) = (name for name, (m, _) in PEERS.items() if m == model)
+        result["disagreement"] = _disagreement(robot, catalogue_name)
+    return result
 
 
 def _child(argv: list[str]) -> None:
-    kind, name = argv
+    kind, name, limit = argv[0], argv[1], float(argv[2])
     if kind == "symkin":
-        result = _child_symkin(name)
+        result = _child_symkin(name, limit)
     elif kind in ("rtb", "rtb-trigsimp"):
-        result = _child_rtb(name, simplify=kind == "rtb-trigsimp")
+        result = _child_rtb(name, kind == "rtb-trigsimp", limit)
     else:
         raise SystemExit(f"unknown child kind {kind!r}")
     print(json.dumps(result))
@@ -148,13 +228,23 @@ class Runs:
 
 
 def run_child(kind: str, name: str, timeout: float) -> dict:
-    """One fresh process; ``{"timeout": s}`` or ``{"error": ...}`` when it does not finish."""
-    command = [sys.executable, str(Path(__file__).resolve()), "--child", kind, name]
+    """One fresh process; ``{"timeout": s}`` or ``{"error": ...}`` when it does not finish.
+
+    The child applies ``timeout`` to its timed sections itself (imports and checks are not
+    counted); the parent kills it only after :func:`backstop` seconds of wall time.
+    """
+    command = [sys.executable, str(Path(__file__).resolve()), "--child", kind, name, f"{timeout}"]
     try:
-        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
-                              cwd=ROOT, check=False)
+        done = subprocess.run(
+            command,
+            capture_output=True,
+            text=True,
+            timeout=backstop(timeout),
+            cwd=ROOT,
+            check=False,
+        )
     except subprocess.TimeoutExpired:
-        return {"timeout": timeout}
+        return {"error": f"killed after {backstop(timeout):g} s of wall time"}
     lines = done.stdout.strip().splitlines()
     if done.returncode != 0 or not lines:
         tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
@@ -169,8 +259,10 @@ def measure(kind: str, name: str, repeat: int, timeout: float) -> Runs:
         result = run_child(kind, name, timeout)
         if "timeout" in result:
             runs.timeout = result["timeout"]
-            _progress(f"{kind:13} {name:22} run {i + 1}/{repeat}: did not finish in "
-                      f"{timeout:g} s, not repeated")
+            _progress(
+                f"{kind:13} {name:22} run {i + 1}/{repeat}: did not finish in "
+                f"{timeout:g} s, not repeated"
+            )
             break
         if "error" in result:
             runs.error = result["error"]
@@ -242,16 +334,19 @@ def render(
     symkin_runs: dict[str, Runs],
     peer_runs: dict[str, dict[str, Runs]],
     args: argparse.Namespace,
+    load: tuple[float, float],
 ) -> str:
     today = datetime.datetime.now(datetime.UTC).date().isoformat()
     cores = os.cpu_count()
+    runs_text = f"{args.repeat} run{'s' if args.repeat > 1 else ''}"
     lines = [
         f"Measured on {today}: {cpu_model()}, {cores} cores; Python {platform.python_version()}, "
         f"SymPy {version('sympy')}, symkin {version('symkin')}, roboticstoolbox-python "
         f"{version('roboticstoolbox-python')}, spatialmath-python "
-        f"{version('spatialmath-python')}. Median (min–max) of {args.repeat} runs, each in a "
-        f"fresh Python process; peer time limit {args.peer_timeout:g} s. "
-        "Generated by `bench/derivation_time.py`.",
+        f"{version('spatialmath-python')}. Times are CPU seconds, median (min–max) of "
+        f"{runs_text}, each in a fresh Python process; peer time limit "
+        f"{args.peer_timeout:g} s. Load average (1 min) at the start and end of the run: "
+        f"{load[0]:.1f} and {load[1]:.1f}. Generated by `bench/derivation_time.py`.",
         "",
         "### symkin, every catalogue robot",
         "",
@@ -260,7 +355,9 @@ def render(
     ]
     for name, runs in symkin_runs.items():
         dof = runs.last("dof")
-        if runs.results and not runs.values("det_s"):
+        if runs.values("det_timeout"):
+            det = f"did not finish in {runs.values('det_timeout')[0]:g} s"
+        elif runs.results and not runs.values("det_s"):
             det = "— (not square)"
         else:
             det = timing_cell(runs, "det_s")
@@ -308,6 +405,18 @@ def render(
                     f"| {ops if ops is not None else '—'} "
                     f"| {ratio_cell(runs, 'seconds', reference)} |"
                 )
+        checks = [
+            f"{name} {max(runs.values('disagreement')):.0e}"
+            for name, peers in peer_runs.items()
+            for runs in list(peers.values())[:1]
+            if runs.values("disagreement")
+        ]
+        if checks:
+            lines += [
+                "",
+                "Same arms: largest difference between RTB's and symkin's Jacobian and tool "
+                "rotation at random joint angles, in this run: " + ", ".join(checks) + ".",
+            ]
     return "\n".join(lines)
 
 
@@ -328,16 +437,22 @@ def write_docs(table: str, path: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeat", type=int, default=5, help="runs per measurement (5)")
-    parser.add_argument("--peer-timeout", type=float, default=300.0,
-                        help="time limit of one Robotics Toolbox run, seconds (300)")
-    parser.add_argument("--timeout", type=float, default=600.0,
-                        help="time limit of one symkin run, seconds (600)")
-    parser.add_argument("--robots", nargs="+", metavar="NAME",
-                        help="catalogue robots to measure (default: all)")
+    parser.add_argument(
+        "--peer-timeout",
+        type=float,
+        default=300.0,
+        help="time limit of one Robotics Toolbox run, seconds (300)",
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=600.0, help="time limit of one symkin run, seconds (600)"
+    )
+    parser.add_argument(
+        "--robots", nargs="+", metavar="NAME", help="catalogue robots to measure (default: all)"
+    )
     parser.add_argument("--no-peers", action="store_true", help="skip Robotics Toolbox")
     parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
     parser.add_argument("--no-write", action="store_true", help="print only")
-    parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
+    parser.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
 
     if args.child:
@@ -347,27 +462,39 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--repeat must be at least 1")
 
     # The catalogue's names, from a child too: the parent never imports SymPy.
-    names = args.robots or json.loads(subprocess.run(
-        [sys.executable, "-c", "import json, symkin; print(json.dumps(symkin.catalogue_names()))"],
-        capture_output=True, text=True, check=True, cwd=ROOT,
-    ).stdout)
+    names = args.robots or json.loads(
+        subprocess.run(
+            [
+                sys.executable,
+                "-c",
+                "import json, symkin; print(json.dumps(symkin.catalogue_names()))",
+            ],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=ROOT,
+        ).stdout
+    )
 
+    load_start = os.getloadavg()[0]
     symkin_runs = {name: measure("symkin", name, args.repeat, args.timeout) for name in names}
 
     peer_runs: dict[str, dict[str, Runs]] = {}
     if not args.no_peers:
-        for name, model in PEERS.items():
+        for name, (model, label) in PEERS.items():
             if name not in names:
                 continue
             raw = measure("rtb", model, args.repeat, args.peer_timeout)
-            peers = {f"RTB `{model}` fkine + jacob0, unsimplified": raw}
             if raw.error is None:
-                peers[f"RTB `{model}` fkine + jacob0 + trigsimp"] = measure(
-                    "rtb-trigsimp", model, args.repeat, args.peer_timeout
-                )
-            peer_runs[name] = peers
+                simplified = measure("rtb-trigsimp", model, args.repeat, args.peer_timeout)
+            else:  # not installed: say so in both rows
+                simplified = Runs(error=raw.error)
+            peer_runs[name] = {
+                f"{label}: `fkine` + `jacob0`, unsimplified": raw,
+                f"{label}: the same + `trigsimp` of every entry": simplified,
+            }
 
-    table = render(symkin_runs, peer_runs, args)
+    table = render(symkin_runs, peer_runs, args, (load_start, os.getloadavg()[0]))
     print(table)
     if not args.no_write:
         write_docs(table, args.docs)

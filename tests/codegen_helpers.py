@@ -139,7 +139,7 @@ class CLibrary:
         return np.ascontiguousarray(values, dtype=self.dtype)
 
     def _function(self, name: str, outputs: int, batch: bool):
-        function = getattr(self.lib, f"{self.robot.name}_{name}")
+        function = getattr(self.lib, f"{self.robot.name}_{name}{'_batch' if batch else ''}")
         function.restype = None
         pointers = [ctypes.c_void_p] * (2 + outputs)
         function.argtypes = [ctypes.c_size_t, *pointers] if batch else pointers
@@ -213,8 +213,10 @@ def c_driver(robot: symkin.Robot, kernels: tuple[Kernel, ...], states: np.ndarra
         lines.append(f"            memcpy(q, states + s * {n}, sizeof(double) * {n});")
         lines.append(f"            {name}_{kernel.name}(q, p, {', '.join(o for o, _ in outs)});")
         for out, size in outs:
-            lines.append(f'            printf("single %u ", (unsigned)s); show("{kernel.name} '
-                         f'{out}", {out}, {size});')
+            lines.append(
+                f'            printf("single %u ", (unsigned)s); show("{kernel.name} '
+                f'{out}", {out}, {size});'
+            )
         lines.append("        }")
         batch_outs = ", ".join(f"{o}_b" for o, _ in outs)
         lines.append(f"        {name}_{kernel.name}_batch({count}, qs, p, {batch_outs});")

@@ -13,6 +13,10 @@ Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli
   status must be 0, or 2 when the shown output contains ``error:``.
 * ```bash blocks: each line starting with ``symkin `` runs and must exit with status 0 (other
   lines, such as ``make run``, are set-up commands and are not run here).
+* Other blocks (```text, ```sh, ...) are shown, not run: ``symkin generate`` needs the
+  repository checkout and takes long.
+
+A failing Python block is reported as ``<file>:<line of its fence>``, line N of the block.
 """
 
 from __future__ import annotations

@@ -13,11 +13,14 @@ from functools import cached_property, lru_cache
 import sympy as sp
 
 from symkin.derive import jacobians
+from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
+from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion, point_motion
+from symkin.derive.newton_euler import newton_euler_dynamics
 from symkin.robot import Robot, joint_symbols
 
-__all__ = ["Model", "PointMotion", "derive"]
+__all__ = ["Dynamics", "Model", "PointMotion", "derive"]
 
 
 @dataclass(frozen=True)
@@ -151,6 +154,16 @@ class Model:
         jacobian = self.task_jacobian(rows)
         gram = self.kinematics.contract(jacobian * jacobian.T)
         return sp.sqrt(gram.det(method="berkowitz"))
+
+    @cached_property
+    def lagrange(self) -> Dynamics:
+        """Equations of motion by Lagrange (readable; for small robots)."""
+        return lagrange_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
+
+    @cached_property
+    def newton_euler(self) -> Dynamics:
+        """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
+        return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
 
     def point_motion(self, link: int, point: Sequence[sp.Expr]) -> PointMotion:
         """Position, velocity and acceleration of a point fixed in ``link`` (base frame)."""

@@ -1,0 +1,110 @@
+"""The equations of motion as one type, whichever method derived them.
+
+    tau = M(q) ddq + C(q, dq) dq + G(q) + F(dq)
+
+``M`` includes the reflected rotor inertias ``Ia`` on its diagonal.  ``C`` is the Coriolis
+matrix built from Christoffel symbols (so ``dM/dt - 2C`` is skew-symmetric) and ``c = C dq``.
+Expressions may refer to named intermediates (``assignments``, in order of definition): the
+recursive Newton–Euler method names every quantity as it goes so nothing blows up.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+
+from symkin.robot import Link, Robot
+
+
+def link_inertial_data(robot: Robot, index: int) -> Link:
+    """Inertial data of link ``index`` (0-based): the file's, or symbols ``m1, cx1, ixx1, ...``.
+
+    Symbols are real; masses and principal moments are also positive, which lets SymPy
+    simplify ``sqrt(m1**2)`` and the like.
+    """
+    link = robot.joints[index].link
+    if link is not None:
+        return link
+    i = index + 1
+
+    def symbol(name: str, **assumptions: bool) -> sp.Symbol:
+        return sp.Symbol(f"{name}{i}", real=True, **assumptions)
+
+    return Link(
+        mass=symbol("m", positive=True),
+        com=(symbol("cx"), symbol("cy"), symbol("cz")),
+        inertia=(
+            symbol("ixx", nonnegative=True),
+            symbol("iyy", nonnegative=True),
+            symbol("izz", nonnegative=True),
+            symbol("ixy"),
+            symbol("ixz"),
+            symbol("iyz"),
+        ),
+    )
+
+
+def friction_torque(link: Link, dq: sp.Symbol) -> sp.Expr:
+    """Joint friction ``F_i(dq_i)`` (CONVENTIONS.md, Dynamics).
+
+    Coulomb + viscous: ``fc sign(dq) + fv dq``; Stribeck, when given:
+    ``(fc + (fs - fc) exp(-|dq / dq_s|)) sign(dq) + fv dq``.
+    """
+    coulomb = link.coulomb
+    if link.stribeck_static is not None and link.stribeck_velocity is not None:
+        decay = sp.exp(-sp.Abs(dq / link.stribeck_velocity))
+        coulomb = coulomb + (link.stribeck_static - link.coulomb) * decay
+    return coulomb * sp.sign(dq) + link.viscous * dq
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """``M``, ``C``, ``c``, ``G`` and friction ``F`` of a robot, from one method.
+
+    ``coriolis_matrix`` may be ``None`` when it was not asked for (it costs the most).
+    """
+
+    method: str
+    q: tuple[sp.Symbol, ...]
+    dq: tuple[sp.Symbol, ...]
+    ddq: tuple[sp.Symbol, ...]
+    mass_matrix: sp.ImmutableMatrix
+    coriolis_vector: sp.ImmutableMatrix
+    gravity_vector: sp.ImmutableMatrix
+    friction: sp.ImmutableMatrix
+    coriolis_matrix: sp.ImmutableMatrix | None = None
+    assignments: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
+
+    @property
+    def inverse_dynamics(self) -> sp.ImmutableMatrix:
+        """``tau = M ddq + c + G + F``."""
+        ddq = sp.Matrix(self.ddq)
+        return sp.ImmutableMatrix(
+            self.mass_matrix * ddq + self.coriolis_vector + self.gravity_vector + self.friction
+        )
+
+    def expanded(self, matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
+        """``matrix`` with every named intermediate substituted back (small robots only)."""
+        values: dict[sp.Symbol, sp.Expr] = {}
+        for symbol, expr in self.assignments:
+            values[symbol] = expr.xreplace(values)
+        return sp.ImmutableMatrix(matrix.xreplace(values))
+
+
+def motor_inertia_matrix(robot: Robot) -> sp.ImmutableMatrix:
+    """``diag(Ia_1, ..., Ia_n)`` of the reflected rotor inertias (0 where not given)."""
+    return sp.ImmutableMatrix(
+        sp.diag(*(j.link.motor_inertia if j.link else sp.Integer(0) for j in robot.joints))
+    )
+
+
+def friction_vector(robot: Robot, dq: Sequence[sp.Symbol]) -> sp.ImmutableMatrix:
+    """``F(dq)`` for every joint (0 for a joint without friction data)."""
+    return sp.ImmutableMatrix(
+        [
+            friction_torque(joint.link, v) if joint.link else sp.Integer(0)
+            for joint, v in zip(robot.joints, dq, strict=True)
+        ]
+    )

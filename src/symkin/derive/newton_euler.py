@@ -1,0 +1,251 @@
+"""Recursive Newton–Euler, symbolic, with every intermediate named as the recursion proceeds.
+
+One formulation serves standard and modified DH.  Write ``A_i`` (frame i in frame i-1) with
+rotation ``R_i`` and translation ``p_i``; joint i moves about (or along) the unit axis
+``a_i`` through the point ``j_i``, both constant in frame i-1: standard DH ``a_i = z``,
+``j_i = 0`` (Spong, Luh–Walker–Paul); modified DH ``a_i = Rx(alpha) z``,
+``j_i = Rx(alpha) (a, 0, 0)`` (Craig eqs. 6.45-6.53).  In frame-i coordinates, with
+``s_i = R_i^T a_i`` and ``e_i = R_i^T (p_i - j_i)`` (from the axis point to origin i)::
+
+  revolute:   w_i  = R_i^T w_{i-1} + s_i dq_i
+              dw_i = R_i^T dw_{i-1} + s_i ddq_i + (R_i^T w_{i-1}) x s_i dq_i
+              dv_i = R_i^T acc_{i-1}(j_i) + dw_i x e_i + w_i x (w_i x e_i)
+  prismatic:  w_i  = R_i^T w_{i-1},  dw_i = R_i^T dw_{i-1}
+              dv_i = R_i^T acc_{i-1}(p_i) + 2 w_i x s_i dq_i + s_i ddq_i
+
+where ``acc_{i-1}(x) = dv_{i-1} + dw_{i-1} x x + w_{i-1} x (w_{i-1} x x)`` and
+``dv_0 = -g`` (gravity as a base acceleration).  Inward, with the COM ``r_i``::
+
+  F_i = m_i (dv_i + dw_i x r_i + w_i x (w_i x r_i)),   N_i = I_i dw_i + w_i x (I_i w_i)
+  f_i = F_i + R_{i+1} f_{i+1}
+  n_i = N_i + r_i x F_i + R_{i+1} n_{i+1} + p_{i+1} x (R_{i+1} f_{i+1})
+  tau_i = s_i . (n_i + e_i x f_i)  (revolute),   s_i . f_i  (prismatic)
+
+``M`` comes column by column from ``tau(q, 0, e_j)`` without gravity, ``G`` from
+``tau(q, 0, 0)``, ``c`` from ``tau(q, dq, 0)`` without gravity.  The Coriolis matrix ``C``
+takes Christoffel symbols of ``M``, differentiating through the named intermediates
+(forward mode) so it never expands.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from symkin.derive.dynamics import (
+    Dynamics,
+    friction_vector,
+    link_inertial_data,
+    motor_inertia_matrix,
+)
+from symkin.derive.kinematics import Kinematics
+from symkin.robot import Robot
+from symkin.spatial import rot_x
+
+Z_AXIS = sp.Matrix([0, 0, 1])
+
+
+@dataclass
+class Recorder:
+    """Names each non-trivial expression ``<prefix><k>`` and keeps the definitions in order."""
+
+    prefix: str
+    assignments: list[tuple[sp.Symbol, sp.Expr]] = field(default_factory=list)
+    _derivatives: dict[tuple[sp.Symbol, sp.Symbol], sp.Expr] = field(default_factory=dict)
+    _definitions: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
+
+    def name(self, expr: sp.Expr) -> sp.Expr:
+        expr = sp.sympify(expr)
+        if expr.is_Atom or (expr.is_Mul and len(expr.args) == 2 and expr.args[0] == -1):
+            return expr
+        symbol = sp.Symbol(f"{self.prefix}{len(self.assignments)}", real=True)
+        self.assignments.append((symbol, expr))
+        self._definitions[symbol] = expr
+        return symbol
+
+    def vector(self, vector: sp.MatrixBase) -> sp.Matrix:
+        return sp.Matrix([self.name(e) for e in vector])
+
+    def derivative(self, expr: sp.Expr, variable: sp.Symbol) -> sp.Expr:
+        """``d expr / d variable`` through the named intermediates (forward mode)."""
+        total = sp.diff(expr, variable)
+        for symbol in expr.free_symbols & self._definitions.keys():
+            inner = self._derivative_of_symbol(symbol, variable)
+            if inner != 0:
+                total += sp.diff(expr, symbol) * inner
+        return self.name(total)
+
+    def _derivative_of_symbol(self, symbol: sp.Symbol, variable: sp.Symbol) -> sp.Expr:
+        key = (symbol, variable)
+        if key not in self._derivatives:
+            self._derivatives[key] = self.derivative(self._definitions[symbol], variable)
+        return self._derivatives[key]
+
+
+@dataclass(frozen=True)
+class _JointGeometry:
+    revolute: bool
+    rotation: sp.Matrix  # R_i
+    translation: sp.Matrix  # p_i
+    axis: sp.Matrix  # s_i, frame i
+    offset: sp.Matrix  # e_i, frame i
+    point: sp.Matrix  # j_i, frame i-1
+
+
+def _joint_geometry(robot: Robot, kinematics: Kinematics) -> list[_JointGeometry]:
+    geometry = []
+    for joint, link in zip(robot.joints, kinematics.link_transforms, strict=True):
+        rotation, translation = sp.Matrix(link[:3, :3]), sp.Matrix(link[:3, 3])
+        if robot.convention == "standard":
+            axis, point = Z_AXIS, sp.zeros(3, 1)
+        else:
+            twist = sp.Matrix(rot_x(joint.alpha))
+            axis, point = twist * Z_AXIS, twist * sp.Matrix([joint.a, 0, 0])
+        geometry.append(
+            _JointGeometry(
+                revolute=joint.type == "revolute",
+                rotation=rotation,
+                translation=translation,
+                axis=sp.simplify(rotation.T * axis),
+                offset=sp.simplify(rotation.T * (translation - point)),
+                point=point,
+            )
+        )
+    return geometry
+
+
+def _point_acceleration(dv: sp.Matrix, dw: sp.Matrix, w: sp.Matrix, x: sp.Matrix) -> sp.Matrix:
+    return dv + dw.cross(x) + w.cross(w.cross(x))
+
+
+def joint_torques(
+    robot: Robot,
+    kinematics: Kinematics,
+    recorder: Recorder,
+    dq: Sequence[sp.Expr],
+    ddq: Sequence[sp.Expr],
+    gravity: Sequence[sp.Expr],
+) -> list[sp.Expr]:
+    """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia)."""
+    geometry = _joint_geometry(robot, kinematics)
+    base_rotation = sp.Matrix(robot.base[:3, :3])
+    w = sp.zeros(3, 1)
+    dw = sp.zeros(3, 1)
+    dv = recorder.vector(-base_rotation.T * sp.Matrix(gravity))
+    states = []
+    for i, joint in enumerate(geometry):
+        back = joint.rotation.T
+        if joint.revolute:
+            w_parent = back * w
+            w_new = recorder.vector(w_parent + joint.axis * dq[i])
+            dw_new = recorder.vector(
+                back * dw + joint.axis * ddq[i] + w_parent.cross(joint.axis) * dq[i]
+            )
+            origin = back * _point_acceleration(dv, dw, w, joint.point)
+            dv_new = origin + dw_new.cross(joint.offset) + w_new.cross(w_new.cross(joint.offset))
+        else:
+            w_new = recorder.vector(back * w)
+            dw_new = recorder.vector(back * dw)
+            origin = back * _point_acceleration(dv, dw, w, joint.translation)
+            dv_new = origin + 2 * w_new.cross(joint.axis) * dq[i] + joint.axis * ddq[i]
+        w, dw, dv = w_new, dw_new, recorder.vector(dv_new)
+        states.append((w, dw, dv))
+
+    force = sp.zeros(3, 1)
+    moment = sp.zeros(3, 1)
+    torques: list[sp.Expr] = [sp.Integer(0)] * robot.dof
+    for i in reversed(range(robot.dof)):
+        w, dw, dv = states[i]
+        data = link_inertial_data(robot, i)
+        com = sp.Matrix(data.com)
+        inertia = sp.Matrix(data.inertia_matrix)
+        body_force = recorder.vector(data.mass * _point_acceleration(dv, dw, w, com))
+        body_moment = inertia * dw + w.cross(inertia * w)
+        if i + 1 < robot.dof:
+            child = geometry[i + 1]
+            carried_force = child.rotation * force
+            carried_moment = child.rotation * moment + child.translation.cross(carried_force)
+        else:
+            carried_force = carried_moment = sp.zeros(3, 1)
+        force = recorder.vector(body_force + carried_force)
+        moment = recorder.vector(body_moment + com.cross(body_force) + carried_moment)
+        joint = geometry[i]
+        if joint.revolute:
+            torques[i] = recorder.name(joint.axis.dot(moment + joint.offset.cross(force)))
+        else:
+            torques[i] = recorder.name(joint.axis.dot(force))
+    return torques
+
+
+def newton_euler_dynamics(
+    robot: Robot,
+    kinematics: Kinematics,
+    dq: Sequence[sp.Symbol],
+    ddq: Sequence[sp.Symbol],
+    coriolis_matrix: bool = True,
+) -> Dynamics:
+    """``M``, ``c``, ``G`` (and ``C``) by recursive Newton–Euler, intermediates named."""
+    n = robot.dof
+    zeros = [sp.Integer(0)] * n
+    no_gravity = [sp.Integer(0)] * 3
+    recorder = Recorder("r")
+    gravity = joint_torques(robot, kinematics, recorder, zeros, zeros, robot.gravity)
+    coriolis = joint_torques(robot, kinematics, recorder, dq, zeros, no_gravity)
+    columns = []
+    for j in range(n):
+        unit = [sp.Integer(1 if k == j else 0) for k in range(n)]
+        columns.append(joint_torques(robot, kinematics, recorder, zeros, unit, no_gravity))
+    mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
+    # M is symmetric in exact arithmetic; use its lower triangle for both halves so the
+    # generated code computes each entry once and the matrix is symmetric to the last bit.
+    mass = sp.Matrix(n, n, lambda r, c: mass[max(r, c), min(r, c)])
+    christoffel = None
+    if coriolis_matrix:
+        christoffel = coriolis_from_mass_matrix(mass, kinematics.q, dq, recorder)
+    return Dynamics(
+        method="newton-euler",
+        q=kinematics.q,
+        dq=tuple(dq),
+        ddq=tuple(ddq),
+        mass_matrix=sp.ImmutableMatrix(mass),
+        coriolis_vector=sp.ImmutableMatrix(coriolis),
+        gravity_vector=sp.ImmutableMatrix(gravity),
+        friction=friction_vector(robot, dq),
+        coriolis_matrix=christoffel,
+        assignments=tuple(recorder.assignments),
+    )
+
+
+def coriolis_from_mass_matrix(
+    mass: sp.MatrixBase,
+    q: Sequence[sp.Symbol],
+    dq: Sequence[sp.Symbol],
+    recorder: Recorder | None = None,
+) -> sp.ImmutableMatrix:
+    """``C_kj = sum_i 1/2 (dM_kj/dq_i + dM_ki/dq_j - dM_ij/dq_k) dq_i`` (Christoffel symbols).
+
+    With a ``recorder`` the derivatives go through its named intermediates.
+    """
+    n = len(q)
+
+    def derivative(expr: sp.Expr, variable: sp.Symbol) -> sp.Expr:
+        return recorder.derivative(expr, variable) if recorder else sp.diff(expr, variable)
+
+    partial = {
+        (r, c, k): derivative(mass[r, c], q[k])
+        for r in range(n)
+        for c in range(r, n)
+        for k in range(n)
+    }
+
+    def dm(r: int, c: int, k: int) -> sp.Expr:
+        return partial[(min(r, c), max(r, c), k)]
+
+    coriolis = sp.Matrix(
+        n,
+        n,
+        lambda k, j: sum((dm(k, j, i) + dm(k, i, j) - dm(i, j, k)) * dq[i] / 2 for i in range(n)),
+    )
+    return sp.ImmutableMatrix(coriolis)
