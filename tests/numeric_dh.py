@@ -330,15 +330,15 @@ alpha = "-pi/3"
 
 [base]
 xyz = [0.1, -0.2, 0.3]
-rpy = [10, 20, 30]
+rpy = [30, 45, 60]
 
 [tool]
 xyz = [0.05, -0.02, 0.12]
-rpy = [5, -40, 70]
+rpy = [-45, 30, 90]
 """
 HAND_STANDARD_OVERRIDES = {"h": 0.42}
-HAND_STANDARD_BASE = frame([0.1, -0.2, 0.3], [10 * DEG, 20 * DEG, 30 * DEG])
-HAND_STANDARD_TOOL = frame([0.05, -0.02, 0.12], [5 * DEG, -40 * DEG, 70 * DEG])
+HAND_STANDARD_BASE = frame([0.1, -0.2, 0.3], [30 * DEG, 45 * DEG, 60 * DEG])
+HAND_STANDARD_TOOL = frame([0.05, -0.02, 0.12], [-45 * DEG, 30 * DEG, 90 * DEG])
 
 # Modified DH (Craig) with a prismatic joint, negative a and d, radians, base and tool.
 HAND_MODIFIED = """

@@ -96,6 +96,8 @@ def point_from_text(text: str, robot: Robot) -> tuple[int, list[float]]:
     values = coordinates.split(",")
     if len(values) != 3:
         raise SymkinError(f"--point: expected three coordinates X,Y,Z, got {coordinates!r}")
+    if any(v.strip().endswith("deg") for v in values):
+        raise SymkinError(f"--point: coordinates are lengths in metres, got {coordinates!r}")
     return link, [number_from_text(v, "--point") for v in values]
 
 
@@ -171,9 +173,12 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
         out.append("  not square: no determinant (manipulability sqrt(det(J J^T)) applies)")
     else:
         out.append(f"  det J = {sp.sstr(determinant)}")
-        conditions = model.singular_configurations(task)
-        out.append("  singular when:" if conditions else "  no singular configurations")
-        out += [f"    {condition_text(c)}" for c in conditions]
+        if determinant == 0:
+            out.append("  singular in every configuration: these rows are linearly dependent")
+        else:
+            conditions = model.singular_configurations(task)
+            out.append("  singular when:" if conditions else "  no singular configurations")
+            out += [f"    {condition_text(c)}" for c in conditions]
     return "\n".join(out)
 
 
@@ -297,7 +302,7 @@ def command_derive(args: argparse.Namespace) -> None:
     files = files_for_robot(robot, backends, args.precision)
     out = Path(args.out)
     write_files(out, files)
-    print(f"wrote {len(files)} files to {out}/:")
+    print(f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {out}/:")
     for relative in files:
         print(f"  {out / relative}")
     if "python" in backends and not args.no_build:

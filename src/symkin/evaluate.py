@@ -95,29 +95,35 @@ def kinematic_state(
     n = model.robot.dof
     for name, values in (("--q", q), ("--dq", dq), ("--ddq", ddq)):
         _check_length(name, values, n)
+    rows = tuple(rows or model.task_rows)
+    # Numbers come from the unsimplified product form: the same mathematics, far shorter
+    # expressions to lambdify on a long or oddly angled chain.
+    model = model.product_form
     transform = numeric_function(model, model.forward_kinematics, overrides)(q)
     jacobian = numeric_function(model, model.geometric_jacobian, overrides)(q)
     euler = euler_zyx_from_rotation(transform[:3, :3])
-    rows = tuple(rows or model.task_rows)
     task = numeric_function(model, model.task_jacobian(rows), overrides)(q)
-    determinant = float(np.linalg.det(task)) if task.shape[0] == task.shape[1] else None
-    manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
+    if task.shape[0] == task.shape[1]:
+        # Square: |det J| exactly, not sqrt(det(J J^T)), which rounds 0 up to ~1e-8.
+        determinant = float(np.linalg.det(task))
+        manipulability = abs(determinant)
+    else:
+        determinant = None
+        manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
     states = []
     for link, point in points:
         motion = model.point_motion(link, [sp.Float(c) for c in point])
-        evaluate = {
-            key: numeric_function(model, getattr(motion, key), overrides)
-            for key in ("position", "velocity", "acceleration")
-        }
+
+        def value(quantity: str, motion=motion) -> np.ndarray:
+            return numeric_function(model, getattr(motion, quantity), overrides)(q, dq, ddq).ravel()
+
         states.append(
             PointState(
                 link=link,
                 point=tuple(float(c) for c in point),
-                position=evaluate["position"](q).ravel(),
-                velocity=None if dq is None else evaluate["velocity"](q, dq).ravel(),
-                acceleration=None
-                if dq is None or ddq is None
-                else evaluate["acceleration"](q, dq, ddq).ravel(),
+                position=value("position"),
+                velocity=None if dq is None else value("velocity"),
+                acceleration=None if dq is None or ddq is None else value("acceleration"),
             )
         )
     return KinematicState(

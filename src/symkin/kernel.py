@@ -170,7 +170,7 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
             "J": lambda m: (
                 "J",
                 m.geometric_jacobian,
-                f"geometric Jacobian (6x{n}, rows vx vy vz wx wy wz, base frame)",
+                f"geometric Jacobian (6x{n}, rows x y z wx wy wz, base frame)",
             ),
             "Jp": lambda m: ("Jp", m.position_jacobian, f"dp/dq (3x{n})"),
         }

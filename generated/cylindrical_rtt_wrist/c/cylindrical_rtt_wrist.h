@@ -41,7 +41,7 @@ void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p
 void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *p_tool);
 
 /* Geometric jacobian (50 operations).
- * J[36]: geometric Jacobian (6x6, rows vx vy vz wx wy wz, base frame)
+ * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
  */
 void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -56,7 +56,7 @@ void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q
 
 /* Forward kinematics and jacobian (82 operations).
  * T[16]: pose of the tool in the base frame (4x4)
- * J[36]: geometric Jacobian (6x6, rows vx vy vz wx wy wz, base frame)
+ * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
  */
 void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[16], double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */

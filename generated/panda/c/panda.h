@@ -40,7 +40,7 @@ void panda_position(const double q[7], const double *p, double p_tool[3]);
 void panda_position_batch(size_t count, const double *q, const double *p, double *p_tool);
 
 /* Geometric jacobian (181 operations).
- * J[42]: geometric Jacobian (6x7, rows vx vy vz wx wy wz, base frame)
+ * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
  */
 void panda_jacobian(const double q[7], const double *p, double J[42]);
 /* The same for count states: q is count x 7, each output count x its size. */
@@ -55,7 +55,7 @@ void panda_position_jacobian_batch(size_t count, const double *q, const double *
 
 /* Forward kinematics and jacobian (202 operations).
  * T[16]: pose of the tool in the base frame (4x4)
- * J[42]: geometric Jacobian (6x7, rows vx vy vz wx wy wz, base frame)
+ * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
  */
 void panda_fk_jacobian(const double q[7], const double *p, double T[16], double J[42]);
 /* The same for count states: q is count x 7, each output count x its size. */

@@ -41,7 +41,7 @@ void planar_2r_position(const double q[2], const double *p, double p_tool[3]);
 void planar_2r_position_batch(size_t count, const double *q, const double *p, double *p_tool);
 
 /* Geometric jacobian (13 operations).
- * J[12]: geometric Jacobian (6x2, rows vx vy vz wx wy wz, base frame)
+ * J[12]: geometric Jacobian (6x2, rows x y z wx wy wz, base frame)
  */
 void planar_2r_jacobian(const double q[2], const double *p, double J[12]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -56,7 +56,7 @@ void planar_2r_position_jacobian_batch(size_t count, const double *q, const doub
 
 /* Forward kinematics and jacobian (14 operations).
  * T[16]: pose of the tool in the base frame (4x4)
- * J[12]: geometric Jacobian (6x2, rows vx vy vz wx wy wz, base frame)
+ * J[12]: geometric Jacobian (6x2, rows x y z wx wy wz, base frame)
  */
 void planar_2r_fk_jacobian(const double q[2], const double *p, double T[16], double J[12]);
 /* The same for count states: q is count x 2, each output count x its size. */

@@ -134,7 +134,7 @@ def position_function(symbol_type=casadi.SX):
 def jacobian_function(symbol_type=casadi.SX):
     """Geometric jacobian (89 operations) as a casadi.Function.
 
-    Output J: geometric Jacobian (6x6, rows vx vy vz wx wy wz, base frame).
+    Output J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame).
     """
     q = symbol_type.sym("q", 6)
     p = symbol_type.sym("p", 4)
@@ -255,7 +255,7 @@ def fk_jacobian_function(symbol_type=casadi.SX):
     """Forward kinematics and jacobian (135 operations) as a casadi.Function.
 
     Output T: pose of the tool in the base frame (4x4).
-    Output J: geometric Jacobian (6x6, rows vx vy vz wx wy wz, base frame).
+    Output J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame).
     """
     q = symbol_type.sym("q", 6)
     p = symbol_type.sym("p", 4)

@@ -41,7 +41,7 @@ void scara_position(const double q[3], const double *p, double p_tool[3]);
 void scara_position_batch(size_t count, const double *q, const double *p, double *p_tool);
 
 /* Geometric jacobian (13 operations).
- * J[18]: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame)
+ * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
  */
 void scara_jacobian(const double q[3], const double *p, double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -56,7 +56,7 @@ void scara_position_jacobian_batch(size_t count, const double *q, const double *
 
 /* Forward kinematics and jacobian (14 operations).
  * T[16]: pose of the tool in the base frame (4x4)
- * J[18]: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame)
+ * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
  */
 void scara_fk_jacobian(const double q[3], const double *p, double T[16], double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */

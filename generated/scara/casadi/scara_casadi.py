@@ -85,7 +85,7 @@ def position_function(symbol_type=casadi.SX):
 def jacobian_function(symbol_type=casadi.SX):
     """Geometric jacobian (13 operations) as a casadi.Function.
 
-    Output J: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame).
+    Output J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame).
     """
     q = symbol_type.sym("q", 3)
     p = symbol_type.sym("p", 2)
@@ -146,7 +146,7 @@ def fk_jacobian_function(symbol_type=casadi.SX):
     """Forward kinematics and jacobian (14 operations) as a casadi.Function.
 
     Output T: pose of the tool in the base frame (4x4).
-    Output J: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame).
+    Output J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame).
     """
     q = symbol_type.sym("q", 3)
     p = symbol_type.sym("p", 2)

@@ -75,7 +75,7 @@ def position(q, p=DEFAULT_PARAMETERS):
 def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 13 operations.
 
-    Returns J: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame), shape (..., 6, 3).
+    Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
@@ -126,7 +126,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 14 operations.
 
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
-    Returns J: geometric Jacobian (6x3, rows vx vy vz wx wy wz, base frame), shape (..., 6, 3).
+    Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)

@@ -16,7 +16,7 @@ from symkin.derive import jacobians
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
-from symkin.derive.motion import PointMotion, point_motion
+from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import newton_euler_dynamics
 from symkin.robot import Robot, joint_symbols
 
@@ -167,7 +167,8 @@ class Model:
 
     def point_motion(self, link: int, point: Sequence[sp.Expr]) -> PointMotion:
         """Position, velocity and acceleration of a point fixed in ``link`` (base frame)."""
-        return point_motion(self.robot, self.kinematics, link, point, self.dq, self.ddq)
+        coordinates = tuple(sp.sympify(c) for c in point)
+        return PointMotion(self.robot, self.kinematics, link, coordinates, self.dq, self.ddq)
 
 
 @lru_cache(maxsize=32)

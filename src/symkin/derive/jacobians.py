@@ -88,11 +88,11 @@ def rows_from_names(names: Sequence[str]) -> tuple[int, ...]:
 def default_task_rows(jacobian: sp.MatrixBase) -> tuple[str, ...]:
     """The rows of the task Jacobian when the user chooses none.
 
-    All six when n = 6; otherwise the first n rows that are not identically zero, in the order
+    All six when n >= 6; otherwise the first n rows that are not identically zero, in the order
     x, y, z, wz, wx, wy (planar 2R: x, y; SCARA with prismatic z: x, y, z; planar 3R: x, y, wz).
     """
     n = jacobian.cols
-    if n == 6:
+    if n >= 6:
         return ROW_NAMES
     nonzero = [
         name
@@ -148,8 +148,12 @@ def singular_configurations(determinant: sp.Expr, q: Sequence[sp.Symbol]) -> tup
 
     A factor ``sin(qi)``, ``cos(qi)`` or polynomial in one joint variable is solved for it
     (``sin(q2)`` gives ``q2 = 0`` and ``q2 = pi``); any other factor is returned as the equation
-    ``factor = 0``.
+    ``factor = 0``.  A determinant that is identically zero gives the one condition
+    ``0 = 0``: singular in every configuration.
     """
+    if determinant == 0:
+        # Dependent rows: singular everywhere; an always-true condition says exactly that.
+        return (sp.Eq(sp.Integer(0), sp.Integer(0), evaluate=False),)
     joint_set = set(q)
     conditions: list[sp.Eq] = []
     for factor in sp.Mul.make_args(determinant):

@@ -33,9 +33,28 @@ def joint_dh_values(joint: Joint, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Ex
     return joint.theta, q + joint.d, joint.a, joint.alpha
 
 
+def trig_pair(angle: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """``(cos, sin)`` of an angle; a constant without a closed form becomes a Float.
+
+    ``cos(pi/3)`` stays ``1/2``, but ``cos(pi/18)`` would stay a symbol-like constant that
+    multiplies the size of every expanded product; its 17-digit value reads and computes better.
+    """
+    pair = (sp.cos(angle), sp.sin(angle))
+    if angle.is_number:
+        return tuple(v.evalf(17) if v.has(sp.cos, sp.sin) else v for v in pair)
+    return pair
+
+
+def numeric_trig_constants(matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
+    """A constant transform with ``cos(pi/18)``-like entries evaluated (see :func:`trig_pair`)."""
+    return sp.ImmutableMatrix(
+        matrix.applyfunc(lambda e: e.evalf(17) if e.is_number and e.has(sp.cos, sp.sin) else e)
+    )
+
+
 def standard_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -> sp.Matrix:
     """``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` in closed form."""
-    ct, st, ca, sa = sp.cos(theta), sp.sin(theta), sp.cos(alpha), sp.sin(alpha)
+    (ct, st), (ca, sa) = trig_pair(theta), trig_pair(alpha)
     return sp.Matrix(
         [
             [ct, -st * ca, st * sa, a * ct],
@@ -48,7 +67,7 @@ def standard_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -
 
 def modified_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -> sp.Matrix:
     """``Rx(alpha) Tx(a) Rz(theta) Tz(d)`` in closed form (Craig's eq. 3.6)."""
-    ct, st, ca, sa = sp.cos(theta), sp.sin(theta), sp.cos(alpha), sp.sin(alpha)
+    (ct, st), (ca, sa) = trig_pair(theta), trig_pair(alpha)
     return sp.Matrix(
         [
             [ct, -st, 0, a],
@@ -146,11 +165,11 @@ def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
         for joint, qi in zip(robot.joints, q, strict=True)
     )
     policy = Kinematics(q, links, (), (), robot.tool, has_parallel_revolute_axes(robot), simplified)
-    frames = [robot.base]
+    frames = [numeric_trig_constants(robot.base)]
     for link in links:
         frames.append(policy.contract(frames[-1] * link))
     joint_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
-    tool = policy.contract(frames[-1] * robot.tool)
+    tool = policy.contract(frames[-1] * numeric_trig_constants(robot.tool))
     return dataclasses.replace(
         policy,
         frame_transforms=tuple(frames),

@@ -28,6 +28,9 @@ from symkin.derive.dynamics import (
 from symkin.derive.kinematics import Kinematics
 from symkin.robot import Robot
 
+# Up to this many joints the results are expanded and contracted into readable sums.
+READABLE_DOF = 3
+
 
 def _to_symengine(matrix: sp.MatrixBase) -> se.DenseMatrix:
     return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
@@ -71,9 +74,16 @@ def lagrange_dynamics(
     # SymEngine drops SymPy's assumptions; map the plain names back to our symbols.
     restore = {sp.Symbol(s.name): s for s in free_symbols}
 
+    readable = n <= READABLE_DOF
+
     def to_sympy(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
-        entries = [sp.sympify(se.expand(e)).xreplace(restore) for e in matrix]
-        return kinematics.contract(sp.Matrix(matrix.rows, matrix.cols, entries))
+        # Expanding a 6-DOF Coriolis matrix gives ~10^5 terms: only small robots are expanded
+        # and contracted for reading; larger ones keep SymEngine's compact product form.
+        entries = [
+            sp.sympify(se.expand(e) if readable else e).xreplace(restore) for e in matrix
+        ]
+        matrix = sp.Matrix(matrix.rows, matrix.cols, entries)
+        return kinematics.contract(matrix) if readable else sp.ImmutableMatrix(matrix)
 
     dq_se = se.DenseMatrix([se.sympify(v) for v in dq])
     christoffel = _christoffel(mass, q, list(dq_se))

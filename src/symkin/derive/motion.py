@@ -19,8 +19,8 @@ the twist matrix ``D_j = Z_j Q_j Z_j^-1``, and (Paul, "Robot Manipulators", ch. 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import sympy as sp
 
@@ -33,15 +33,6 @@ Q_REVOLUTE = sp.ImmutableMatrix([[0, -1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [0, 
 Q_PRISMATIC = sp.ImmutableMatrix([[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
 
 
-@dataclass(frozen=True)
-class PointMotion:
-    """Base-frame position, velocity and acceleration (3x1 each) of a point on a link."""
-
-    position: sp.ImmutableMatrix
-    velocity: sp.ImmutableMatrix
-    acceleration: sp.ImmutableMatrix
-
-
 def twist_matrices(robot: Robot, kinematics: Kinematics) -> tuple[sp.ImmutableMatrix, ...]:
     """``D_j = Z_j Q_j Z_j^-1`` for every joint (4x4, base frame)."""
     twists = []
@@ -51,32 +42,55 @@ def twist_matrices(robot: Robot, kinematics: Kinematics) -> tuple[sp.ImmutableMa
     return tuple(twists)
 
 
-def point_motion(
-    robot: Robot,
-    kinematics: Kinematics,
-    link: int,
-    point: Sequence[sp.Expr],
-    dq: Sequence[sp.Symbol],
-    ddq: Sequence[sp.Symbol],
-) -> PointMotion:
-    """Motion of ``point`` (coordinates in frame ``link``; 0 is the base frame)."""
-    if not 0 <= link <= robot.dof:
-        raise SymkinError(f"link must be between 0 and {robot.dof}, got {link}")
-    if len(point) != 3:
-        raise SymkinError(f"a point needs 3 coordinates, got {len(point)}")
-    twists = twist_matrices(robot, kinematics)[:link]
-    world = kinematics.frame_transforms[link] * sp.Matrix([*point, 1])
-    velocity = sp.zeros(4, 1)
-    acceleration = sp.zeros(4, 1)
-    for j, twist_j in enumerate(twists):
-        u_j = twist_j * world
-        velocity += u_j * dq[j]
-        acceleration += u_j * ddq[j]
-        for k, twist_k in enumerate(twists):
-            first, second = (twist_k, twist_j) if k <= j else (twist_j, twist_k)
-            acceleration += first * second * world * dq[j] * dq[k]
-    return PointMotion(
-        kinematics.contract(world[:3, 0]),
-        kinematics.contract(velocity[:3, 0]),
-        kinematics.contract(acceleration[:3, 0]),
-    )
+@dataclass(frozen=True)
+class PointMotion:
+    """Base-frame position, velocity and acceleration (3x1 each) of a point on a link.
+
+    Each is derived on first use: a velocity costs more than a position and an acceleration
+    more than both, and callers often want only the first.
+    """
+
+    robot: Robot
+    kinematics: Kinematics
+    link: int
+    point: tuple[sp.Expr, sp.Expr, sp.Expr]
+    dq: tuple[sp.Symbol, ...]
+    ddq: tuple[sp.Symbol, ...]
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.link <= self.robot.dof:
+            raise SymkinError(f"link must be between 0 and {self.robot.dof}, got {self.link}")
+        if len(self.point) != 3:
+            raise SymkinError(f"a point needs 3 coordinates, got {len(self.point)}")
+
+    @cached_property
+    def _world(self) -> sp.Matrix:
+        return self.kinematics.frame_transforms[self.link] * sp.Matrix([*self.point, 1])
+
+    @cached_property
+    def _twists(self) -> tuple[sp.ImmutableMatrix, ...]:
+        return twist_matrices(self.robot, self.kinematics)[: self.link]
+
+    @cached_property
+    def position(self) -> sp.ImmutableMatrix:
+        """``p = W_i r``."""
+        return self.kinematics.contract(self._world[:3, 0])
+
+    @cached_property
+    def velocity(self) -> sp.ImmutableMatrix:
+        """``v = sum_j U_ij r dq_j`` with ``U_ij = D_j W_i``."""
+        velocity = sp.zeros(4, 1)
+        for j, twist in enumerate(self._twists):
+            velocity += twist * self._world * self.dq[j]
+        return self.kinematics.contract(velocity[:3, 0])
+
+    @cached_property
+    def acceleration(self) -> sp.ImmutableMatrix:
+        """``a = (sum_jk U_ijk dq_j dq_k + sum_j U_ij ddq_j) r``, ``U_ijk = D_min D_max W_i``."""
+        acceleration = sp.zeros(4, 1)
+        for j, twist_j in enumerate(self._twists):
+            acceleration += twist_j * self._world * self.ddq[j]
+            for k, twist_k in enumerate(self._twists):
+                first, second = (twist_k, twist_j) if k <= j else (twist_j, twist_k)
+                acceleration += first * second * self._world * self.dq[j] * self.dq[k]
+        return self.kinematics.contract(acceleration[:3, 0])

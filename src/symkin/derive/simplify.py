@@ -32,6 +32,9 @@ def contract_trig(expr: sp.Expr, angle_sums: bool = True) -> sp.Expr:
     and would find nothing.
     """
     expanded = sp.expand(expr)
+    if len(sp.Add.make_args(expanded)) > MAX_CONTRACTED_TERMS:
+        # Too long to read either way; TR10i is quadratic in terms, so keep the product form.
+        return expr
     if not angle_sums or not expanded.has(sp.sin, sp.cos):
         return expanded
     return TR10i(expanded)
@@ -40,6 +43,10 @@ def contract_trig(expr: sp.Expr, angle_sums: bool = True) -> sp.Expr:
 def contract_matrix(matrix: sp.MatrixBase, angle_sums: bool = True) -> sp.ImmutableMatrix:
     """:func:`contract_trig` applied to every entry."""
     return sp.ImmutableMatrix(matrix.applyfunc(lambda e: contract_trig(e, angle_sums)))
+
+
+# Expanded sums longer than this stay in product form (readability is lost anyway).
+MAX_CONTRACTED_TERMS = 400
 
 
 @dataclass(frozen=True)

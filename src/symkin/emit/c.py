@@ -35,17 +35,16 @@ def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double")
         "parameter_values": [
             "NAN" if v is None else c_literal(v, precision) for _, v in robot.parameters
         ],
-        "example_q": [c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)],
+        "example_q": [round(0.1 * (i + 1), 1) for i in range(robot.dof)],
+        "example_q_literals": [
+            c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)
+        ],
         "kernels": [kernel_layout(k, partial(c_code, precision=precision)) for k in kernels],
     }
-    what = f"C kinematics ({precision})"
+    context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})")
     return {
-        f"c/{header}": render(
-            "c/header.h.j2", preamble=preamble_lines(robot, kernels, what), **context
-        ),
-        f"c/{source}": render(
-            "c/source.c.j2", preamble=preamble_lines(robot, kernels, what), **context
-        ),
+        f"c/{header}": render("c/header.h.j2", **context),
+        f"c/{source}": render("c/source.c.j2", **context),
         "c/example.c": render("c/example.c.j2", **context),
         "c/Makefile": render("c/Makefile.j2", **context),
     }

@@ -16,6 +16,7 @@ listed in an ``align*`` block, and where a long entry is broken across lines.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -557,7 +558,8 @@ def _at_configuration(lhs: str) -> str:
 
 def _entry_name(symbol: str, superscript: str = "") -> Callable[[int, int], str]:
     def name(j: int, k: int) -> str:
-        return f"{symbol}{superscript}_{{{j + 1}{k + 1}}}"
+        separator = "," if max(j, k) >= 9 else ""
+        return f"{symbol}{superscript}_{{{j + 1}{separator}{k + 1}}}"
 
     return name
 
@@ -939,7 +941,7 @@ class _Writer:
         if conditions:
             rows = [layout.equation_rows(layout.tex(c.lhs), c.rhs)[0] for c in conditions]
             rows = [
-                row + (rf" &&\text{{{t['or']}}}" if n < len(rows) - 1 else "")
+                row + (rf" \qquad \text{{{t['or']}}}" if n < len(rows) - 1 else "")
                 for n, row in enumerate(rows)
             ]
             body = _align(rows)
@@ -1067,8 +1069,6 @@ def _gather(lines: Sequence[str]) -> str:
 
 
 def _check_shorthand_names(model: Model) -> None:
-    import re
-
     clash = [s.name for s in model.robot.parameter_symbols if re.fullmatch(r"[cs]_?\d+", s.name)]
     if clash:
         raise SymkinError(
