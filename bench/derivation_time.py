@@ -8,7 +8,10 @@ library (not timed), builds the robot object (not timed), then times:
   separately, ``m.determinant()`` (factored determinant of the task Jacobian);
 * Robotics Toolbox (roboticstoolbox-python, the ``bench`` extra): ``fkine(q)`` + ``jacob0(q)``
   with SymPy symbols ``q`` (unsimplified), and in other children the same followed by
-  ``sympy.trigsimp`` of every entry, under a time limit (``--peer-timeout``).
+  ``sympy.trigsimp`` of every entry, under a limit of ``--peer-timeout`` CPU seconds.
+
+Times are CPU seconds of the child (``time.process_time``), which other load on the shared
+machine barely moves; the load average at the start and end is recorded with the table.
 
 Size is ``sympy.count_ops`` summed over every entry of the 4x4 pose and the 6xn Jacobian.
 The script prints a Markdown table and writes it into ``docs/benchmarks.md`` between

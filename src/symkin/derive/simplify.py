@@ -105,6 +105,12 @@ def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
     return circle.factor(circle.polynomial(expr))
 
 
+def _rational_coefficients(expr: sp.Expr) -> sp.Expr:
+    """Every numeric constant (``0.3``, ``sqrt(3)/2``) as the exact rational of its double."""
+    numeric = sp.nfloat(expr, 17)
+    return numeric.xreplace({f: sp.Rational(f) for f in numeric.atoms(sp.Float)})
+
+
 def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> sp.Expr:
     """Determinant of a square matrix polynomial in ``sin``/``cos`` of ``angles``, factored.
 
@@ -115,9 +121,11 @@ def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> 
         raise ValueError("determinant of a non-square matrix")
     circle = _CircleVariables.of(angles)
     polynomial_matrix = sp.Matrix(matrix).applyfunc(circle.polynomial)
-    if polynomial_matrix.has(sp.Float):
-        determinant = sp.expand(polynomial_matrix.det(method="berkowitz"))
-    else:
-        domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
-        determinant = domain_matrix.domain.to_sympy(domain_matrix.det())
-    return circle.factor(determinant)
+    inexact = polynomial_matrix.has(sp.Float)
+    if inexact:
+        # Exact rationals keep the ring exact (fast determinant, factoring possible);
+        # the factors get their floating-point coefficients back at the end.
+        polynomial_matrix = polynomial_matrix.applyfunc(_rational_coefficients)
+    domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
+    determinant = circle.factor(domain_matrix.domain.to_sympy(domain_matrix.det()))
+    return sp.nfloat(determinant, 15) if inexact else determinant
