@@ -75,13 +75,19 @@ class _CircleVariables:
         Catches ``c_1^2 + s_1^2`` and compound forms such as ``s_1^2 s_2^2 + c_1^2 s_2^2 +
         c_2^2`` (a Stanford arm's determinant has one).
         """
-        pairs = [(c, s) for c, s in self.pairs if factor.has(c) or factor.has(s)]
-        if not pairs:
+        if not any(factor.has(c) or factor.has(s) for c, s in self.pairs):
             return None
-        ideal = [c**2 + s**2 - 1 for c, s in pairs]
-        generators = [v for pair in pairs for v in pair]
-        _, remainder = sp.reduced(factor, ideal, *generators)
+        remainder = self.reduce(factor)
         return remainder if remainder.is_number else None
+
+    def reduce(self, polynomial: sp.Expr) -> sp.Expr:
+        """The remainder of ``polynomial`` modulo ``c_i^2 + s_i^2 - 1`` (c_i^2 eliminated)."""
+        pairs = [(c, s) for c, s in self.pairs if polynomial.has(c) or polynomial.has(s)]
+        if not pairs:
+            return polynomial
+        ideal = [c**2 + s**2 - 1 for c, s in pairs]
+        _, remainder = sp.reduced(polynomial, ideal, *[v for pair in pairs for v in pair])
+        return remainder
 
     def factor(self, polynomial: sp.Expr) -> sp.Expr:
         """Exact factorisation; constant factors on the circle folded into the coefficient."""
@@ -103,6 +109,14 @@ def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
     """Factor ``expr``, polynomial in ``sin``/``cos`` of ``angles``, into readable factors."""
     circle = _CircleVariables.of(angles)
     return circle.factor(circle.polynomial(expr))
+
+
+def _chop(expr: sp.Expr, relative: float = 1e-12) -> sp.Expr:
+    """Drop terms whose coefficient is rounding noise next to the largest one."""
+    terms = sp.Add.make_args(sp.expand(expr))
+    sizes = [abs(float(t.as_coeff_Mul()[0])) for t in terms]
+    largest = max(sizes, default=0.0)
+    return sp.Add(*(t for t, size in zip(terms, sizes, strict=True) if size > relative * largest))
 
 
 def _rational_coefficients(expr: sp.Expr) -> sp.Expr:
@@ -127,5 +141,8 @@ def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> 
         # the factors get their floating-point coefficients back at the end.
         polynomial_matrix = polynomial_matrix.applyfunc(_rational_coefficients)
     domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
-    determinant = circle.factor(domain_matrix.domain.to_sympy(domain_matrix.det()))
-    return sp.nfloat(determinant, 15) if inexact else determinant
+    determinant = domain_matrix.domain.to_sympy(domain_matrix.det())
+    if not inexact:
+        return circle.factor(determinant)
+    # Rounded constants hide the exact factors; reduce on the circle and drop rounding noise.
+    return contract_trig(_chop(sp.nfloat(circle.reduce(determinant), 15)).xreplace(circle.back))
