@@ -10,14 +10,14 @@ import difflib
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
-from symkin.derive import derive
+from symkin.derive import Model, derive
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
 from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
 from symkin.io import catalogue_names, load_robot
-from symkin.kernel import kinematics_kernels
+from symkin.kernel import Kernel, dynamics_kernels, kinematics_kernels
 from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
@@ -40,13 +40,18 @@ def check_backends(names: Iterable[str]) -> tuple[str, ...]:
     return chosen
 
 
+def robot_kernels(model: Model) -> tuple[Kernel, ...]:
+    """Every kernel generated for a robot: kinematics, then dynamics."""
+    return kinematics_kernels(model) + dynamics_kernels(model)
+
+
 def files_for_robot(
     robot: Robot, backends: Sequence[str] = BACKENDS, precision: str = "double"
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot."""
     if precision not in PRECISIONS:
         raise SymkinError(f"--precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
-    kernels = kinematics_kernels(derive(robot))
+    kernels = robot_kernels(derive(robot))
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels),
         "c": lambda: emit_c(robot, kernels, precision),

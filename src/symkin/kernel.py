@@ -14,6 +14,7 @@ from functools import cached_property
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.dynamics import link_inertial_data
 
 # Kinds reported in operation counts, from SymPy's count_ops(visual=True) names.
 OPERATION_KINDS: Mapping[str, tuple[str, ...]] = {
@@ -125,13 +126,12 @@ def kernel_from_outputs(
 
 
 def standard_inputs(model: Model, *, velocities: bool = False) -> tuple[KernelInput, ...]:
-    """``q`` (and ``dq``), then the robot's parameters ``p`` in file order."""
+    """``q`` (and ``dq``), then the robot's parameters ``p`` in file order (maybe none)."""
     inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
     if velocities:
         inputs.append(KernelInput("dq", model.dq, "joint velocities (rad/s or m/s)"))
-    if model.robot.parameters:
-        names = ", ".join(n for n, _ in model.robot.parameters)
-        inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
+    names = ", ".join(n for n, _ in model.robot.parameters) or "none"
+    inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
     return tuple(inputs)
 
 
@@ -196,4 +196,142 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
                 [("det", sp.Matrix([[determinant]]), "det J (1x1)")],
             )
         )
+    return tuple(kernels)
+
+
+def kernel_from_assignments(
+    name: str,
+    description: str,
+    inputs: Sequence[KernelInput],
+    assignments: Sequence[tuple[sp.Symbol, sp.Expr]],
+    outputs: Sequence[tuple[str, sp.MatrixBase, str]],
+) -> Kernel:
+    """A kernel from named intermediates that already share their subexpressions.
+
+    Keeps only the intermediates the outputs need (in definition order) and renames them
+    ``t0, t1, ...`` so the text does not depend on how many were recorded before.
+    """
+    needed: set[sp.Symbol] = set()
+    for _, matrix, _ in outputs:
+        needed |= sp.ImmutableMatrix(matrix).free_symbols
+    kept = []
+    for symbol, expr in reversed(assignments):
+        if symbol in needed:
+            kept.append((symbol, expr))
+            needed |= expr.free_symbols
+    kept.reverse()
+    kept, matrices = _shared_subexpressions(kept, [sp.ImmutableMatrix(m) for _, m, _ in outputs])
+    prefix = _intermediate_prefix([e for _, e in kept] + [s for _, s in kept])
+    renaming = {
+        old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)
+    }
+    renamed = tuple((renaming[s], e.xreplace(renaming)) for s, e in kept)
+    kernel_outputs = tuple(
+        KernelOutput(out_name, matrix.xreplace(renaming), out_description)
+        for (out_name, _, out_description), matrix in zip(outputs, matrices, strict=True)
+    )
+    return Kernel(name, description, tuple(inputs), kernel_outputs, renamed)
+
+
+def _shared_subexpressions(
+    assignments: list[tuple[sp.Symbol, sp.Expr]], matrices: list[sp.ImmutableMatrix]
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.ImmutableMatrix]]:
+    """One CSE over named intermediates and outputs (``sin(q1)`` once, not per quantity).
+
+    Each new subexpression is placed just before its first use, which is after every
+    intermediate it refers to, so the order stays a valid evaluation order.
+    """
+    expressions = [e for _, e in assignments] + list(matrices)
+    found, reduced = sp.cse(expressions, symbols=sp.numbered_symbols("_cse", real=True))
+    definitions = dict(found)
+    placed: set[sp.Symbol] = set()
+    ordered: list[tuple[sp.Symbol, sp.Expr]] = []
+
+    def place(expr: sp.Expr) -> None:
+        for symbol in sorted(expr.free_symbols & definitions.keys(), key=sp.default_sort_key):
+            if symbol not in placed:
+                place(definitions[symbol])
+                placed.add(symbol)
+                ordered.append((symbol, definitions[symbol]))
+
+    for (symbol, _), expr in zip(assignments, reduced, strict=False):
+        place(expr)
+        ordered.append((symbol, expr))
+    outputs = [sp.ImmutableMatrix(m) for m in reduced[len(assignments) :]]
+    for matrix in outputs:
+        place(matrix)
+    return ordered, outputs
+
+
+def inertial_symbols(model: Model) -> tuple[sp.Symbol, ...]:
+    """Symbols of the inertial data the robot file leaves out (``m1, cx1, ..., iyz1, m2, ...``)."""
+    symbols: list[sp.Symbol] = []
+    for i, joint in enumerate(model.robot.joints):
+        if joint.link is None:
+            link = link_inertial_data(model.robot, i)
+            symbols += [link.mass, *link.com, *link.inertia]
+    return tuple(symbols)
+
+
+def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
+    """``q``, the chosen rates (``dq``, ``ddq``), parameters ``p``, inertial symbols ``pi``."""
+    descriptions = {
+        "dq": (model.dq, "joint velocities (rad/s or m/s)"),
+        "ddq": (model.ddq, "joint accelerations (rad/s^2 or m/s^2)"),
+    }
+    inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
+    inputs += [KernelInput(r, *descriptions[r]) for r in rates]
+    inputs += [i for i in standard_inputs(model) if i.name == "p"]
+    inertial = inertial_symbols(model)
+    if inertial:
+        names = ", ".join(s.name for s in inertial)
+        inputs.append(KernelInput("pi", inertial, f"inertial parameters ({names})"))
+    return tuple(inputs)
+
+
+def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
+    """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
+    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler."""
+    n = model.robot.dof
+    dynamics = model.newton_euler
+    torque_assignments, torque = model.inverse_dynamics_recursion
+    steps = [
+        ("mass_matrix", "mass matrix", ("",), "M", dynamics.mass_matrix, f"M(q) ({n}x{n})"),
+        ("gravity", "gravity torques", ("",), "G", dynamics.gravity_vector, f"G(q) ({n}x1)"),
+        (
+            "coriolis",
+            "Coriolis and centrifugal torques",
+            ("dq",),
+            "c",
+            dynamics.coriolis_vector,
+            f"c = C(q, dq) dq ({n}x1)",
+        ),
+        (
+            "coriolis_matrix",
+            "Coriolis matrix (Christoffel symbols)",
+            ("dq",),
+            "C",
+            dynamics.coriolis_matrix,
+            f"C(q, dq) ({n}x{n}), dM/dt - 2C skew-symmetric",
+        ),
+    ]
+    kernels = [
+        kernel_from_assignments(
+            name,
+            description,
+            dynamics_inputs(model, *(r for r in rates if r)),
+            dynamics.assignments,
+            [(output, matrix, output_description)],
+        )
+        for name, description, rates, output, matrix, output_description in steps
+    ]
+    kernels.append(
+        kernel_from_assignments(
+            "inverse_dynamics",
+            "inverse dynamics",
+            dynamics_inputs(model, "dq", "ddq"),
+            torque_assignments,
+            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)")],
+        )
+    )
     return tuple(kernels)

@@ -9,6 +9,11 @@
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
+ *   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
+ *   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
+ *   coriolis_matrix: 1719 ops (702 additions, 992 multiplications, 19 divisions, 6 trig)
+ *   inverse_dynamics: 473 ops (197 additions, 267 multiplications, 6 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (56 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[16]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -35,6 +42,8 @@ void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double 
 
 /* Tool position (24 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -42,6 +51,8 @@ void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const d
 
 /* Geometric jacobian (50 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -49,6 +60,8 @@ void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const d
 
 /* Analytic position jacobian (36 operations).
  * Jp[18]: dp/dq (3x6)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p, double Jp[18]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -57,6 +70,8 @@ void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q
 /* Forward kinematics and jacobian (82 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[16], double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -64,9 +79,65 @@ void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, cons
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (3 operations).
  * det[1]: det J (1x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
  */
 void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (522 operations).
+ * M[36]: M(q) (6x6)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[36]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (109 operations).
+ * G[6]: G(q) (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (423 operations).
+ * c[6]: c = C(q, dq) dq (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (1719 operations).
+ * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (473 operations).
+ * tau[6]: tau = M ddq + C dq + G + F (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* CYLINDRICAL_RTT_WRIST_KINEMATICS_H */

@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
   det: 3 ops (2 multiplications, 1 trig)
+  mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
+  gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
+  coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
+  coriolis_matrix: 1719 ops (702 additions, 992 multiplications, 19 divisions, 6 trig)
+  inverse_dynamics: 473 ops (197 additions, 267 multiplications, 6 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d6
@@ -25,6 +30,8 @@ DEFAULT_PARAMETERS = numpy.array([0.5, 0.1], dtype=float)
 def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 56 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -77,6 +84,8 @@ def fk(q, p=DEFAULT_PARAMETERS):
 def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 24 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -105,6 +114,8 @@ def position(q, p=DEFAULT_PARAMETERS):
 def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 50 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -157,6 +168,8 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 36 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns Jp: dp/dq (3x6), shape (..., 3, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -196,6 +209,8 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 82 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
@@ -279,6 +294,8 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
 def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, z, wx, wy, wz): 3 operations.
 
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
     Returns det: det J (1x1), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -289,3 +306,1306 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = -q3*numpy.sin(q5)
     return det
+
+
+def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Mass matrix: 522 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    Returns M: M(q) (6x6), shape (..., 6, 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    d6 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cz2 = pi[..., 13]
+    iyy2 = pi[..., 15]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cz3 = pi[..., 23]
+    iyy3 = pi[..., 25]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = numpy.cos(q4)
+    t1 = -q3*t0
+    t2 = numpy.sin(q4)
+    t3 = q3*t2
+    t4 = numpy.cos(q5)
+    t5 = -t2*t4
+    t6 = t5
+    t7 = numpy.sin(q5)
+    t8 = -t2*t7
+    t9 = t8
+    t10 = t1*t4
+    t11 = t1*t7
+    t12 = numpy.cos(q6)
+    t13 = numpy.sin(q6)
+    t14 = -t0*t13
+    t15 = t12*t6 + t14
+    t16 = t0*t12
+    t17 = -t13*t6 - t16
+    t18 = d6*t17 + t10*t12 + t13*t3
+    t19 = -d6*t15 - t10*t13 + t12*t3
+    t20 = m6*(-cy6*t9 + cz6*t17 + t18)
+    t21 = m6*(cx6*t9 - cz6*t15 + t19)
+    t22 = m6*(-cx6*t17 + cy6*t15 + t11)
+    t23 = cy6*t22 - cz6*t21 + ixx6*t15 + ixy6*t17 + ixz6*t9
+    t24 = -cx6*t22 + cz6*t20 + ixy6*t15 + iyy6*t17 + iyz6*t9
+    t25 = cx6*t21 - cy6*t20 + ixz6*t15 + iyz6*t17 + izz6*t9
+    t26 = m5*(-cy5*t9 - cz5*t0 + t10)
+    t27 = m5*(cx5*t9 - cz5*t6 + t3)
+    t28 = m5*(cx5*t0 + cy5*t6 + t11)
+    t29 = t12*t20 - t13*t21
+    t30 = t26 + t29
+    t31 = t12*t21 + t13*t20
+    t32 = t27 + t31
+    t33 = t22 + t28
+    t34 = cy5*t28 - cz5*t27 - d6*t31 + ixx5*t6 - ixy5*t0 + ixz5*t9 + t12*t23 - t13*t24
+    t35 = -cx5*t28 + cz5*t26 + d6*t29 + ixy5*t6 - iyy5*t0 + iyz5*t9 + t12*t24 + t13*t23
+    t36 = cx5*t27 - cy5*t26 + ixz5*t6 - iyz5*t0 + izz5*t9 + t25
+    t37 = m4*(cy4*t0 + t1)
+    t38 = m4*(-cx4*t0 + cz4*t2)
+    t39 = m4*(-cy4*t2 + t3)
+    t40 = t30*t4 + t33*t7 + t37
+    t41 = t30*t7 - t33*t4 + t38
+    t42 = t32 + t39
+    t43 = cy4*t39 - cz4*t38 - ixx4*t2 - ixz4*t0 + t34*t4 + t36*t7
+    t44 = -cx4*t39 + cz4*t37 - ixy4*t2 - iyz4*t0 + t34*t7 - t36*t4
+    t45 = cx4*t38 - cy4*t37 - ixz4*t2 - izz4*t0 + t35
+    t46 = m3*(-cz3 - q3)
+    t47 = cx3*m3
+    t48 = t0*t40 - t2*t42 + t46
+    t49 = t0*t42 + t2*t40
+    t50 = -t41 + t47
+    t51 = -cx3*t47 + cz3*t46 - iyy3 + t0*t45 + t2*t43
+    t52 = -cz2*m2
+    t53 = cx2*m2
+    t54 = -cx2*t53 + cz2*t52 - iyy2 + q3*t48 + t51
+    t55 = -cy1*m1
+    t56 = cx1*m1
+    t57 = cx1*t56 - cy1*t55 + izz1 - t54
+    t58 = t5
+    t59 = t8
+    t60 = t12*t58 + t14
+    t61 = -t13*t58 - t16
+    t62 = m6*t60
+    t63 = m6*t61
+    t64 = m6*t59
+    t65 = cy6*t64 - cz6*t63
+    t66 = -cx6*t64 + cz6*t62
+    t67 = cx6*t63 - cy6*t62
+    t68 = m5*t58
+    t69 = -m5*t0
+    t70 = m5*t59
+    t71 = t12*t62 - t13*t63
+    t72 = t68 + t71
+    t73 = t12*t63 + t13*t62
+    t74 = t69 + t73
+    t75 = t64 + t70
+    t76 = cy5*t70 - cz5*t69 - d6*t73 + t12*t65 - t13*t66
+    t77 = -cx5*t70 + cz5*t68 + d6*t71 + t12*t66 + t13*t65
+    t78 = cx5*t69 - cy5*t68 + t67
+    t79 = -m4*t2
+    t80 = -m4*t0
+    t81 = t4*t72 + t7*t75 + t79
+    t82 = -t4*t75 + t7*t72
+    t83 = t74 + t80
+    t84 = -cx4*t80 + cz4*t79 - t4*t78 + t7*t76
+    t85 = -m3 + t0*t83 + t2*t81
+    t86 = -m2 + t85
+    t87 = t4
+    t88 = -t12*t7
+    t89 = t88
+    t90 = t13*t7
+    t91 = t90
+    t92 = m6*t89
+    t93 = m6*t91
+    t94 = m6*t87
+    t95 = cy6*t94 - cz6*t93
+    t96 = -cx6*t94 + cz6*t92
+    t97 = cx6*t93 - cy6*t92
+    t98 = m5*t7
+    t99 = -t98
+    t100 = m5*t87
+    t101 = t12*t92 - t13*t93
+    t102 = t101 + t99
+    t103 = t100 + t94
+    t104 = cy5*t100 - d6*(t12*t93 + t13*t92) + t12*t95 - t13*t96
+    t105 = -cx5*t100 + cz5*t99 + d6*t101 + t12*t96 + t13*t95
+    t106 = -cy5*t99 + t97
+    t107 = -m4 + t102*t7 - t103*t4
+    t108 = t104*t7 - t106*t4
+    t109 = m3 - t107
+    t110 = t4
+    t111 = t88
+    t112 = t90
+    t113 = d6*t112
+    t114 = -d6*t111
+    t115 = m6*(-cy6*t110 + cz6*t112 + t113)
+    t116 = m6*(cx6*t110 - cz6*t111 + t114)
+    t117 = m6*(-cx6*t112 + cy6*t111)
+    t118 = cy6*t117 - cz6*t116 + ixx6*t111 + ixy6*t112 + ixz6*t110
+    t119 = -cx6*t117 + cz6*t115 + ixy6*t111 + iyy6*t112 + iyz6*t110
+    t120 = cx6*t116 - cy6*t115 + ixz6*t111 + iyz6*t112 + izz6*t110
+    t121 = -cy5*m5*t110
+    t122 = m5*(cx5*t110 + cz5*t7)
+    t123 = -cy5*t98
+    t124 = cy5*t123 - cz5*t122 - d6*(t115*t13 + t116*t12) - ixx5*t7 + ixz5*t110 + t118*t12 - t119*t13
+    t125 = -cx5*t123 + cz5*t121 + d6*(t115*t12 - t116*t13) - ixy5*t7 + iyz5*t110 + t118*t13 + t119*t12
+    t126 = cx5*t122 - cy5*t121 - ixz5*t7 + izz5*t110 + t120
+    t127 = -cz4*m4
+    t128 = cx4*m4
+    t129 = -cx4*t128 + cz4*t127 - iyy4 + t124*t7 - t126*t4
+    t130 = t13
+    t131 = t12
+    t132 = d6*t131
+    t133 = -d6*t130
+    t134 = m6*(cz6*t131 + t132)
+    t135 = m6*(-cz6*t130 + t133)
+    t136 = m6*(-cx6*t131 + cy6*t130)
+    t137 = cy6*t136 - cz6*t135 + ixx6*t130 + ixy6*t131
+    t138 = -cx6*t136 + cz6*t134 + ixy6*t130 + iyy6*t131
+    t139 = cx6*t135 - cy6*t134 + ixz6*t130 + iyz6*t131
+    t140 = cz5*m5
+    t141 = -cx5*m5
+    t142 = -cx5*t141 + cz5*t140 + d6*(t12*t134 - t13*t135) + iyy5 + t12*t138 + t13*t137
+    t143 = -cy6*m6
+    t144 = cx6*m6
+    t145 = cx6*t144 - cy6*t143 + izz6
+    t146 = -t49
+    t147 = -t44
+    t148 = -t82
+    t149 = -t84
+    t150 = -t108
+    M = numpy.zeros(batch + (6, 6))
+    M[..., 0, 0] = t57
+    M[..., 0, 1] = t146
+    M[..., 0, 2] = t50
+    M[..., 0, 3] = t147
+    M[..., 0, 4] = t35
+    M[..., 0, 5] = t25
+    M[..., 1, 0] = t146
+    M[..., 1, 1] = -t86
+    M[..., 1, 2] = t148
+    M[..., 1, 3] = t149
+    M[..., 1, 4] = t77
+    M[..., 1, 5] = t67
+    M[..., 2, 0] = t50
+    M[..., 2, 1] = t148
+    M[..., 2, 2] = t109
+    M[..., 2, 3] = t150
+    M[..., 2, 4] = t105
+    M[..., 2, 5] = t97
+    M[..., 3, 0] = t147
+    M[..., 3, 1] = t149
+    M[..., 3, 2] = t150
+    M[..., 3, 3] = -t129
+    M[..., 3, 4] = t125
+    M[..., 3, 5] = t120
+    M[..., 4, 0] = t35
+    M[..., 4, 1] = t77
+    M[..., 4, 2] = t105
+    M[..., 4, 3] = t125
+    M[..., 4, 4] = t142
+    M[..., 4, 5] = t139
+    M[..., 5, 0] = t25
+    M[..., 5, 1] = t67
+    M[..., 5, 2] = t97
+    M[..., 5, 3] = t120
+    M[..., 5, 4] = t139
+    M[..., 5, 5] = t145
+    return M
+
+
+def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Gravity torques: 109 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    Returns G: G(q) (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    d6 = p[..., 1]
+    m2 = pi[..., 10]
+    m3 = pi[..., 20]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    t0 = numpy.sin(q4)
+    t1 = -9.81*t0
+    t2 = numpy.cos(q4)
+    t3 = -9.81*t2
+    t4 = numpy.cos(q5)
+    t5 = t1*t4
+    t6 = numpy.sin(q5)
+    t7 = t1*t6
+    t8 = numpy.sin(q6)
+    t9 = numpy.cos(q6)
+    t10 = t3*t8 + t5*t9
+    t11 = t3*t9 - t5*t8
+    t12 = m6*t10
+    t13 = m6*t11
+    t14 = m6*t7
+    t15 = cy6*t14 - cz6*t13
+    t16 = -cx6*t14 + cz6*t12
+    t17 = cx6*t13 - cy6*t12
+    t18 = m5*t5
+    t19 = m5*t3
+    t20 = m5*t7
+    t21 = t12*t9 - t13*t8
+    t22 = t18 + t21
+    t23 = t12*t8 + t13*t9
+    t24 = t19 + t23
+    t25 = t14 + t20
+    t26 = cy5*t20 - cz5*t19 - d6*t23 + t15*t9 - t16*t8
+    t27 = -cx5*t20 + cz5*t18 + d6*t21 + t15*t8 + t16*t9
+    t28 = cx5*t19 - cy5*t18 + t17
+    t29 = m4*t1
+    t30 = m4*t3
+    t31 = t22*t4 + t25*t6 + t29
+    t32 = t22*t6 - t25*t4
+    t33 = t24 + t30
+    t34 = cy4*t30 + t26*t4 + t28*t6
+    t35 = -cx4*t30 + cz4*t29 + t26*t6 - t28*t4
+    t36 = -cy4*t29 + t27
+    t37 = -9.81*m3
+    t38 = -t0*t33 + t2*t31
+    t39 = t0*t31 + t2*t33 + t37
+    t40 = t0*t34 + t2*t36
+    t41 = -9.81*m2
+    t42 = t39 + t41
+    t43 = q3*t38 + t40
+    G = numpy.zeros(batch + (6,))
+    G[..., 0] = -t43
+    G[..., 1] = -t42
+    G[..., 2] = -t32
+    G[..., 3] = -t35
+    G[..., 4] = t27
+    G[..., 5] = t17
+    return G
+
+
+def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis and centrifugal torques: 423 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    Returns c: c = C(q, dq) dq (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d6 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cz2 = pi[..., 13]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cz3 = pi[..., 23]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = -2*dq1*dq3
+    t1 = dq1**2
+    t2 = -q3*t1
+    t3 = numpy.sin(q4)
+    t4 = dq1*t3
+    t5 = -t4
+    t6 = numpy.cos(q4)
+    t7 = dq1*t6
+    t8 = -t7
+    t9 = -dq4*t7
+    t10 = dq4*t4
+    t11 = t0*t6
+    t12 = -t0*t3
+    t13 = numpy.sin(q5)
+    t14 = numpy.cos(q5)
+    t15 = -dq4*t13 + t14*t5
+    t16 = t15
+    t17 = dq5 + t8
+    t18 = dq4*t14 + t13*t5
+    t19 = t18
+    t20 = -dq5*t18 + t14*t9
+    t21 = dq5*t15 + t13*t9
+    t22 = t11*t14 - t13*t2
+    t23 = t11*t13 + t14*t2
+    t24 = numpy.sin(q6)
+    t25 = numpy.cos(q6)
+    t26 = t16*t25 + t17*t24
+    t27 = t26
+    t28 = -t16*t24 + t17*t25
+    t29 = t28
+    t30 = dq6 + t19
+    t31 = dq6*t28 + t10*t24 + t20*t25
+    t32 = -dq6*t26 + t10*t25 - t20*t24
+    t33 = d6*t30
+    t34 = d6*t32 + t12*t24 + t22*t25 + t27*t33
+    t35 = -d6*t31 + t12*t25 - t22*t24 + t29*t33
+    t36 = -d6*t27**2 - d6*t29**2 + t23
+    t37 = -cx6*t29 + cy6*t27
+    t38 = cx6*t30 - cz6*t27
+    t39 = m6*(-cy6*t21 + cz6*t32 + t29*t37 - t30*t38 + t34)
+    t40 = -cy6*t30 + cz6*t29
+    t41 = m6*(cx6*t21 - cz6*t31 - t27*t37 + t30*t40 + t35)
+    t42 = m6*(-cx6*t32 + cy6*t31 + t27*t38 - t29*t40 + t36)
+    t43 = ixz6*t27 + iyz6*t29 + izz6*t30
+    t44 = ixy6*t27 + iyy6*t29 + iyz6*t30
+    t45 = cy6*t42 - cz6*t41 + ixx6*t31 + ixy6*t32 + ixz6*t21 + t29*t43 - t30*t44
+    t46 = ixx6*t27 + ixy6*t29 + ixz6*t30
+    t47 = -cx6*t42 + cz6*t39 + ixy6*t31 + iyy6*t32 + iyz6*t21 - t27*t43 + t30*t46
+    t48 = cx6*t41 - cy6*t39 + ixz6*t31 + iyz6*t32 + izz6*t21 + t27*t44 - t29*t46
+    t49 = -cx5*t17 + cy5*t16
+    t50 = cx5*t19 - cz5*t16
+    t51 = m5*(-cy5*t21 + cz5*t10 + t17*t49 - t19*t50 + t22)
+    t52 = -cy5*t19 + cz5*t17
+    t53 = m5*(cx5*t21 - cz5*t20 + t12 - t16*t49 + t19*t52)
+    t54 = m5*(-cx5*t10 + cy5*t20 + t16*t50 - t17*t52 + t23)
+    t55 = -t24*t41 + t25*t39
+    t56 = t51 + t55
+    t57 = t24*t39 + t25*t41
+    t58 = t53 + t57
+    t59 = t42 + t54
+    t60 = ixz5*t16 + iyz5*t17 + izz5*t19
+    t61 = ixy5*t16 + iyy5*t17 + iyz5*t19
+    t62 = cy5*t54 - cz5*t53 - d6*t57 + ixx5*t20 + ixy5*t10 + ixz5*t21 + t17*t60 - t19*t61 - t24*t47 + t25*t45
+    t63 = ixx5*t16 + ixy5*t17 + ixz5*t19
+    t64 = -cx5*t54 + cz5*t51 + d6*t55 + ixy5*t20 + iyy5*t10 + iyz5*t21 - t16*t60 + t19*t63 + t24*t45 + t25*t47
+    t65 = cx5*t53 - cy5*t51 + ixz5*t20 + iyz5*t10 + izz5*t21 + t16*t61 - t17*t63 + t48
+    t66 = cx4*dq4 + cy4*t5
+    t67 = cx4*t8 - cz4*t5
+    t68 = m4*(-cy4*t10 - dq4*t66 + t11 - t67*t8)
+    t69 = -cy4*t8 - cz4*dq4
+    t70 = m4*(cx4*t10 - cz4*t9 - t2 - t5*t66 + t69*t8)
+    t71 = m4*(cy4*t9 + dq4*t69 + t12 + t5*t67)
+    t72 = t13*t59 + t14*t56 + t68
+    t73 = t13*t56 - t14*t59 + t70
+    t74 = t58 + t71
+    t75 = -dq4*iyz4 + ixz4*t5 + izz4*t8
+    t76 = -dq4*iyy4 + ixy4*t5 + iyz4*t8
+    t77 = cy4*t71 - cz4*t70 - dq4*t75 + ixx4*t9 + ixz4*t10 + t13*t65 + t14*t62 - t76*t8
+    t78 = -dq4*ixy4 + ixx4*t5 + ixz4*t8
+    t79 = -cx4*t71 + cz4*t68 + ixy4*t9 + iyz4*t10 + t13*t62 - t14*t65 - t5*t75 + t78*t8
+    t80 = cx4*t70 - cy4*t68 + dq4*t78 + ixz4*t9 + izz4*t10 + t5*t76 + t64
+    t81 = m3*(-cx3*t1 + t0)
+    t82 = m3*(-cz3*t1 + t2)
+    t83 = -t3*t74 + t6*t72 + t81
+    t84 = t3*t72 + t6*t74
+    t85 = -t73 + t82
+    t86 = -cx3*t82 + cz3*t81 + t3*t77 + t6*t80
+    t87 = m2*t1
+    t88 = -cx2*t87
+    t89 = -cz2*t87
+    t90 = -cx2*t89 + cz2*t88 + q3*t83 + t86
+    t91 = m1*t1
+    t92 = -cx1*t91
+    t93 = -cy1*t91
+    t94 = cx1*t93 - cy1*t92 - t90
+    c = numpy.zeros(batch + (6,))
+    c[..., 0] = t94
+    c[..., 1] = -t84
+    c[..., 2] = t85
+    c[..., 3] = -t79
+    c[..., 4] = t64
+    c[..., 5] = t48
+    return c
+
+
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis matrix (christoffel symbols): 1719 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    Returns C: C(q, dq) (6x6), dM/dt - 2C skew-symmetric, shape (..., 6, 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d6 = p[..., 1]
+    m3 = pi[..., 20]
+    cz3 = pi[..., 23]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = numpy.cos(q4)
+    t1 = q3*t0
+    t2 = -t1
+    t3 = numpy.sin(q4)
+    t4 = q3*t3
+    t5 = t4
+    t6 = numpy.cos(q5)
+    t7 = -t3*t6
+    t8 = t7
+    t9 = numpy.sin(q5)
+    t10 = t3*t9
+    t11 = -t10
+    t12 = t11
+    t13 = t2*t6
+    t14 = t13
+    t15 = t2*t9
+    t16 = t15
+    t17 = numpy.cos(q6)
+    t18 = numpy.sin(q6)
+    t19 = -t0*t18
+    t20 = t17*t8 + t19
+    t21 = t20
+    t22 = t0*t17
+    t23 = -t18*t8 - t22
+    t24 = t23
+    t25 = t14*t17 + t18*t5
+    t26 = d6*t24 + t25
+    t27 = t14*t18
+    t28 = -d6*t21 + t17*t5 - t27
+    t29 = m6*(-cy6*t12 + cz6*t24 + t26)
+    t30 = m6*(cx6*t12 - cz6*t21 + t28)
+    t31 = m6*(-cx6*t24 + cy6*t21 + t16)
+    t32 = cy6*t31 - cz6*t30 + ixx6*t21 + ixy6*t24 + ixz6*t12
+    t33 = -cx6*t31 + cz6*t29 + ixy6*t21 + iyy6*t24 + iyz6*t12
+    t34 = cx6*t30 - cy6*t29 + ixz6*t21 + iyz6*t24 + izz6*t12
+    t35 = m5*(-cy5*t12 - cz5*t0 + t14)
+    t36 = m5*(cx5*t12 - cz5*t8 + t5)
+    t37 = m5*(cx5*t0 + cy5*t8 + t16)
+    t38 = t17*t29 - t18*t30
+    t39 = t35 + t38
+    t40 = t17*t30 + t18*t29
+    t41 = t36 + t40
+    t42 = t31 + t37
+    t43 = t17*t32 - t18*t33
+    t44 = cy5*t37 - cz5*t36 - d6*t40 + ixx5*t8 - ixy5*t0 + ixz5*t12 + t43
+    t45 = d6*t38 + t17*t33 + t18*t32
+    t46 = -cx5*t37 + cz5*t35 + ixy5*t8 - iyy5*t0 + iyz5*t12 + t45
+    t47 = cx5*t36 - cy5*t35 + ixz5*t8 - iyz5*t0 + izz5*t12 + t34
+    t48 = cy4*t0
+    t49 = m4*(t2 + t48)
+    t50 = m4*(-cx4*t0 + cz4*t3)
+    t51 = cy4*t3
+    t52 = m4*(t5 - t51)
+    t53 = t39*t6 + t42*t9
+    t54 = t49 + t53
+    t55 = t41 + t52
+    t56 = -ixz4*t0
+    t57 = t44*t6 + t47*t9
+    t58 = cy4*t52 - cz4*t50 - ixx4*t3 + t56 + t57
+    t59 = ixz4*t3
+    t60 = cx4*t50 - cy4*t49 - izz4*t0 + t46 - t59
+    t61 = m3*(-cz3 - q3)
+    t62 = t0*t54 - t3*t55
+    t63 = t61 + t62
+    t64 = t7
+    t65 = t11
+    t66 = t17*t64 + t19
+    t67 = t66
+    t68 = -t18*t64 - t22
+    t69 = t68
+    t70 = m6*t67
+    t71 = m6*t69
+    t72 = m6*t65
+    t73 = cy6*t72 - cz6*t71
+    t74 = -cx6*t72 + cz6*t70
+    t75 = cx6*t71 - cy6*t70
+    t76 = m5*t64
+    t77 = -m5*t0
+    t78 = m5*t65
+    t79 = t17*t70 - t18*t71
+    t80 = t76 + t79
+    t81 = t17*t71 + t18*t70
+    t82 = t77 + t81
+    t83 = t72 + t78
+    t84 = t18*t74
+    t85 = cy5*t78 - cz5*t77 - d6*t81 + t17*t73 - t84
+    t86 = cx5*t77 - cy5*t76 + t75
+    t87 = m4*t3
+    t88 = -t87
+    t89 = -m4*t0
+    t90 = t89
+    t91 = t6*t80 + t83*t9
+    t92 = t88 + t91
+    t93 = t82 + t90
+    t94 = t6
+    t95 = t17*t9
+    t96 = -t95
+    t97 = t96
+    t98 = t18*t9
+    t99 = t98
+    t100 = m6*t97
+    t101 = m6*t99
+    t102 = m6*t94
+    t103 = cy6*t102 - cz6*t101
+    t104 = -cx6*t102 + cz6*t100
+    t105 = cx6*t101 - cy6*t100
+    t106 = m5*t9
+    t107 = -t106
+    t108 = t107
+    t109 = m5*t94
+    t110 = t100*t17 - t101*t18
+    t111 = t108 + t110
+    t112 = t102 + t109
+    t113 = t100*t18 + t101*t17
+    t114 = t103*t17 - t104*t18
+    t115 = cy5*t109 - d6*t113 + t114
+    t116 = -cy5*t108 + t105
+    t117 = t6
+    t118 = t96
+    t119 = t98
+    t120 = d6*t119
+    t121 = -d6*t118
+    t122 = m6*(-cy6*t117 + cz6*t119 + t120)
+    t123 = m6*(cx6*t117 - cz6*t118 + t121)
+    t124 = m6*(-cx6*t119 + cy6*t118)
+    t125 = cy6*t124 - cz6*t123 + ixx6*t118 + ixy6*t119 + ixz6*t117
+    t126 = -cx6*t124 + cz6*t122 + ixy6*t118 + iyy6*t119 + iyz6*t117
+    t127 = cx6*t123 - cy6*t122 + ixz6*t118 + iyz6*t119 + izz6*t117
+    t128 = cy5*m5
+    t129 = -t117*t128
+    t130 = m5*(cx5*t117 + cz5*t9)
+    t131 = cy5*t106
+    t132 = -t131
+    t133 = t126*t18
+    t134 = t122*t18 + t123*t17
+    t135 = cy5*t132 - cz5*t130 - d6*t134 - ixx5*t9 + ixz5*t117 + t125*t17 - t133
+    t136 = ixz5*t9
+    t137 = cx5*t130 - cy5*t129 + izz5*t117 + t127 - t136
+    t138 = t18
+    t139 = t17
+    t140 = d6*t139
+    t141 = -d6*t138
+    t142 = m6*(cz6*t139 + t140)
+    t143 = m6*(-cz6*t138 + t141)
+    t144 = m6*(-cx6*t139 + cy6*t138)
+    t145 = cy6*t144 - cz6*t143 + ixx6*t138 + ixy6*t139
+    t146 = -cx6*t144 + cz6*t142 + ixy6*t138 + iyy6*t139
+    t147 = t3
+    t148 = -t0*t6
+    t149 = t148
+    t150 = t147*t17 - t149*t18
+    t151 = m6*t150
+    t152 = m5*t147
+    t153 = t147*t18 + t149*t17
+    t154 = m6*t153
+    t155 = t151*t17
+    t156 = t154*t18
+    t157 = t152 + t155 + t156
+    t158 = m4*t147
+    t159 = t157 + t158
+    t160 = m5*t149
+    t161 = t154*t17
+    t162 = t151*t18
+    t163 = t160 + t161 - t162
+    t164 = t89
+    t165 = -t0*t9
+    t166 = t165
+    t167 = m5*t166
+    t168 = m6*t166
+    t169 = t167 + t168
+    t170 = t163*t6 + t164 + t169*t9
+    t171 = -m3 + t0*t170 - t159*t3
+    t172 = cy6*t168 - cz6*t151
+    t173 = -cx6*t168 + cz6*t154
+    t174 = -cx5*t167 + cz5*t160 + d6*t161 - d6*t162 + t17*t173 + t172*t18
+    t175 = -cy4*t164 + t174
+    t176 = cx6*t151 - cy6*t154
+    t177 = cx5*t152 - cy5*t160 + t176
+    t178 = cy5*t167 - cz5*t152 - d6*t155 - d6*t156 + t17*t172 - t173*t18
+    t179 = cy4*t158 + t177*t9 + t178*t6
+    t180 = -cz3*m3 + t0*t175 + t179*t3
+    t181 = q3*t171 + t180 + t63
+    t182 = t165
+    t183 = t148
+    t184 = t18*t3
+    t185 = t17*t183 + t184
+    t186 = t1
+    t187 = t4
+    t188 = t187*t6
+    t189 = -d6*t185 + t17*t186 - t18*t188
+    t190 = m6*t182
+    t191 = cz6*m6
+    t192 = cx6*t190 + m6*t189 - t185*t191
+    t193 = cx5*m5
+    t194 = cz5*m5
+    t195 = m5*t186 + t182*t193 - t183*t194
+    t196 = -t17*t3
+    t197 = -t18*t183 - t196
+    t198 = d6*t197 + t17*t188 + t18*t186
+    t199 = -cy6*t190 + m6*t198 + t191*t197
+    t200 = t17*t192
+    t201 = t18*t199
+    t202 = t195 + t200 + t201
+    t203 = m4*t186 - m4*t48
+    t204 = t202 + t203
+    t205 = m5*t3
+    t206 = cz5*t205 + m5*t188 - t128*t182
+    t207 = t17*t199
+    t208 = t18*t192
+    t209 = t206 + t207 - t208
+    t210 = m4*t187 - m4*t51
+    t211 = t187*t9
+    t212 = -cx5*t205 + m5*t211 + t128*t183
+    t213 = cy6*m6
+    t214 = cx6*m6
+    t215 = m6*t211 + t185*t213 - t197*t214
+    t216 = t212 + t215
+    t217 = t209*t6 + t210 + t216*t9
+    t218 = t0*t217 - t0*t55 - t204*t3 - t3*t54
+    t219 = m4*(cx4*t3 + cz4*t0)
+    t220 = cy6*t215 - cz6*t192 + ixx6*t185 + ixy6*t197 + ixz6*t182
+    t221 = -cx6*t215 + cz6*t199 + ixy6*t185 + iyy6*t197 + iyz6*t182
+    t222 = -cx5*t212 + cz5*t206 + d6*t207 - d6*t208 + ixy5*t183 + iyy5*t3 + iyz5*t182 + t17*t221 + t18*t220
+    t223 = cx4*t219 - cy4*t210 + izz4*t3 + t222 + t56
+    t224 = cx6*t192 - cy6*t199 + ixz6*t185 + iyz6*t197 + izz6*t182
+    t225 = cx5*t195 - cy5*t206 + ixz5*t183 + iyz5*t3 + izz5*t182 + t224
+    t226 = cy5*t212 - cz5*t195 - d6*t200 - d6*t201 + ixx5*t183 + ixy5*t3 + ixz5*t182 + t17*t220 - t18*t221
+    t227 = cy4*t203 - cz4*t219 - ixx4*t0 + t225*t9 + t226*t6 + t59
+    t228 = t0*t223 + t0*t58 + t227*t3 - t3*t60
+    t229 = q3*t218 + t228
+    t230 = t7
+    t231 = t10
+    t232 = t17*t231
+    t233 = -t15
+    t234 = -d6*t232 - t18*t233
+    t235 = m6*t234 - t191*t232 + t214*t230
+    t236 = t193*t230 - t194*t231
+    t237 = -t18*t231
+    t238 = d6*t237 + t17*t233
+    t239 = m6*t238 + t191*t237 - t213*t230
+    t240 = t17*t235
+    t241 = t18*t239
+    t242 = t236 + t240 + t241
+    t243 = m5*t233 - t128*t230
+    t244 = t17*t239
+    t245 = t18*t235
+    t246 = t243 + t244 - t245
+    t247 = t13
+    t248 = m5*t247 + t128*t231
+    t249 = m6*t247 + t213*t232 - t214*t237
+    t250 = t248 + t249
+    t251 = t246*t6 + t250*t9 - t39*t9 + t42*t6
+    t252 = t0*t251 - t242*t3
+    t253 = cy6*t249 - cz6*t235 + ixx6*t232 + ixy6*t237 + ixz6*t230
+    t254 = -cx6*t249 + cz6*t239 + ixy6*t232 + iyy6*t237 + iyz6*t230
+    t255 = -cx5*t248 + cz5*t243 + d6*t244 - d6*t245 + ixy5*t231 + iyz5*t230 + t17*t254 + t18*t253
+    t256 = cx6*t235 - cy6*t239 + ixz6*t232 + iyz6*t237 + izz6*t230
+    t257 = cx5*t236 - cy5*t243 + ixz5*t231 + izz5*t230 + t256
+    t258 = cy5*t248 - cz5*t236 - d6*t240 - d6*t241 + ixx5*t231 + ixz5*t230 + t17*t253 - t18*t254
+    t259 = t257*t9 + t258*t6 - t44*t9 + t47*t6
+    t260 = t0*t255 + t259*t3
+    t261 = q3*t252 + t260
+    t262 = t23
+    t263 = -d6*t262 - t25
+    t264 = m6*t263 - t191*t262
+    t265 = -t20
+    t266 = d6*t265 + t17*t5 - t27
+    t267 = m6*t266 + t191*t265
+    t268 = t17*t264
+    t269 = t18*t267
+    t270 = t268 + t269 + t38
+    t271 = t18*t264
+    t272 = t17*t267 - t271 - t40
+    t273 = cy6*m6*t262 - t214*t265
+    t274 = t272*t6 + t273*t9
+    t275 = t0*t274 - t270*t3
+    t276 = cy6*t273 - cz6*t264 + ixx6*t262 + ixy6*t265
+    t277 = -cx6*t273 + cz6*t267 + ixy6*t262 + iyy6*t265
+    t278 = d6*t17*t267 - d6*t271 - d6*t40 + t17*t277 + t18*t276 + t43
+    t279 = cx6*t264 - cy6*t267 + ixz6*t262 + iyz6*t265
+    t280 = -d6*t268 - d6*t269 + t17*t276 - t18*t277 - t45
+    t281 = t279*t9 + t280*t6
+    t282 = t0*t278 + t281*t3
+    t283 = q3*t275 + t282
+    t284 = t0*t159 + t170*t3
+    t285 = t0*t204 + t217*t3 + t62
+    t286 = t0*t242 + t251*t3
+    t287 = t0*t270 + t274*t3
+    t288 = t163*t9 - t169*t6
+    t289 = t209*t9 - t216*t6 + t219
+    t290 = t246*t9 - t250*t6 + t53
+    t291 = t272*t9 - t273*t6
+    t292 = -cx4*t158 + cz4*t164 - t177*t6 + t178*t9
+    t293 = -cx4*t203 + cz4*t210 - ixy4*t0 + iyz4*t3 - t225*t6 + t226*t9
+    t294 = -t257*t6 + t258*t9 + t57
+    t295 = -t279*t6 + t280*t9
+    t296 = t89
+    t297 = t148
+    t298 = t17*t297 + t184
+    t299 = m6*t298
+    t300 = -t18*t297 - t196
+    t301 = m6*t300
+    t302 = m5*t297
+    t303 = t17*t299
+    t304 = t18*t301
+    t305 = t302 + t303 - t304
+    t306 = t165
+    t307 = m5*t306
+    t308 = m6*t306
+    t309 = t307 + t308
+    t310 = t296 + t305*t6 + t309*t9
+    t311 = t87
+    t312 = t205
+    t313 = t18*t299
+    t314 = t17*t301
+    t315 = t312 + t313 + t314
+    t316 = t311 + t315
+    t317 = t0*t316 + t0*t92 + t3*t310 - t3*t93
+    t318 = t10
+    t319 = t17*t318
+    t320 = m6*t319
+    t321 = -t18*t318
+    t322 = m6*t321
+    t323 = m5*t318
+    t324 = t17*t320
+    t325 = t18*t322
+    t326 = t323 + t324 - t325
+    t327 = t7
+    t328 = m5*t327
+    t329 = m6*t327
+    t330 = t328 + t329
+    t331 = t326*t6 + t330*t9 + t6*t83 - t80*t9
+    t332 = t18*t320
+    t333 = t17*t322
+    t334 = t332 + t333
+    t335 = t0*t334 + t3*t331
+    t336 = t68
+    t337 = m6*t336
+    t338 = -t66
+    t339 = m6*t338
+    t340 = t18*t339
+    t341 = t17*t337 - t340 - t81
+    t342 = t341*t6
+    t343 = t18*t337
+    t344 = t17*t339
+    t345 = t343 + t344 + t79
+    t346 = t0*t345 + t3*t342
+    t347 = t305*t9 - t309*t6
+    t348 = t326*t9 - t330*t6 + t91
+    t349 = t341*t9
+    t350 = cx6*t301 - cy6*t299
+    t351 = cx5*t312 - cy5*t302 + t350
+    t352 = cy6*t308 - cz6*t301
+    t353 = -cx6*t308 + cz6*t299
+    t354 = cy5*t307 - cz5*t312 - d6*t313 - d6*t314 + t17*t352 - t18*t353
+    t355 = -cx4*t311 + cz4*t296 - t351*t6 + t354*t9
+    t356 = cx6*t322 - cy6*t320
+    t357 = -cy5*t323 + t356
+    t358 = cy6*t329 - cz6*t322
+    t359 = -cx6*t329 + cz6*t320
+    t360 = cy5*t328 - d6*t332 - d6*t333 + t17*t358 - t18*t359
+    t361 = -t357*t6 + t360*t9 + t6*t85 + t86*t9
+    t362 = cx6*t339 - cy6*t337
+    t363 = -cz6*t339
+    t364 = cz6*t337
+    t365 = -d6*t343 - d6*t344 - d6*t79 + t17*t363 - t17*t74 - t18*t364 - t18*t73
+    t366 = -t362*t6 + t365*t9
+    t367 = -cx5*t307 + cz5*t302 + d6*t303 - d6*t304 + t17*t353 + t18*t352
+    t368 = -cx5*t328 + cz5*t323 + d6*t324 - d6*t325 + t17*t359 + t18*t358
+    t369 = d6*t17*t337 - d6*t340 - d6*t81 + t17*t364 + t17*t73 + t18*t363 - t84
+    t370 = t18*t6
+    t371 = t370
+    t372 = m6*t371
+    t373 = -t17*t6
+    t374 = t373
+    t375 = m6*t374
+    t376 = m5*t6
+    t377 = -t376
+    t378 = t17*t375
+    t379 = t18*t372
+    t380 = t377 + t378 - t379
+    t381 = m6*t9
+    t382 = -t381
+    t383 = t107
+    t384 = t382 + t383
+    t385 = t111*t6 + t112*t9 + t380*t9 - t384*t6
+    t386 = t95
+    t387 = m6*t386
+    t388 = t98
+    t389 = m6*t388
+    t390 = t18*t387
+    t391 = -t113 + t17*t389 - t390
+    t392 = t391*t9
+    t393 = cy6*t382 - cz6*t372
+    t394 = -cx6*t382 + cz6*t375
+    t395 = d6*t17
+    t396 = d6*t18
+    t397 = cy5*t383 + t17*t393 - t18*t394 - t372*t395 - t375*t396
+    t398 = cx6*t372 - cy6*t375
+    t399 = -cy5*t377 + t398
+    t400 = t115*t6 + t116*t9 + t397*t9 - t399*t6
+    t401 = -cz6*t387
+    t402 = cz6*t389
+    t403 = -d6*t110 - t103*t18 - t104*t17 + t17*t401 - t18*t402 - t387*t395 - t389*t396
+    t404 = cx6*t387 - cy6*t389
+    t405 = t403*t9 - t404*t6
+    t406 = -cx5*t383 + cz5*t377 + d6*t378 - d6*t379 + t17*t394 + t18*t393
+    t407 = -d6*t113 + d6*t17*t389 - d6*t390 + t114 + t17*t402 + t18*t401
+    t408 = t370
+    t409 = d6*t408
+    t410 = cy6*t381 + m6*t409 + t191*t408
+    t411 = t373
+    t412 = -d6*t411
+    t413 = -cx6*t381 + m6*t412 - t191*t411
+    t414 = cx6*t413 - cy6*t410 + ixz6*t411 + iyz6*t408 - izz6*t9
+    t415 = t131
+    t416 = -cx5*t106 + cz5*m5*t6
+    t417 = cx5*t416 - cy5*t415 - ixz5*t6 - izz5*t9 + t414
+    t418 = cy6*m6*t411 - t214*t408
+    t419 = cy6*t418 - cz6*t413 + ixx6*t411 + ixy6*t408 - ixz6*t9
+    t420 = -cy5*t376
+    t421 = -cx6*t418 + cz6*t410 + ixy6*t411 + iyy6*t408 - iyz6*t9
+    t422 = cy5*t420 - cz5*t416 - ixx5*t6 - t136 + t17*t419 - t18*t421 - t395*t413 - t396*t410
+    t423 = t135*t6 + t137*t9 - t417*t6 + t422*t9
+    t424 = t95
+    t425 = d6*t424
+    t426 = m6*t425 + t191*t424
+    t427 = t98
+    t428 = -d6*t427
+    t429 = m6*t428 - t191*t427
+    t430 = cx6*t429 - cy6*t426 + ixz6*t427 + iyz6*t424
+    t431 = cy6*m6*t427 - t214*t424
+    t432 = cy6*t431 - cz6*t429 + ixx6*t427 + ixy6*t424
+    t433 = -cx6*t431 + cz6*t426 + ixy6*t427 + iyy6*t424
+    t434 = -d6*(t122*t17 - t123*t18) - t125*t18 - t126*t17 + t17*t432 - t18*t433 - t395*t429 - t396*t426
+    t435 = -t430*t6 + t434*t9
+    t436 = -cx5*t420 + cz5*t415 + d6*t17*t410 - ixy5*t6 - iyz5*t9 + t17*t421 + t18*t419 - t396*t413
+    t437 = -d6*t134 + t125*t17 - t133 + t17*t433 + t18*t432 + t395*t426 - t396*t429
+    t438 = -t396
+    t439 = m6*t438 - t18*t191
+    t440 = t17
+    t441 = t18*t214 + t213*t440
+    t442 = -cx6*t441 + cz6*t439 + ixy6*t440 - iyy6*t18
+    t443 = -d6*t440
+    t444 = m6*t443 - t191*t440
+    t445 = cy6*t441 - cz6*t444 + ixx6*t440 - ixy6*t18
+    t446 = d6*(-t142*t18 - t143*t17) + t145*t17 - t146*t18 + t17*t442 + t18*t445 + t395*t439 - t396*t444
+    t447 = cx6*t444 - cy6*t439 + ixz6*t440 - iyz6*t18
+    t448 = (1/2)*dq6
+    t449 = (1/2)*dq3
+    t450 = (1/2)*dq4
+    t451 = (1/2)*dq5
+    t452 = -t284*t449 - t285*t450 - t286*t451 - t287*t448
+    t453 = -t289 - t292
+    t454 = t174 - t290
+    t455 = t176 - t291
+    t456 = (1/2)*dq1
+    t457 = (1/2)*dq2
+    t458 = t181*t456 + t284*t457
+    t459 = t222 - t294
+    t460 = t224 - t295
+    t461 = t229*t456 + t285*t457
+    t462 = t261*t456
+    t463 = t286*t457
+    t464 = t256 + t278
+    t465 = t283*t456
+    t466 = t287*t457
+    t467 = t284*t456
+    t468 = t347*t450 + t348*t451 + t349*t448
+    t469 = -t361 + t367
+    t470 = t350 - t366
+    t471 = t285*t456 + t317*t457 + t347*t449
+    t472 = t356 + t369
+    t473 = t286*t456 + t335*t457 + t348*t449
+    t474 = t287*t456 + t346*t457 + t349*t449
+    t475 = t289 - t292
+    t476 = -t475
+    t477 = t174 + t290
+    t478 = -t477
+    t479 = t176 + t291
+    t480 = -t479
+    t481 = t347*t457
+    t482 = t400*t451
+    t483 = t405*t448
+    t484 = t348*t457
+    t485 = t385*t449
+    t486 = t400*t450
+    t487 = t398 + t407
+    t488 = t349*t457
+    t489 = t392*t449
+    t490 = t405*t450
+    t491 = t222 + t294
+    t492 = -t491
+    t493 = t224 + t295
+    t494 = -t493
+    t495 = t361 + t367
+    t496 = -t495
+    t497 = t350 + t366
+    t498 = -t497
+    t499 = t400*t449
+    t500 = t423*t450
+    t501 = t414 + t437
+    t502 = t405*t449
+    t503 = t435*t450
+    t504 = t256 - t278
+    t505 = -t504
+    t506 = t356 - t369
+    t507 = -t506
+    t508 = t398 - t407
+    t509 = -t508
+    t510 = t414 - t437
+    t511 = -t510
+    t512 = t446*t451
+    C = numpy.zeros(batch + (6, 6))
+    C[..., 0, 0] = -t181*t449 - t229*t450 - t261*t451 - t283*t448
+    C[..., 0, 1] = t452
+    C[..., 0, 2] = -dq3*t288 + (1/2)*dq4*t453 + (1/2)*dq5*t454 + (1/2)*dq6*t455 - t458
+    C[..., 0, 3] = (1/2)*dq3*t453 - dq4*t293 + (1/2)*dq5*t459 + (1/2)*dq6*t460 - t461
+    C[..., 0, 4] = dq5*t255 + t448*t464 + t449*t454 + t450*t459 - t462 - t463
+    C[..., 0, 5] = dq6*t279 + t449*t455 + t450*t460 + t451*t464 - t465 - t466
+    C[..., 1, 0] = t452
+    C[..., 1, 1] = -t317*t450 - t335*t451 - t346*t448
+    C[..., 1, 2] = -t467 - t468
+    C[..., 1, 3] = -dq4*t355 + (1/2)*dq5*t469 + (1/2)*dq6*t470 - t471
+    C[..., 1, 4] = (1/2)*dq4*t469 + dq5*t368 + (1/2)*dq6*t472 - t473
+    C[..., 1, 5] = (1/2)*dq4*t470 + (1/2)*dq5*t472 + dq6*t362 - t474
+    C[..., 2, 0] = t448*t480 + t450*t476 + t451*t478 + t458
+    C[..., 2, 1] = t467 - t468
+    C[..., 2, 2] = -t385*t451 - t392*t448
+    C[..., 2, 3] = (1/2)*dq1*t476 - t481 - t482 - t483
+    C[..., 2, 4] = dq5*t406 + t448*t487 + t456*t478 - t484 - t485 - t486
+    C[..., 2, 5] = dq6*t404 + t451*t487 + t456*t480 - t488 - t489 - t490
+    C[..., 3, 0] = t448*t494 + t449*t475 + t451*t492 + t461
+    C[..., 3, 1] = t448*t498 + t451*t496 + t471
+    C[..., 3, 2] = t456*t475 + t481 - t482 - t483
+    C[..., 3, 3] = -t423*t451 - t435*t448
+    C[..., 3, 4] = dq5*t436 + t448*t501 + t456*t492 + t457*t496 - t499 - t500
+    C[..., 3, 5] = dq6*t430 + t451*t501 + t456*t494 + t457*t498 - t502 - t503
+    C[..., 4, 0] = t448*t505 + t449*t477 + t450*t491 + t462 + t463
+    C[..., 4, 1] = t448*t507 + t450*t495 + t473
+    C[..., 4, 2] = t448*t509 + t456*t477 + t484 + t485 + t486
+    C[..., 4, 3] = t448*t511 + t456*t491 + t457*t495 + t499 + t500
+    C[..., 4, 4] = t446*t448
+    C[..., 4, 5] = dq6*t447 + t449*t509 + t450*t511 + t456*t505 + t457*t507 + t512
+    C[..., 5, 0] = t449*t479 + t450*t493 + t451*t504 + t465 + t466
+    C[..., 5, 1] = t450*t497 + t451*t506 + t474
+    C[..., 5, 2] = t451*t508 + t456*t479 + t488 + t489 + t490
+    C[..., 5, 3] = t451*t510 + t456*t493 + t457*t497 + t502 + t503
+    C[..., 5, 4] = t449*t508 + t450*t510 + t456*t504 + t457*t506 - t512
+    return C
+
+
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
+    """Inverse dynamics: 473 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    ddq: joint accelerations (rad/s^2 or m/s^2), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    Returns tau: tau = M ddq + C dq + G + F (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    ddq = numpy.asarray(ddq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    ddq1 = ddq[..., 0]
+    ddq2 = ddq[..., 1]
+    ddq3 = ddq[..., 2]
+    ddq4 = ddq[..., 3]
+    ddq5 = ddq[..., 4]
+    ddq6 = ddq[..., 5]
+    d6 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cz2 = pi[..., 13]
+    iyy2 = pi[..., 15]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cz3 = pi[..., 23]
+    iyy3 = pi[..., 25]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = -ddq2 - 9.81
+    t1 = -ddq1*q3 - 2*dq1*dq3
+    t2 = dq1**2
+    t3 = ddq3 - q3*t2
+    t4 = numpy.sin(q4)
+    t5 = -dq1*t4
+    t6 = numpy.cos(q4)
+    t7 = dq1*t6
+    t8 = -t7
+    t9 = -ddq1*t4 - dq4*t7
+    t10 = -ddq1*t6 + dq1*dq4*t4
+    t11 = t0*t4 + t1*t6
+    t12 = t0*t6 - t1*t4
+    t13 = numpy.sin(q5)
+    t14 = numpy.cos(q5)
+    t15 = -dq4*t13 + t14*t5
+    t16 = t15
+    t17 = dq5 + t8
+    t18 = dq4*t14 + t13*t5
+    t19 = t18
+    t20 = -ddq4*t13 - dq5*t18 + t14*t9
+    t21 = ddq5 + t10
+    t22 = ddq4*t14 + dq5*t15 + t13*t9
+    t23 = t11*t14 - t13*t3
+    t24 = t11*t13 + t14*t3
+    t25 = numpy.sin(q6)
+    t26 = numpy.cos(q6)
+    t27 = t16*t26 + t17*t25
+    t28 = t27
+    t29 = -t16*t25 + t17*t26
+    t30 = t29
+    t31 = dq6 + t19
+    t32 = dq6*t29 + t20*t26 + t21*t25
+    t33 = -dq6*t27 - t20*t25 + t21*t26
+    t34 = ddq6 + t22
+    t35 = d6*t31
+    t36 = d6*t33 + t12*t25 + t23*t26 + t28*t35
+    t37 = -d6*t32 + t12*t26 - t23*t25 + t30*t35
+    t38 = -d6*t28**2 - d6*t30**2 + t24
+    t39 = -cx6*t30 + cy6*t28
+    t40 = cx6*t31 - cz6*t28
+    t41 = m6*(-cy6*t34 + cz6*t33 + t30*t39 - t31*t40 + t36)
+    t42 = -cy6*t31 + cz6*t30
+    t43 = m6*(cx6*t34 - cz6*t32 - t28*t39 + t31*t42 + t37)
+    t44 = m6*(-cx6*t33 + cy6*t32 + t28*t40 - t30*t42 + t38)
+    t45 = ixz6*t28 + iyz6*t30 + izz6*t31
+    t46 = ixy6*t28 + iyy6*t30 + iyz6*t31
+    t47 = cy6*t44 - cz6*t43 + ixx6*t32 + ixy6*t33 + ixz6*t34 + t30*t45 - t31*t46
+    t48 = ixx6*t28 + ixy6*t30 + ixz6*t31
+    t49 = -cx6*t44 + cz6*t41 + ixy6*t32 + iyy6*t33 + iyz6*t34 - t28*t45 + t31*t48
+    t50 = cx6*t43 - cy6*t41 + ixz6*t32 + iyz6*t33 + izz6*t34 + t28*t46 - t30*t48
+    t51 = -cx5*t17 + cy5*t16
+    t52 = cx5*t19 - cz5*t16
+    t53 = m5*(-cy5*t22 + cz5*t21 + t17*t51 - t19*t52 + t23)
+    t54 = -cy5*t19 + cz5*t17
+    t55 = m5*(cx5*t22 - cz5*t20 + t12 - t16*t51 + t19*t54)
+    t56 = m5*(-cx5*t21 + cy5*t20 + t16*t52 - t17*t54 + t24)
+    t57 = -t25*t43 + t26*t41
+    t58 = t53 + t57
+    t59 = t25*t41 + t26*t43
+    t60 = t55 + t59
+    t61 = t44 + t56
+    t62 = ixz5*t16 + iyz5*t17 + izz5*t19
+    t63 = ixy5*t16 + iyy5*t17 + iyz5*t19
+    t64 = cy5*t56 - cz5*t55 - d6*t59 + ixx5*t20 + ixy5*t21 + ixz5*t22 + t17*t62 - t19*t63 - t25*t49 + t26*t47
+    t65 = ixx5*t16 + ixy5*t17 + ixz5*t19
+    t66 = -cx5*t56 + cz5*t53 + d6*t57 + ixy5*t20 + iyy5*t21 + iyz5*t22 - t16*t62 + t19*t65 + t25*t47 + t26*t49
+    t67 = cx5*t55 - cy5*t53 + ixz5*t20 + iyz5*t21 + izz5*t22 + t16*t63 - t17*t65 + t50
+    t68 = cx4*dq4 + cy4*t5
+    t69 = cx4*t8 - cz4*t5
+    t70 = m4*(-cy4*t10 - cz4*ddq4 - dq4*t68 + t11 - t69*t8)
+    t71 = -cy4*t8 - cz4*dq4
+    t72 = m4*(cx4*t10 - cz4*t9 - t3 - t5*t68 + t71*t8)
+    t73 = m4*(cx4*ddq4 + cy4*t9 + dq4*t71 + t12 + t5*t69)
+    t74 = t13*t61 + t14*t58 + t70
+    t75 = t13*t58 - t14*t61 + t72
+    t76 = t60 + t73
+    t77 = -dq4*iyz4 + ixz4*t5 + izz4*t8
+    t78 = -dq4*iyy4 + ixy4*t5 + iyz4*t8
+    t79 = cy4*t73 - cz4*t72 - ddq4*ixy4 - dq4*t77 + ixx4*t9 + ixz4*t10 + t13*t67 + t14*t64 - t78*t8
+    t80 = -dq4*ixy4 + ixx4*t5 + ixz4*t8
+    t81 = -cx4*t73 + cz4*t70 - ddq4*iyy4 + ixy4*t9 + iyz4*t10 + t13*t64 - t14*t67 - t5*t77 + t8*t80
+    t82 = cx4*t72 - cy4*t70 - ddq4*iyz4 + dq4*t80 + ixz4*t9 + izz4*t10 + t5*t78 + t66
+    t83 = m3*(-cx3*t2 - cz3*ddq1 + t1)
+    t84 = m3*t0
+    t85 = m3*(cx3*ddq1 - cz3*t2 + t3)
+    t86 = -t4*t76 + t6*t74 + t83
+    t87 = t4*t74 + t6*t76 + t84
+    t88 = -t75 + t85
+    t89 = -cx3*t85 + cz3*t83 - ddq1*iyy3 + t4*t79 + t6*t82
+    t90 = m2*(-cx2*t2 - cz2*ddq1)
+    t91 = m2*t0
+    t92 = m2*(cx2*ddq1 - cz2*t2)
+    t93 = t87 + t91
+    t94 = -cx2*t92 + cz2*t90 - ddq1*iyy2 + q3*t86 + t89
+    t95 = m1*(-cx1*t2 - cy1*ddq1)
+    t96 = m1*(cx1*ddq1 - cy1*t2)
+    t97 = cx1*t96 - cy1*t95 + ddq1*izz1 - t94
+    tau = numpy.zeros(batch + (6,))
+    tau[..., 0] = t97
+    tau[..., 1] = -t93
+    tau[..., 2] = t88
+    tau[..., 3] = -t81
+    tau[..., 4] = t66
+    tau[..., 5] = t50
+    return tau

@@ -8,6 +8,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
+ *   mass_matrix: 1455 ops (596 additions, 847 multiplications, 12 trig)
+ *   gravity: 227 ops (81 additions, 134 multiplications, 12 trig)
+ *   coriolis: 851 ops (353 additions, 476 multiplications, 12 trig, 10 powers)
+ *   coriolis_matrix: 6281 ops (2673 additions, 3588 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 891 ops (375 additions, 494 multiplications, 12 trig, 10 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -27,6 +32,8 @@
 
 /* Forward kinematics (145 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
  */
 void panda_fk(const double q[7], const double *p, double T[16]);
 /* The same for count states: q is count x 7, each output count x its size. */
@@ -34,6 +41,8 @@ void panda_fk_batch(size_t count, const double *q, const double *p, double *T);
 
 /* Tool position (109 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
  */
 void panda_position(const double q[7], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 7, each output count x its size. */
@@ -41,6 +50,8 @@ void panda_position_batch(size_t count, const double *q, const double *p, double
 
 /* Geometric jacobian (181 operations).
  * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
  */
 void panda_jacobian(const double q[7], const double *p, double J[42]);
 /* The same for count states: q is count x 7, each output count x its size. */
@@ -48,6 +59,8 @@ void panda_jacobian_batch(size_t count, const double *q, const double *p, double
 
 /* Analytic position jacobian (330 operations).
  * Jp[21]: dp/dq (3x7)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
  */
 void panda_position_jacobian(const double q[7], const double *p, double Jp[21]);
 /* The same for count states: q is count x 7, each output count x its size. */
@@ -56,9 +69,65 @@ void panda_position_jacobian_batch(size_t count, const double *q, const double *
 /* Forward kinematics and jacobian (202 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
  */
 void panda_fk_jacobian(const double q[7], const double *p, double T[16], double J[42]);
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
+
+/* Mass matrix (1455 operations).
+ * M[49]: M(q) (7x7)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
+ */
+void panda_mass_matrix(const double q[7], const double *p, const double *pi, double M[49]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (227 operations).
+ * G[7]: G(q) (7x1)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
+ */
+void panda_gravity(const double q[7], const double *p, const double *pi, double G[7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (851 operations).
+ * c[7]: c = C(q, dq) dq (7x1)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
+ */
+void panda_coriolis(const double q[7], const double dq[7], const double *p, const double *pi, double c[7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (6281 operations).
+ * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
+ */
+void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, const double *pi, double C[49]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (891 operations).
+ * tau[7]: tau = M ddq + C dq + G + F (7x1)
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[7]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
+ */
+void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, const double *pi, double tau[7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* PANDA_KINEMATICS_H */

@@ -9,6 +9,11 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 39 ops (12 additions, 22 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   inverse_dynamics: 67 ops (26 additions, 37 multiplications, 2 trig, 2 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -190,5 +195,202 @@ void planar_2r_det_batch(size_t count, const double *q, const double *p, double 
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_2r_det(q + i * 2, p, det + i * 1);
+    }
+}
+
+void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[4])
+{
+    const double q2 = q[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L1*t2 + L2;
+    const double t4 = m2*(-cy2 + t1);
+    const double t5 = m2*(cx2 + t3);
+    const double t6 = cx2*t5 - cy2*t4 + izz2;
+    const double t7 = L2*t5 + t6;
+    const double t8 = -cy1*m1;
+    const double t9 = m1*(L1 + cx1);
+    const double t10 = t0*t4 + t2*t5;
+    const double t11 = t10 + t9;
+    const double t12 = -L2*t0*(-t0*t5 + t2*t4) + L2*t10*t2 + cx1*t9 - cy1*t8 + izz1 + t6;
+    const double t13 = L1*t11 + t12;
+    const double t14 = -cy2*m2;
+    const double t15 = m2*(L2 + cx2);
+    const double t16 = cx2*t15 - cy2*t14 + izz2;
+    const double t17 = L2*t15 + t16;
+    M[0] = t13;
+    M[1] = t7;
+    M[2] = t7;
+    M[3] = t17;
+}
+
+void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_mass_matrix(q + i * 2, p, pi, M + i * 4);
+    }
+}
+
+void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[2])
+{
+    (void)q;
+    (void)p;
+    (void)pi;
+    G[0] = 0;
+    G[1] = 0;
+}
+
+void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_gravity(q + i * 2, p, pi, G + i * 2);
+    }
+}
+
+void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[2])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = dq1 + dq2;
+    const double t3 = t2*t2;
+    const double t4 = cos(q2);
+    const double t5 = -L2*t3 + t1*t4;
+    const double t6 = sin(q2);
+    const double t7 = -t1*t6;
+    const double t8 = m2*(-cx2*t3 + t5);
+    const double t9 = m2*(-cy2*t3 + t7);
+    const double t10 = cx2*t9 - cy2*t8;
+    const double t11 = L2*t9 + t10;
+    const double t12 = m1*(-cx1*t0 + t1);
+    const double t13 = -cy1*m1*t0;
+    const double t14 = t4*t9 + t6*t8;
+    const double t15 = t13 + t14;
+    const double t16 = L2*t14*t4 - L2*t6*(t4*t8 - t6*t9) + cx1*t13 - cy1*t12 + t10;
+    const double t17 = L1*t15 + t16;
+    c[0] = t17;
+    c[1] = t11;
+}
+
+void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_coriolis(q + i * 2, dq + i * 2, p, pi, c + i * 2);
+    }
+}
+
+void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[4])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = t1;
+    const double t3 = cos(q2);
+    const double t4 = L1*t3;
+    const double t5 = L2 + t4;
+    const double t6 = m2*(-cy2 + t2);
+    const double t7 = m2*(cx2 + t5);
+    const double t8 = -t1;
+    const double t9 = m2*t8;
+    const double t10 = t4;
+    const double t11 = m2*t10;
+    const double t12 = t0*t11 - t0*t7 + t3*t6 + t3*t9;
+    const double t13 = cx2*t9 - cy2*t11;
+    const double t14 = t13 + t9*(L2*t0*t0 + L2*t3*t3);
+    const double t15 = L1*t12 + t14;
+    const double t16 = L2*t9 + t13;
+    const double t17 = (1.0/2.0)*t15;
+    const double t18 = dq1*t17;
+    C[0] = dq2*t17;
+    C[1] = dq2*t16 + t18;
+    C[2] = -t18;
+    C[3] = 0;
+}
+
+void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_coriolis_matrix(q + i * 2, dq + i * 2, p, pi, C + i * 4);
+    }
+}
+
+void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[2])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double ddq1 = ddq[0];
+    const double ddq2 = ddq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = L1*ddq1;
+    const double t3 = dq1 + dq2;
+    const double t4 = ddq1 + ddq2;
+    const double t5 = cos(q2);
+    const double t6 = sin(q2);
+    const double t7 = t3*t3;
+    const double t8 = -L2*t7 + t1*t5 + t2*t6;
+    const double t9 = L2*t4 - t1*t6 + t2*t5;
+    const double t10 = m2*(-cx2*t7 - cy2*t4 + t8);
+    const double t11 = m2*(cx2*t4 - cy2*t7 + t9);
+    const double t12 = cx2*t11 - cy2*t10 + izz2*t4;
+    const double t13 = L2*t11 + t12;
+    const double t14 = m1*(-cx1*t0 - cy1*ddq1 + t1);
+    const double t15 = m1*(cx1*ddq1 - cy1*t0 + t2);
+    const double t16 = t10*t6 + t11*t5;
+    const double t17 = t15 + t16;
+    const double t18 = L2*t16*t5 - L2*t6*(t10*t5 - t11*t6) + cx1*t15 - cy1*t14 + ddq1*izz1 + t12;
+    const double t19 = L1*t17 + t18;
+    tau[0] = t19;
+    tau[1] = t13;
+}
+
+void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_inverse_dynamics(q + i * 2, dq + i * 2, ddq + i * 2, p, pi, tau + i * 2);
     }
 }

@@ -9,6 +9,11 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 39 ops (12 additions, 22 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   inverse_dynamics: 67 ops (26 additions, 37 multiplications, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (12 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_fk(const double q[2], const double *p, double T[16]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -35,6 +42,8 @@ void planar_2r_fk_batch(size_t count, const double *q, const double *p, double *
 
 /* Tool position (11 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_position(const double q[2], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -42,6 +51,8 @@ void planar_2r_position_batch(size_t count, const double *q, const double *p, do
 
 /* Geometric jacobian (13 operations).
  * J[12]: geometric Jacobian (6x2, rows x y z wx wy wz, base frame)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_jacobian(const double q[2], const double *p, double J[12]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -49,6 +60,8 @@ void planar_2r_jacobian_batch(size_t count, const double *q, const double *p, do
 
 /* Analytic position jacobian (13 operations).
  * Jp[6]: dp/dq (3x2)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_position_jacobian(const double q[2], const double *p, double Jp[6]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -57,6 +70,8 @@ void planar_2r_position_jacobian_batch(size_t count, const double *q, const doub
 /* Forward kinematics and jacobian (14 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[12]: geometric Jacobian (6x2, rows x y z wx wy wz, base frame)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_fk_jacobian(const double q[2], const double *p, double T[16], double J[12]);
 /* The same for count states: q is count x 2, each output count x its size. */
@@ -64,9 +79,65 @@ void planar_2r_fk_jacobian_batch(size_t count, const double *q, const double *p,
 
 /* Determinant of the task jacobian (rows x, y) (3 operations).
  * det[1]: det J (1x1)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void planar_2r_det(const double q[2], const double *p, double det[1]);
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (49 operations).
+ * M[4]: M(q) (2x2)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2)
+ */
+void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[4]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (0 operations).
+ * G[2]: G(q) (2x1)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2)
+ */
+void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (48 operations).
+ * c[2]: c = C(q, dq) dq (2x1)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2)
+ */
+void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (39 operations).
+ * C[4]: C(q, dq) (2x2), dM/dt - 2C skew-symmetric
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2)
+ */
+void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[4]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (67 operations).
+ * tau[2]: tau = M ddq + C dq + G + F (2x1)
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[2]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2)
+ */
+void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* PLANAR_2R_KINEMATICS_H */

@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
+  mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
+  gravity: 0 ops (none)
+  coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 39 ops (12 additions, 22 multiplications, 1 divisions, 2 trig, 2 powers)
+  inverse_dynamics: 67 ops (26 additions, 37 multiplications, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -198,4 +203,229 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def mass_matrix_function(symbol_type=casadi.SX):
+    """Mass matrix (49 operations) as a casadi.Function.
+
+    Output M: M(q) (2x2).
+    """
+    q = symbol_type.sym("q", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q2 = q[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    izz2 = pi[16]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L1*t2 + L2
+    t4 = m2*(-cy2 + t1)
+    t5 = m2*(cx2 + t3)
+    t6 = cx2*t5 - cy2*t4 + izz2
+    t7 = L2*t5 + t6
+    t8 = -cy1*m1
+    t9 = m1*(L1 + cx1)
+    t10 = t0*t4 + t2*t5
+    t11 = t10 + t9
+    t12 = -L2*t0*(-t0*t5 + t2*t4) + L2*t10*t2 + cx1*t9 - cy1*t8 + izz1 + t6
+    t13 = L1*t11 + t12
+    t14 = -cy2*m2
+    t15 = m2*(L2 + cx2)
+    t16 = cx2*t15 - cy2*t14 + izz2
+    t17 = L2*t15 + t16
+    M = symbol_type.zeros(2, 2)
+    M[0, 0] = t13
+    M[0, 1] = t7
+    M[1, 0] = t7
+    M[1, 1] = t17
+    return casadi.Function(
+        "planar_2r_mass_matrix",
+        [q, p, pi],
+        [M],
+        ["q", "p", "pi"],
+        ["M"],
+    )
+
+
+def gravity_function(symbol_type=casadi.SX):
+    """Gravity torques (0 operations) as a casadi.Function.
+
+    Output G: G(q) (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    G = symbol_type.zeros(2, 1)
+    return casadi.Function(
+        "planar_2r_gravity",
+        [q, p, pi],
+        [G],
+        ["q", "p", "pi"],
+        ["G"],
+    )
+
+
+def coriolis_function(symbol_type=casadi.SX):
+    """Coriolis and centrifugal torques (48 operations) as a casadi.Function.
+
+    Output c: c = C(q, dq) dq (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = dq1 + dq2
+    t3 = t2**2
+    t4 = casadi.cos(q2)
+    t5 = -L2*t3 + t1*t4
+    t6 = casadi.sin(q2)
+    t7 = -t1*t6
+    t8 = m2*(-cx2*t3 + t5)
+    t9 = m2*(-cy2*t3 + t7)
+    t10 = cx2*t9 - cy2*t8
+    t11 = L2*t9 + t10
+    t12 = m1*(-cx1*t0 + t1)
+    t13 = -cy1*m1*t0
+    t14 = t4*t9 + t6*t8
+    t15 = t13 + t14
+    t16 = L2*t14*t4 - L2*t6*(t4*t8 - t6*t9) + cx1*t13 - cy1*t12 + t10
+    t17 = L1*t15 + t16
+    c = symbol_type.zeros(2, 1)
+    c[0, 0] = t17
+    c[1, 0] = t11
+    return casadi.Function(
+        "planar_2r_coriolis",
+        [q, dq, p, pi],
+        [c],
+        ["q", "dq", "p", "pi"],
+        ["c"],
+    )
+
+
+def coriolis_matrix_function(symbol_type=casadi.SX):
+    """Coriolis matrix (christoffel symbols) (39 operations) as a casadi.Function.
+
+    Output C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric.
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = t1
+    t3 = casadi.cos(q2)
+    t4 = L1*t3
+    t5 = L2 + t4
+    t6 = m2*(-cy2 + t2)
+    t7 = m2*(cx2 + t5)
+    t8 = -t1
+    t9 = m2*t8
+    t10 = t4
+    t11 = m2*t10
+    t12 = t0*t11 - t0*t7 + t3*t6 + t3*t9
+    t13 = cx2*t9 - cy2*t11
+    t14 = t13 + t9*(L2*t0**2 + L2*t3**2)
+    t15 = L1*t12 + t14
+    t16 = L2*t9 + t13
+    t17 = (1/2)*t15
+    t18 = dq1*t17
+    C = symbol_type.zeros(2, 2)
+    C[0, 0] = dq2*t17
+    C[0, 1] = dq2*t16 + t18
+    C[1, 0] = -t18
+    return casadi.Function(
+        "planar_2r_coriolis_matrix",
+        [q, dq, p, pi],
+        [C],
+        ["q", "dq", "p", "pi"],
+        ["C"],
+    )
+
+
+def inverse_dynamics_function(symbol_type=casadi.SX):
+    """Inverse dynamics (67 operations) as a casadi.Function.
+
+    Output tau: tau = M ddq + C dq + G + F (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    ddq = symbol_type.sym("ddq", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    ddq1 = ddq[0]
+    ddq2 = ddq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    izz2 = pi[16]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = L1*ddq1
+    t3 = dq1 + dq2
+    t4 = ddq1 + ddq2
+    t5 = casadi.cos(q2)
+    t6 = casadi.sin(q2)
+    t7 = t3**2
+    t8 = -L2*t7 + t1*t5 + t2*t6
+    t9 = L2*t4 - t1*t6 + t2*t5
+    t10 = m2*(-cx2*t7 - cy2*t4 + t8)
+    t11 = m2*(cx2*t4 - cy2*t7 + t9)
+    t12 = cx2*t11 - cy2*t10 + izz2*t4
+    t13 = L2*t11 + t12
+    t14 = m1*(-cx1*t0 - cy1*ddq1 + t1)
+    t15 = m1*(cx1*ddq1 - cy1*t0 + t2)
+    t16 = t10*t6 + t11*t5
+    t17 = t15 + t16
+    t18 = L2*t16*t5 - L2*t6*(t10*t5 - t11*t6) + cx1*t15 - cy1*t14 + ddq1*izz1 + t12
+    t19 = L1*t17 + t18
+    tau = symbol_type.zeros(2, 1)
+    tau[0, 0] = t19
+    tau[1, 0] = t13
+    return casadi.Function(
+        "planar_2r_inverse_dynamics",
+        [q, dq, ddq, p, pi],
+        [tau],
+        ["q", "dq", "ddq", "p", "pi"],
+        ["tau"],
     )

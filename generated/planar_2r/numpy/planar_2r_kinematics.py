@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
+  mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
+  gravity: 0 ops (none)
+  coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 39 ops (12 additions, 22 multiplications, 1 divisions, 2 trig, 2 powers)
+  inverse_dynamics: 67 ops (26 additions, 37 multiplications, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -25,6 +30,8 @@ DEFAULT_PARAMETERS = numpy.array([1.0, 1.0], dtype=float)
 def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 12 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -52,6 +59,8 @@ def fk(q, p=DEFAULT_PARAMETERS):
 def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 11 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -71,6 +80,8 @@ def position(q, p=DEFAULT_PARAMETERS):
 def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 13 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns J: geometric Jacobian (6x2, rows x y z wx wy wz, base frame), shape (..., 6, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -96,6 +107,8 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 13 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns Jp: dp/dq (3x2), shape (..., 3, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -119,6 +132,8 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 14 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x2, rows x y z wx wy wz, base frame), shape (..., 6, 2).
     """
@@ -158,6 +173,8 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
 def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y): 3 operations.
 
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
     Returns det: det J (1x1), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -169,3 +186,232 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = L1*L2*numpy.sin(q2)
     return det
+
+
+def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Mass matrix: 49 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    Returns M: M(q) (2x2), shape (..., 2, 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    izz2 = pi[..., 16]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L1*t2 + L2
+    t4 = m2*(-cy2 + t1)
+    t5 = m2*(cx2 + t3)
+    t6 = cx2*t5 - cy2*t4 + izz2
+    t7 = L2*t5 + t6
+    t8 = -cy1*m1
+    t9 = m1*(L1 + cx1)
+    t10 = t0*t4 + t2*t5
+    t11 = t10 + t9
+    t12 = -L2*t0*(-t0*t5 + t2*t4) + L2*t10*t2 + cx1*t9 - cy1*t8 + izz1 + t6
+    t13 = L1*t11 + t12
+    t14 = -cy2*m2
+    t15 = m2*(L2 + cx2)
+    t16 = cx2*t15 - cy2*t14 + izz2
+    t17 = L2*t15 + t16
+    M = numpy.zeros(batch + (2, 2))
+    M[..., 0, 0] = t13
+    M[..., 0, 1] = t7
+    M[..., 1, 0] = t7
+    M[..., 1, 1] = t17
+    return M
+
+
+def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Gravity torques: 0 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    Returns G: G(q) (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    G = numpy.zeros(batch + (2,))
+    return G
+
+
+def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis and centrifugal torques: 48 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    Returns c: c = C(q, dq) dq (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = dq1 + dq2
+    t3 = t2**2
+    t4 = numpy.cos(q2)
+    t5 = -L2*t3 + t1*t4
+    t6 = numpy.sin(q2)
+    t7 = -t1*t6
+    t8 = m2*(-cx2*t3 + t5)
+    t9 = m2*(-cy2*t3 + t7)
+    t10 = cx2*t9 - cy2*t8
+    t11 = L2*t9 + t10
+    t12 = m1*(-cx1*t0 + t1)
+    t13 = -cy1*m1*t0
+    t14 = t4*t9 + t6*t8
+    t15 = t13 + t14
+    t16 = L2*t14*t4 - L2*t6*(t4*t8 - t6*t9) + cx1*t13 - cy1*t12 + t10
+    t17 = L1*t15 + t16
+    c = numpy.zeros(batch + (2,))
+    c[..., 0] = t17
+    c[..., 1] = t11
+    return c
+
+
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis matrix (christoffel symbols): 39 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    Returns C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric, shape (..., 2, 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = t1
+    t3 = numpy.cos(q2)
+    t4 = L1*t3
+    t5 = L2 + t4
+    t6 = m2*(-cy2 + t2)
+    t7 = m2*(cx2 + t5)
+    t8 = -t1
+    t9 = m2*t8
+    t10 = t4
+    t11 = m2*t10
+    t12 = t0*t11 - t0*t7 + t3*t6 + t3*t9
+    t13 = cx2*t9 - cy2*t11
+    t14 = t13 + t9*(L2*t0**2 + L2*t3**2)
+    t15 = L1*t12 + t14
+    t16 = L2*t9 + t13
+    t17 = (1/2)*t15
+    t18 = dq1*t17
+    C = numpy.zeros(batch + (2, 2))
+    C[..., 0, 0] = dq2*t17
+    C[..., 0, 1] = dq2*t16 + t18
+    C[..., 1, 0] = -t18
+    return C
+
+
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
+    """Inverse dynamics: 67 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    ddq: joint accelerations (rad/s^2 or m/s^2), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    Returns tau: tau = M ddq + C dq + G + F (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    ddq = numpy.asarray(ddq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    ddq1 = ddq[..., 0]
+    ddq2 = ddq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    izz2 = pi[..., 16]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = L1*ddq1
+    t3 = dq1 + dq2
+    t4 = ddq1 + ddq2
+    t5 = numpy.cos(q2)
+    t6 = numpy.sin(q2)
+    t7 = t3**2
+    t8 = -L2*t7 + t1*t5 + t2*t6
+    t9 = L2*t4 - t1*t6 + t2*t5
+    t10 = m2*(-cx2*t7 - cy2*t4 + t8)
+    t11 = m2*(cx2*t4 - cy2*t7 + t9)
+    t12 = cx2*t11 - cy2*t10 + izz2*t4
+    t13 = L2*t11 + t12
+    t14 = m1*(-cx1*t0 - cy1*ddq1 + t1)
+    t15 = m1*(cx1*ddq1 - cy1*t0 + t2)
+    t16 = t10*t6 + t11*t5
+    t17 = t15 + t16
+    t18 = L2*t16*t5 - L2*t6*(t10*t5 - t11*t6) + cx1*t15 - cy1*t14 + ddq1*izz1 + t12
+    t19 = L1*t17 + t18
+    tau = numpy.zeros(batch + (2,))
+    tau[..., 0] = t19
+    tau[..., 1] = t13
+    return tau

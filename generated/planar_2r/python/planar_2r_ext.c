@@ -9,6 +9,11 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 39 ops (12 additions, 22 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   inverse_dynamics: 67 ops (26 additions, 37 multiplications, 2 trig, 2 powers)
  *
  * CPython extension 'planar_2r_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (2,) or (N, 2) and

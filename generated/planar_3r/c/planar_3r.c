@@ -9,6 +9,11 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
+ *   inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -226,5 +231,354 @@ void planar_3r_det_batch(size_t count, const double *q, const double *p, double 
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_3r_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double izz3 = pi[26];
+    const double t0 = cos(q2);
+    const double t1 = -L1*t0;
+    const double t2 = sin(q2);
+    const double t3 = L1*t2 + L2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t1*t4 + t3*t5;
+    const double t7 = L3 - t1*t5 + t3*t4;
+    const double t8 = m3*(-cy3 + t6);
+    const double t9 = m3*(cx3 + t7);
+    const double t10 = cx3*t9 - cy3*t8 + izz3;
+    const double t11 = L3*t9 + t10;
+    const double t12 = m2*(-cy2 + t1);
+    const double t13 = m2*(cx2 + t3);
+    const double t14 = t4*t8 - t5*t9;
+    const double t15 = t12 + t14;
+    const double t16 = t4*t9 + t5*t8;
+    const double t17 = t13 + t16;
+    const double t18 = L3*t4;
+    const double t19 = L3*t5;
+    const double t20 = cx2*t13 - cy2*t12 + izz2 + t10 - t14*t19 + t16*t18;
+    const double t21 = L2*t17 + t20;
+    const double t22 = -cy1*m1;
+    const double t23 = m1*(L1 + cx1);
+    const double t24 = t0*t15;
+    const double t25 = t17*t2 + t23 - t24;
+    const double t26 = L2*t0*(t0*t17 + t15*t2) + L2*t2*(t17*t2 - t24) + cx1*t23 - cy1*t22 + izz1 + t20;
+    const double t27 = L1*t25 + t26;
+    const double t28 = L2*t5;
+    const double t29 = L2*t4 + L3;
+    const double t30 = m3*(-cy3 + t28);
+    const double t31 = m3*(cx3 + t29);
+    const double t32 = cx3*t31 - cy3*t30 + izz3;
+    const double t33 = L3*t31 + t32;
+    const double t34 = -cy2*m2;
+    const double t35 = m2*(L2 + cx2);
+    const double t36 = t30*t5 + t31*t4;
+    const double t37 = t35 + t36;
+    const double t38 = cx2*t35 - cy2*t34 + izz2 + t18*t36 - t19*(t30*t4 - t31*t5) + t32;
+    const double t39 = L2*t37 + t38;
+    const double t40 = -cy3*m3;
+    const double t41 = m3*(L3 + cx3);
+    const double t42 = cx3*t41 - cy3*t40 + izz3;
+    const double t43 = L3*t41 + t42;
+    M[0] = t27;
+    M[1] = t21;
+    M[2] = t11;
+    M[3] = t21;
+    M[4] = t39;
+    M[5] = t33;
+    M[6] = t11;
+    M[7] = t33;
+    M[8] = t43;
+}
+
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_mass_matrix(q + i * 3, p, pi, M + i * 9);
+    }
+}
+
+void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[3])
+{
+    (void)q;
+    (void)p;
+    (void)pi;
+    G[0] = 0;
+    G[1] = 0;
+    G[2] = 0;
+}
+
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_gravity(q + i * 3, p, pi, G + i * 3);
+    }
+}
+
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = dq1 + dq2;
+    const double t3 = t2*t2;
+    const double t4 = sin(q2);
+    const double t5 = -L2*t3 + t1*t4;
+    const double t6 = cos(q2);
+    const double t7 = t1*t6;
+    const double t8 = dq3 + t2;
+    const double t9 = cos(q3);
+    const double t10 = sin(q3);
+    const double t11 = t8*t8;
+    const double t12 = -L3*t11 + t10*t7 + t5*t9;
+    const double t13 = -t10*t5 + t7*t9;
+    const double t14 = m3*(-cx3*t11 + t12);
+    const double t15 = m3*(-cy3*t11 + t13);
+    const double t16 = cx3*t15 - cy3*t14;
+    const double t17 = L3*t15 + t16;
+    const double t18 = m2*(-cx2*t3 + t5);
+    const double t19 = m2*(-cy2*t3 + t7);
+    const double t20 = -t10*t15 + t14*t9;
+    const double t21 = t18 + t20;
+    const double t22 = t10*t14 + t15*t9;
+    const double t23 = t19 + t22;
+    const double t24 = -L3*t10*t20 + L3*t22*t9 + cx2*t19 - cy2*t18 + t16;
+    const double t25 = L2*t23 + t24;
+    const double t26 = m1*(-cx1*t0 + t1);
+    const double t27 = -cy1*m1*t0;
+    const double t28 = t21*t6;
+    const double t29 = t23*t4 + t27 - t28;
+    const double t30 = L2*t4*(t23*t4 - t28) + L2*t6*(t21*t4 + t23*t6) + cx1*t27 - cy1*t26 + t24;
+    const double t31 = L1*t29 + t30;
+    c[0] = t31;
+    c[1] = t25;
+    c[2] = t17;
+}
+
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+    }
+}
+
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double t0 = cos(q2);
+    const double t1 = L1*t0;
+    const double t2 = -t1;
+    const double t3 = sin(q2);
+    const double t4 = L1*t3;
+    const double t5 = L2 + t4;
+    const double t6 = cos(q3);
+    const double t7 = sin(q3);
+    const double t8 = t2*t6 + t5*t7;
+    const double t9 = t8;
+    const double t10 = t2*t7;
+    const double t11 = L3 - t10 + t5*t6;
+    const double t12 = m3*(-cy3 + t9);
+    const double t13 = m3*(cx3 + t11);
+    const double t14 = m2*(-cy2 + t2);
+    const double t15 = m2*(cx2 + t5);
+    const double t16 = t12*t6 - t13*t7;
+    const double t17 = t14 + t16;
+    const double t18 = t12*t7 + t13*t6;
+    const double t19 = t15 + t18;
+    const double t20 = L2*t7;
+    const double t21 = t20;
+    const double t22 = L2*t6;
+    const double t23 = L3 + t22;
+    const double t24 = m3*(-cy3 + t21);
+    const double t25 = m3*(cx3 + t23);
+    const double t26 = t4;
+    const double t27 = m2*t26;
+    const double t28 = t1;
+    const double t29 = -t26*t7 + t28*t6;
+    const double t30 = m3*t29;
+    const double t31 = t26*t6 + t28*t7;
+    const double t32 = m3*t31;
+    const double t33 = t27 - t30*t7 + t32*t6;
+    const double t34 = m2*t28;
+    const double t35 = t30*t6 + t32*t7 + t34;
+    const double t36 = cx3*t30 - cy3*t32;
+    const double t37 = L3*t6*t6 + L3*t7*t7;
+    const double t38 = cx2*t34 - cy2*t27 + t30*t37 + t36;
+    const double t39 = L2*t0*t0 + L2*t3*t3;
+    const double t40 = t35*t39 + t38;
+    const double t41 = t0*t19 - t0*t33 + t17*t3 + t3*t35;
+    const double t42 = L1*t41 + t40;
+    const double t43 = -t8;
+    const double t44 = m3*t43;
+    const double t45 = -t10 + t5*t6;
+    const double t46 = m3*t45;
+    const double t47 = -t18 - t44*t7 + t46*t6;
+    const double t48 = t16 + t44*t6 + t46*t7;
+    const double t49 = cx3*t44 - cy3*t46;
+    const double t50 = t37*t44 + t49;
+    const double t51 = t39*t48 + t50;
+    const double t52 = -t0*t47 + t3*t48;
+    const double t53 = L1*t52 + t51;
+    const double t54 = L2*t35 + t38;
+    const double t55 = L2*t48 + t50;
+    const double t56 = L3*t30 + t36;
+    const double t57 = L3*t44 + t49;
+    const double t58 = t22;
+    const double t59 = m3*t58;
+    const double t60 = -t20;
+    const double t61 = m3*t60;
+    const double t62 = cx3*t61 - cy3*t59;
+    const double t63 = t37*t61 + t62;
+    const double t64 = t24*t6 - t25*t7 + t59*t7 + t6*t61;
+    const double t65 = L2*t64 + t63;
+    const double t66 = L3*t61 + t62;
+    const double t67 = (1.0/2.0)*t42;
+    const double t68 = (1.0/2.0)*dq3;
+    const double t69 = dq1*t67;
+    const double t70 = t55 + t56;
+    const double t71 = (1.0/2.0)*dq1;
+    const double t72 = t53*t71;
+    const double t73 = (1.0/2.0)*dq2;
+    const double t74 = t55 - t56;
+    const double t75 = t65*t73;
+    const double t76 = -t74;
+    C[0] = dq2*t67 + t53*t68;
+    C[1] = dq2*t54 + t68*t70 + t69;
+    C[2] = dq3*t57 + t70*t73 + t72;
+    C[3] = (1.0/2.0)*dq3*t74 - t69;
+    C[4] = t65*t68;
+    C[5] = dq3*t66 + t71*t74 + t75;
+    C[6] = (1.0/2.0)*dq2*t76 - t72;
+    C[7] = t71*t76 - t75;
+    C[8] = 0;
+}
+
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+    }
+}
+
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double ddq1 = ddq[0];
+    const double ddq2 = ddq[1];
+    const double ddq3 = ddq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double izz3 = pi[26];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = L1*ddq1;
+    const double t3 = dq1 + dq2;
+    const double t4 = ddq1 + ddq2;
+    const double t5 = cos(q2);
+    const double t6 = t3*t3;
+    const double t7 = sin(q2);
+    const double t8 = -L2*t6 + t1*t7 - t2*t5;
+    const double t9 = L2*t4 + t1*t5 + t2*t7;
+    const double t10 = dq3 + t3;
+    const double t11 = ddq3 + t4;
+    const double t12 = cos(q3);
+    const double t13 = sin(q3);
+    const double t14 = t10*t10;
+    const double t15 = -L3*t14 + t12*t8 + t13*t9;
+    const double t16 = L3*t11 + t12*t9 - t13*t8;
+    const double t17 = m3*(-cx3*t14 - cy3*t11 + t15);
+    const double t18 = m3*(cx3*t11 - cy3*t14 + t16);
+    const double t19 = cx3*t18 - cy3*t17 + izz3*t11;
+    const double t20 = L3*t18 + t19;
+    const double t21 = m2*(-cx2*t6 - cy2*t4 + t8);
+    const double t22 = m2*(cx2*t4 - cy2*t6 + t9);
+    const double t23 = t12*t17 - t13*t18;
+    const double t24 = t21 + t23;
+    const double t25 = t12*t18 + t13*t17;
+    const double t26 = t22 + t25;
+    const double t27 = L3*t12*t25 - L3*t13*t23 + cx2*t22 - cy2*t21 + izz2*t4 + t19;
+    const double t28 = L2*t26 + t27;
+    const double t29 = m1*(-cx1*t0 - cy1*ddq1 + t1);
+    const double t30 = m1*(cx1*ddq1 - cy1*t0 + t2);
+    const double t31 = t24*t5;
+    const double t32 = t26*t7 + t30 - t31;
+    const double t33 = L2*t5*(t24*t7 + t26*t5) + L2*t7*(t26*t7 - t31) + cx1*t30 - cy1*t29 + ddq1*izz1 + t27;
+    const double t34 = L1*t32 + t33;
+    tau[0] = t34;
+    tau[1] = t28;
+    tau[2] = t20;
+}
+
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
     }
 }

@@ -9,6 +9,11 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
+ *   inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (19 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_fk(const double q[3], const double *p, double T[16]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -35,6 +42,8 @@ void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *
 
 /* Tool position (18 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_position(const double q[3], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -42,6 +51,8 @@ void planar_3r_position_batch(size_t count, const double *q, const double *p, do
 
 /* Geometric jacobian (21 operations).
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_jacobian(const double q[3], const double *p, double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -49,6 +60,8 @@ void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, do
 
 /* Analytic position jacobian (21 operations).
  * Jp[9]: dp/dq (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[9]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -57,6 +70,8 @@ void planar_3r_position_jacobian_batch(size_t count, const double *q, const doub
 /* Forward kinematics and jacobian (22 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_fk_jacobian(const double q[3], const double *p, double T[16], double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -64,9 +79,65 @@ void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p,
 
 /* Determinant of the task jacobian (rows x, y, wz) (4 operations).
  * det[1]: det J (1x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
  */
 void planar_3r_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (121 operations).
+ * M[9]: M(q) (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (0 operations).
+ * G[3]: G(q) (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (87 operations).
+ * c[3]: c = C(q, dq) dq (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (172 operations).
+ * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (116 operations).
+ * tau[3]: tau = M ddq + C dq + G + F (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* PLANAR_3R_KINEMATICS_H */

@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
+  mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+  gravity: 0 ops (none)
+  coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
+  coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
+  inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -25,6 +30,8 @@ DEFAULT_PARAMETERS = numpy.array([1.0, 0.8, 0.5], dtype=float)
 def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 19 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -55,6 +62,8 @@ def fk(q, p=DEFAULT_PARAMETERS):
 def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 18 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -77,6 +86,8 @@ def position(q, p=DEFAULT_PARAMETERS):
 def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 21 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -110,6 +121,8 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 21 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns Jp: dp/dq (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -140,6 +153,8 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 22 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
@@ -187,6 +202,8 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
 def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, wz): 4 operations.
 
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
     Returns det: det J (1x1), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -198,3 +215,383 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = -L1*L2*numpy.cos(q2)
     return det
+
+
+def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Mass matrix: 121 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    Returns M: M(q) (3x3), shape (..., 3, 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    izz2 = pi[..., 16]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    izz3 = pi[..., 26]
+    t0 = numpy.cos(q2)
+    t1 = -L1*t0
+    t2 = numpy.sin(q2)
+    t3 = L1*t2 + L2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t1*t4 + t3*t5
+    t7 = L3 - t1*t5 + t3*t4
+    t8 = m3*(-cy3 + t6)
+    t9 = m3*(cx3 + t7)
+    t10 = cx3*t9 - cy3*t8 + izz3
+    t11 = L3*t9 + t10
+    t12 = m2*(-cy2 + t1)
+    t13 = m2*(cx2 + t3)
+    t14 = t4*t8 - t5*t9
+    t15 = t12 + t14
+    t16 = t4*t9 + t5*t8
+    t17 = t13 + t16
+    t18 = L3*t4
+    t19 = L3*t5
+    t20 = cx2*t13 - cy2*t12 + izz2 + t10 - t14*t19 + t16*t18
+    t21 = L2*t17 + t20
+    t22 = -cy1*m1
+    t23 = m1*(L1 + cx1)
+    t24 = t0*t15
+    t25 = t17*t2 + t23 - t24
+    t26 = L2*t0*(t0*t17 + t15*t2) + L2*t2*(t17*t2 - t24) + cx1*t23 - cy1*t22 + izz1 + t20
+    t27 = L1*t25 + t26
+    t28 = L2*t5
+    t29 = L2*t4 + L3
+    t30 = m3*(-cy3 + t28)
+    t31 = m3*(cx3 + t29)
+    t32 = cx3*t31 - cy3*t30 + izz3
+    t33 = L3*t31 + t32
+    t34 = -cy2*m2
+    t35 = m2*(L2 + cx2)
+    t36 = t30*t5 + t31*t4
+    t37 = t35 + t36
+    t38 = cx2*t35 - cy2*t34 + izz2 + t18*t36 - t19*(t30*t4 - t31*t5) + t32
+    t39 = L2*t37 + t38
+    t40 = -cy3*m3
+    t41 = m3*(L3 + cx3)
+    t42 = cx3*t41 - cy3*t40 + izz3
+    t43 = L3*t41 + t42
+    M = numpy.zeros(batch + (3, 3))
+    M[..., 0, 0] = t27
+    M[..., 0, 1] = t21
+    M[..., 0, 2] = t11
+    M[..., 1, 0] = t21
+    M[..., 1, 1] = t39
+    M[..., 1, 2] = t33
+    M[..., 2, 0] = t11
+    M[..., 2, 1] = t33
+    M[..., 2, 2] = t43
+    return M
+
+
+def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
+    """Gravity torques: 0 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    Returns G: G(q) (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    G = numpy.zeros(batch + (3,))
+    return G
+
+
+def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis and centrifugal torques: 87 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    Returns c: c = C(q, dq) dq (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = dq1 + dq2
+    t3 = t2**2
+    t4 = numpy.sin(q2)
+    t5 = -L2*t3 + t1*t4
+    t6 = numpy.cos(q2)
+    t7 = t1*t6
+    t8 = dq3 + t2
+    t9 = numpy.cos(q3)
+    t10 = numpy.sin(q3)
+    t11 = t8**2
+    t12 = -L3*t11 + t10*t7 + t5*t9
+    t13 = -t10*t5 + t7*t9
+    t14 = m3*(-cx3*t11 + t12)
+    t15 = m3*(-cy3*t11 + t13)
+    t16 = cx3*t15 - cy3*t14
+    t17 = L3*t15 + t16
+    t18 = m2*(-cx2*t3 + t5)
+    t19 = m2*(-cy2*t3 + t7)
+    t20 = -t10*t15 + t14*t9
+    t21 = t18 + t20
+    t22 = t10*t14 + t15*t9
+    t23 = t19 + t22
+    t24 = -L3*t10*t20 + L3*t22*t9 + cx2*t19 - cy2*t18 + t16
+    t25 = L2*t23 + t24
+    t26 = m1*(-cx1*t0 + t1)
+    t27 = -cy1*m1*t0
+    t28 = t21*t6
+    t29 = t23*t4 + t27 - t28
+    t30 = L2*t4*(t23*t4 - t28) + L2*t6*(t21*t4 + t23*t6) + cx1*t27 - cy1*t26 + t24
+    t31 = L1*t29 + t30
+    c = numpy.zeros(batch + (3,))
+    c[..., 0] = t31
+    c[..., 1] = t25
+    c[..., 2] = t17
+    return c
+
+
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Coriolis matrix (christoffel symbols): 172 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    Returns C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric, shape (..., 3, 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    t0 = numpy.cos(q2)
+    t1 = L1*t0
+    t2 = -t1
+    t3 = numpy.sin(q2)
+    t4 = L1*t3
+    t5 = L2 + t4
+    t6 = numpy.cos(q3)
+    t7 = numpy.sin(q3)
+    t8 = t2*t6 + t5*t7
+    t9 = t8
+    t10 = t2*t7
+    t11 = L3 - t10 + t5*t6
+    t12 = m3*(-cy3 + t9)
+    t13 = m3*(cx3 + t11)
+    t14 = m2*(-cy2 + t2)
+    t15 = m2*(cx2 + t5)
+    t16 = t12*t6 - t13*t7
+    t17 = t14 + t16
+    t18 = t12*t7 + t13*t6
+    t19 = t15 + t18
+    t20 = L2*t7
+    t21 = t20
+    t22 = L2*t6
+    t23 = L3 + t22
+    t24 = m3*(-cy3 + t21)
+    t25 = m3*(cx3 + t23)
+    t26 = t4
+    t27 = m2*t26
+    t28 = t1
+    t29 = -t26*t7 + t28*t6
+    t30 = m3*t29
+    t31 = t26*t6 + t28*t7
+    t32 = m3*t31
+    t33 = t27 - t30*t7 + t32*t6
+    t34 = m2*t28
+    t35 = t30*t6 + t32*t7 + t34
+    t36 = cx3*t30 - cy3*t32
+    t37 = L3*t6**2 + L3*t7**2
+    t38 = cx2*t34 - cy2*t27 + t30*t37 + t36
+    t39 = L2*t0**2 + L2*t3**2
+    t40 = t35*t39 + t38
+    t41 = t0*t19 - t0*t33 + t17*t3 + t3*t35
+    t42 = L1*t41 + t40
+    t43 = -t8
+    t44 = m3*t43
+    t45 = -t10 + t5*t6
+    t46 = m3*t45
+    t47 = -t18 - t44*t7 + t46*t6
+    t48 = t16 + t44*t6 + t46*t7
+    t49 = cx3*t44 - cy3*t46
+    t50 = t37*t44 + t49
+    t51 = t39*t48 + t50
+    t52 = -t0*t47 + t3*t48
+    t53 = L1*t52 + t51
+    t54 = L2*t35 + t38
+    t55 = L2*t48 + t50
+    t56 = L3*t30 + t36
+    t57 = L3*t44 + t49
+    t58 = t22
+    t59 = m3*t58
+    t60 = -t20
+    t61 = m3*t60
+    t62 = cx3*t61 - cy3*t59
+    t63 = t37*t61 + t62
+    t64 = t24*t6 - t25*t7 + t59*t7 + t6*t61
+    t65 = L2*t64 + t63
+    t66 = L3*t61 + t62
+    t67 = (1/2)*t42
+    t68 = (1/2)*dq3
+    t69 = dq1*t67
+    t70 = t55 + t56
+    t71 = (1/2)*dq1
+    t72 = t53*t71
+    t73 = (1/2)*dq2
+    t74 = t55 - t56
+    t75 = t65*t73
+    t76 = -t74
+    C = numpy.zeros(batch + (3, 3))
+    C[..., 0, 0] = dq2*t67 + t53*t68
+    C[..., 0, 1] = dq2*t54 + t68*t70 + t69
+    C[..., 0, 2] = dq3*t57 + t70*t73 + t72
+    C[..., 1, 0] = (1/2)*dq3*t74 - t69
+    C[..., 1, 1] = t65*t68
+    C[..., 1, 2] = dq3*t66 + t71*t74 + t75
+    C[..., 2, 0] = (1/2)*dq2*t76 - t72
+    C[..., 2, 1] = t71*t76 - t75
+    return C
+
+
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
+    """Inverse dynamics: 116 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    ddq: joint accelerations (rad/s^2 or m/s^2), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    Returns tau: tau = M ddq + C dq + G + F (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    ddq = numpy.asarray(ddq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    ddq1 = ddq[..., 0]
+    ddq2 = ddq[..., 1]
+    ddq3 = ddq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    izz2 = pi[..., 16]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    izz3 = pi[..., 26]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = L1*ddq1
+    t3 = dq1 + dq2
+    t4 = ddq1 + ddq2
+    t5 = numpy.cos(q2)
+    t6 = t3**2
+    t7 = numpy.sin(q2)
+    t8 = -L2*t6 + t1*t7 - t2*t5
+    t9 = L2*t4 + t1*t5 + t2*t7
+    t10 = dq3 + t3
+    t11 = ddq3 + t4
+    t12 = numpy.cos(q3)
+    t13 = numpy.sin(q3)
+    t14 = t10**2
+    t15 = -L3*t14 + t12*t8 + t13*t9
+    t16 = L3*t11 + t12*t9 - t13*t8
+    t17 = m3*(-cx3*t14 - cy3*t11 + t15)
+    t18 = m3*(cx3*t11 - cy3*t14 + t16)
+    t19 = cx3*t18 - cy3*t17 + izz3*t11
+    t20 = L3*t18 + t19
+    t21 = m2*(-cx2*t6 - cy2*t4 + t8)
+    t22 = m2*(cx2*t4 - cy2*t6 + t9)
+    t23 = t12*t17 - t13*t18
+    t24 = t21 + t23
+    t25 = t12*t18 + t13*t17
+    t26 = t22 + t25
+    t27 = L3*t12*t25 - L3*t13*t23 + cx2*t22 - cy2*t21 + izz2*t4 + t19
+    t28 = L2*t26 + t27
+    t29 = m1*(-cx1*t0 - cy1*ddq1 + t1)
+    t30 = m1*(cx1*ddq1 - cy1*t0 + t2)
+    t31 = t24*t5
+    t32 = t26*t7 + t30 - t31
+    t33 = L2*t5*(t24*t7 + t26*t5) + L2*t7*(t26*t7 - t31) + cx1*t30 - cy1*t29 + ddq1*izz1 + t27
+    t34 = L1*t32 + t33
+    tau = numpy.zeros(batch + (3,))
+    tau[..., 0] = t34
+    tau[..., 1] = t28
+    tau[..., 2] = t20
+    return tau

@@ -9,6 +9,11 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
+ *   inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
  *
  * CPython extension 'planar_3r_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (3,) or (N, 3) and

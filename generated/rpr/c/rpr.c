@@ -9,6 +9,11 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
+ *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
+ *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 138 ops (50 additions, 81 multiplications, 5 divisions, 2 trig)
+ *   inverse_dynamics: 176 ops (70 additions, 101 multiplications, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -217,5 +222,354 @@ void rpr_det_batch(size_t count, const double *q, const double *p, double *det)
     size_t i;
     for (i = 0; i < count; ++i) {
         rpr_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double L3 = p[0];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cz1 = pi[3];
+    const double iyy1 = pi[5];
+    const double m2 = pi[10];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double ixx2 = pi[14];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double ixx3 = pi[24];
+    const double iyy3 = pi[25];
+    const double izz3 = pi[26];
+    const double ixy3 = pi[27];
+    const double ixz3 = pi[28];
+    const double iyz3 = pi[29];
+    const double t0 = cos(q3);
+    const double t1 = t0;
+    const double t2 = sin(q3);
+    const double t3 = L3*t2;
+    const double t4 = q2 + t3;
+    const double t5 = cz3*m3;
+    const double t6 = -t2*t5;
+    const double t7 = -t1*t5;
+    const double t8 = m3*(cx3*t2 + cy3*t1 + t4);
+    const double t9 = cy3*t8 - cz3*t7 + ixx3*t1 - ixy3*t2;
+    const double t10 = -cx3*t8 + cz3*t6 + ixy3*t1 - iyy3*t2;
+    const double t11 = cx3*t7 - cy3*t6 + ixz3*t1 - iyz3*t2;
+    const double t12 = L3*t7 + t11;
+    const double t13 = -cz2*m2;
+    const double t14 = m2*(cy2 + q2);
+    const double t15 = t0*t7 + t13 + t2*t6;
+    const double t16 = t14 + t8;
+    const double t17 = cy2*t14 - cz2*t13 + ixx2 + t0*t9 - t10*t2 + t3*t8;
+    const double t18 = cz1*m1;
+    const double t19 = -cx1*m1;
+    const double t20 = -cx1*t19 + cz1*t18 + iyy1 + q2*t16 + t17;
+    const double t21 = t2;
+    const double t22 = t0;
+    const double t23 = m3*t21;
+    const double t24 = m3*t22;
+    const double t25 = cx3*t24 - cy3*t23;
+    const double t26 = L3*t24 + t25;
+    const double t27 = m2 + t0*t24 + t2*t23;
+    const double t28 = -cy3*m3;
+    const double t29 = m3*(L3 + cx3);
+    const double t30 = cx3*t29 - cy3*t28 + izz3;
+    const double t31 = L3*t29 + t30;
+    M[0] = t20;
+    M[1] = t15;
+    M[2] = t12;
+    M[3] = t15;
+    M[4] = t27;
+    M[5] = t26;
+    M[6] = t12;
+    M[7] = t26;
+    M[8] = t31;
+}
+
+void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_mass_matrix(q + i * 3, p, pi, M + i * 9);
+    }
+}
+
+void rpr_gravity(const double q[3], const double *p, const double *pi, double G[3])
+{
+    const double q3 = q[2];
+    const double L3 = p[0];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double t0 = cos(q3);
+    const double t1 = 9.8100000000000005*t0;
+    const double t2 = sin(q3);
+    const double t3 = -9.8100000000000005*t2;
+    const double t4 = m3*t1;
+    const double t5 = m3*t3;
+    const double t6 = -cz3*t5;
+    const double t7 = cz3*t4;
+    const double t8 = cx3*t5 - cy3*t4;
+    const double t9 = L3*t5 + t8;
+    const double t10 = t0*t5 + t2*t4;
+    const double t11 = t0*t6 - t2*t7;
+    G[0] = t11;
+    G[1] = t10;
+    G[2] = t9;
+}
+
+void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_gravity(q + i * 3, p, pi, G + i * 3);
+    }
+}
+
+void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L3 = p[0];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cz1 = pi[3];
+    const double m2 = pi[10];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double ixx3 = pi[24];
+    const double iyy3 = pi[25];
+    const double izz3 = pi[26];
+    const double ixy3 = pi[27];
+    const double ixz3 = pi[28];
+    const double iyz3 = pi[29];
+    const double t0 = dq1*dq1;
+    const double t1 = -q2*t0;
+    const double t2 = 2*dq1*dq2;
+    const double t3 = cos(q3);
+    const double t4 = dq1*t3;
+    const double t5 = t4;
+    const double t6 = sin(q3);
+    const double t7 = dq1*t6;
+    const double t8 = -t7;
+    const double t9 = -dq3*t7;
+    const double t10 = -dq3*t4;
+    const double t11 = -L3*dq3*dq3 - L3*t8*t8 + t1*t6;
+    const double t12 = L3*t5;
+    const double t13 = t1*t3 + t12*t8;
+    const double t14 = -L3*t10 + dq3*t12 + t2;
+    const double t15 = -cx3*t8 + cy3*t5;
+    const double t16 = cx3*dq3 - cz3*t5;
+    const double t17 = m3*(cz3*t10 - dq3*t16 + t11 + t15*t8);
+    const double t18 = -cy3*dq3 + cz3*t8;
+    const double t19 = m3*(-cz3*t9 + dq3*t18 + t13 - t15*t5);
+    const double t20 = m3*(-cx3*t10 + cy3*t9 + t14 + t16*t5 - t18*t8);
+    const double t21 = dq3*iyz3 + ixy3*t5 + iyy3*t8;
+    const double t22 = dq3*izz3 + ixz3*t5 + iyz3*t8;
+    const double t23 = cy3*t20 - cz3*t19 - dq3*t21 + ixx3*t9 + ixy3*t10 + t22*t8;
+    const double t24 = dq3*ixz3 + ixx3*t5 + ixy3*t8;
+    const double t25 = -cx3*t20 + cz3*t17 + dq3*t24 + ixy3*t9 + iyy3*t10 - t22*t5;
+    const double t26 = cx3*t19 - cy3*t17 + ixz3*t9 + iyz3*t10 + t21*t5 - t24*t8;
+    const double t27 = L3*t19 + t26;
+    const double t28 = m2*(-cy2*t0 + t1);
+    const double t29 = m2*(-cz2*t0 + t2);
+    const double t30 = t17*t6 + t19*t3 + t28;
+    const double t31 = t20 + t29;
+    const double t32 = L3*t20*t6 + cy2*t29 - cz2*t28 + t23*t3 - t25*t6;
+    const double t33 = m1*t0;
+    const double t34 = -cx1*t33;
+    const double t35 = -cz1*t33;
+    const double t36 = -cx1*t35 + cz1*t34 + q2*t31 + t32;
+    c[0] = t36;
+    c[1] = t30;
+    c[2] = t27;
+}
+
+void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+    }
+}
+
+void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L3 = p[0];
+    const double m2 = pi[10];
+    const double cy2 = pi[12];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double ixx3 = pi[24];
+    const double iyy3 = pi[25];
+    const double ixy3 = pi[27];
+    const double ixz3 = pi[28];
+    const double iyz3 = pi[29];
+    const double t0 = cos(q3);
+    const double t1 = t0;
+    const double t2 = sin(q3);
+    const double t3 = L3*t2;
+    const double t4 = q2 + t3;
+    const double t5 = m3*t2;
+    const double t6 = cz3*t5;
+    const double t7 = -t6;
+    const double t8 = cz3*m3;
+    const double t9 = -t1*t8;
+    const double t10 = m3*(cx3*t2 + cy3*t1 + t4);
+    const double t11 = ixy3*t2;
+    const double t12 = cy3*t10 - cz3*t9 + ixx3*t1 - t11;
+    const double t13 = -cx3*t10 + cz3*t7 + ixy3*t1 - iyy3*t2;
+    const double t14 = m2*(cy2 + q2);
+    const double t15 = t10 + t14;
+    const double t16 = t2;
+    const double t17 = t0;
+    const double t18 = m3*t16;
+    const double t19 = m3*t17;
+    const double t20 = cx3*m3;
+    const double t21 = -t20;
+    const double t22 = cy3*m3;
+    const double t23 = t22;
+    const double t24 = cy2*m2 + m3*t3 + t0*t23 - t2*t21;
+    const double t25 = m2 + m3;
+    const double t26 = q2*t25 + t15 + t24;
+    const double t27 = L3*t0;
+    const double t28 = t27;
+    const double t29 = m3*t28 + t0*t20 - t2*t22;
+    const double t30 = -t0*t8;
+    const double t31 = -cx3*t29 + cz3*t30 - iyy3*t0 - t11;
+    const double t32 = t6;
+    const double t33 = cy3*t29 - cz3*t32 - ixx3*t2 - ixy3*t0;
+    const double t34 = -t0*t13 + t0*t33 + t10*t27 - t12*t2 - t2*t31 + t29*t3;
+    const double t35 = q2*t29 + t34;
+    const double t36 = t0*t32 + t0*t7 + t2*t30 - t2*t9;
+    const double t37 = cx3*t32 - cy3*t30 - ixz3*t2 - iyz3*t0;
+    const double t38 = L3*t32 + t37;
+    const double t39 = t0;
+    const double t40 = m3*t39;
+    const double t41 = -t5;
+    const double t42 = t0*t18 + t0*t41 - t19*t2 + t2*t40;
+    const double t43 = cx3*t41 - cy3*t40;
+    const double t44 = L3*t41 + t43;
+    const double t45 = (1.0/2.0)*t26;
+    const double t46 = (1.0/2.0)*dq3;
+    const double t47 = dq1*t45;
+    const double t48 = (1.0/2.0)*dq1;
+    const double t49 = (1.0/2.0)*dq2;
+    const double t50 = t35*t48 + t36*t49;
+    const double t51 = t36*t48 + t42*t49;
+    C[0] = dq2*t45 + t35*t46;
+    C[1] = t36*t46 + t47;
+    C[2] = dq3*t38 + t50;
+    C[3] = (1.0/2.0)*dq3*t36 - t47;
+    C[4] = t42*t46;
+    C[5] = dq3*t44 + t51;
+    C[6] = -t50;
+    C[7] = -t51;
+    C[8] = 0;
+}
+
+void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+    }
+}
+
+void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double ddq1 = ddq[0];
+    const double ddq2 = ddq[1];
+    const double ddq3 = ddq[2];
+    const double L3 = p[0];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cz1 = pi[3];
+    const double iyy1 = pi[5];
+    const double m2 = pi[10];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double ixx2 = pi[14];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double ixx3 = pi[24];
+    const double iyy3 = pi[25];
+    const double izz3 = pi[26];
+    const double ixy3 = pi[27];
+    const double ixz3 = pi[28];
+    const double iyz3 = pi[29];
+    const double t0 = dq1*dq1;
+    const double t1 = ddq2 - q2*t0;
+    const double t2 = ddq1*q2 + 2*dq1*dq2;
+    const double t3 = cos(q3);
+    const double t4 = dq1*t3;
+    const double t5 = t4;
+    const double t6 = sin(q3);
+    const double t7 = dq1*t6;
+    const double t8 = -t7;
+    const double t9 = ddq1*t3 - dq3*t7;
+    const double t10 = -ddq1*t6 - dq3*t4;
+    const double t11 = -L3*dq3*dq3 - L3*t8*t8 + t1*t6 + 9.8100000000000005*t3;
+    const double t12 = L3*t5;
+    const double t13 = L3*ddq3 + t1*t3 + t12*t8 - 9.8100000000000005*t6;
+    const double t14 = -L3*t10 + dq3*t12 + t2;
+    const double t15 = -cx3*t8 + cy3*t5;
+    const double t16 = cx3*dq3 - cz3*t5;
+    const double t17 = m3*(-cy3*ddq3 + cz3*t10 - dq3*t16 + t11 + t15*t8);
+    const double t18 = -cy3*dq3 + cz3*t8;
+    const double t19 = m3*(cx3*ddq3 - cz3*t9 + dq3*t18 + t13 - t15*t5);
+    const double t20 = m3*(-cx3*t10 + cy3*t9 + t14 + t16*t5 - t18*t8);
+    const double t21 = dq3*iyz3 + ixy3*t5 + iyy3*t8;
+    const double t22 = dq3*izz3 + ixz3*t5 + iyz3*t8;
+    const double t23 = cy3*t20 - cz3*t19 + ddq3*ixz3 - dq3*t21 + ixx3*t9 + ixy3*t10 + t22*t8;
+    const double t24 = dq3*ixz3 + ixx3*t5 + ixy3*t8;
+    const double t25 = -cx3*t20 + cz3*t17 + ddq3*iyz3 + dq3*t24 + ixy3*t9 + iyy3*t10 - t22*t5;
+    const double t26 = cx3*t19 - cy3*t17 + ddq3*izz3 + ixz3*t9 + iyz3*t10 + t21*t5 - t24*t8;
+    const double t27 = L3*t19 + t26;
+    const double t28 = m2*(-cy2*t0 - cz2*ddq1 + t1);
+    const double t29 = m2*(cy2*ddq1 - cz2*t0 + t2);
+    const double t30 = t17*t6 + t19*t3 + t28;
+    const double t31 = t20 + t29;
+    const double t32 = L3*t20*t6 + cy2*t29 - cz2*t28 + ddq1*ixx2 + t23*t3 - t25*t6;
+    const double t33 = m1*(-cx1*t0 + cz1*ddq1);
+    const double t34 = m1*(-cx1*ddq1 - cz1*t0);
+    const double t35 = -cx1*t34 + cz1*t33 + ddq1*iyy1 + q2*t31 + t32;
+    tau[0] = t35;
+    tau[1] = t30;
+    tau[2] = t27;
+}
+
+void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
     }
 }

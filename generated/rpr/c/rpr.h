@@ -9,6 +9,11 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
+ *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
+ *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 138 ops (50 additions, 81 multiplications, 5 divisions, 2 trig)
+ *   inverse_dynamics: 176 ops (70 additions, 101 multiplications, 2 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (19 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_fk(const double q[3], const double *p, double T[16]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -35,6 +42,8 @@ void rpr_fk_batch(size_t count, const double *q, const double *p, double *T);
 
 /* Tool position (13 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_position(const double q[3], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -42,6 +51,8 @@ void rpr_position_batch(size_t count, const double *q, const double *p, double *
 
 /* Geometric jacobian (22 operations).
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_jacobian(const double q[3], const double *p, double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -49,6 +60,8 @@ void rpr_jacobian_batch(size_t count, const double *q, const double *p, double *
 
 /* Analytic position jacobian (17 operations).
  * Jp[9]: dp/dq (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_position_jacobian(const double q[3], const double *p, double Jp[9]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -57,6 +70,8 @@ void rpr_position_jacobian_batch(size_t count, const double *q, const double *p,
 /* Forward kinematics and jacobian (30 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_fk_jacobian(const double q[3], const double *p, double T[16], double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -64,9 +79,65 @@ void rpr_fk_jacobian_batch(size_t count, const double *q, const double *p, doubl
 
 /* Determinant of the task jacobian (rows x, y, z) (4 operations).
  * det[1]: det J (1x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
  */
 void rpr_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (87 operations).
+ * M[9]: M(q) (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (21 operations).
+ * G[3]: G(q) (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void rpr_gravity(const double q[3], const double *p, const double *pi, double G[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (143 operations).
+ * c[3]: c = C(q, dq) dq (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (138 operations).
+ * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (176 operations).
+ * tau[3]: tau = M ddq + C dq + G + F (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* RPR_KINEMATICS_H */

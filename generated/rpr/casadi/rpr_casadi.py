@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+  mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
+  gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
+  coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
+  coriolis_matrix: 138 ops (50 additions, 81 multiplications, 5 divisions, 2 trig)
+  inverse_dynamics: 176 ops (70 additions, 101 multiplications, 2 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L3) and named outputs; build it once
@@ -230,4 +235,386 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def mass_matrix_function(symbol_type=casadi.SX):
+    """Mass matrix (87 operations) as a casadi.Function.
+
+    Output M: M(q) (3x3).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 1)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    L3 = p[0]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cz1 = pi[3]
+    iyy1 = pi[5]
+    m2 = pi[10]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    ixx2 = pi[14]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    ixx3 = pi[24]
+    iyy3 = pi[25]
+    izz3 = pi[26]
+    ixy3 = pi[27]
+    ixz3 = pi[28]
+    iyz3 = pi[29]
+    t0 = casadi.cos(q3)
+    t1 = t0
+    t2 = casadi.sin(q3)
+    t3 = L3*t2
+    t4 = q2 + t3
+    t5 = cz3*m3
+    t6 = -t2*t5
+    t7 = -t1*t5
+    t8 = m3*(cx3*t2 + cy3*t1 + t4)
+    t9 = cy3*t8 - cz3*t7 + ixx3*t1 - ixy3*t2
+    t10 = -cx3*t8 + cz3*t6 + ixy3*t1 - iyy3*t2
+    t11 = cx3*t7 - cy3*t6 + ixz3*t1 - iyz3*t2
+    t12 = L3*t7 + t11
+    t13 = -cz2*m2
+    t14 = m2*(cy2 + q2)
+    t15 = t0*t7 + t13 + t2*t6
+    t16 = t14 + t8
+    t17 = cy2*t14 - cz2*t13 + ixx2 + t0*t9 - t10*t2 + t3*t8
+    t18 = cz1*m1
+    t19 = -cx1*m1
+    t20 = -cx1*t19 + cz1*t18 + iyy1 + q2*t16 + t17
+    t21 = t2
+    t22 = t0
+    t23 = m3*t21
+    t24 = m3*t22
+    t25 = cx3*t24 - cy3*t23
+    t26 = L3*t24 + t25
+    t27 = m2 + t0*t24 + t2*t23
+    t28 = -cy3*m3
+    t29 = m3*(L3 + cx3)
+    t30 = cx3*t29 - cy3*t28 + izz3
+    t31 = L3*t29 + t30
+    M = symbol_type.zeros(3, 3)
+    M[0, 0] = t20
+    M[0, 1] = t15
+    M[0, 2] = t12
+    M[1, 0] = t15
+    M[1, 1] = t27
+    M[1, 2] = t26
+    M[2, 0] = t12
+    M[2, 1] = t26
+    M[2, 2] = t31
+    return casadi.Function(
+        "rpr_mass_matrix",
+        [q, p, pi],
+        [M],
+        ["q", "p", "pi"],
+        ["M"],
+    )
+
+
+def gravity_function(symbol_type=casadi.SX):
+    """Gravity torques (21 operations) as a casadi.Function.
+
+    Output G: G(q) (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 1)
+    pi = symbol_type.sym("pi", 30)
+    q3 = q[2]
+    L3 = p[0]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    t0 = casadi.cos(q3)
+    t1 = 9.81*t0
+    t2 = casadi.sin(q3)
+    t3 = -9.81*t2
+    t4 = m3*t1
+    t5 = m3*t3
+    t6 = -cz3*t5
+    t7 = cz3*t4
+    t8 = cx3*t5 - cy3*t4
+    t9 = L3*t5 + t8
+    t10 = t0*t5 + t2*t4
+    t11 = t0*t6 - t2*t7
+    G = symbol_type.zeros(3, 1)
+    G[0, 0] = t11
+    G[1, 0] = t10
+    G[2, 0] = t9
+    return casadi.Function(
+        "rpr_gravity",
+        [q, p, pi],
+        [G],
+        ["q", "p", "pi"],
+        ["G"],
+    )
+
+
+def coriolis_function(symbol_type=casadi.SX):
+    """Coriolis and centrifugal torques (143 operations) as a casadi.Function.
+
+    Output c: c = C(q, dq) dq (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 1)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L3 = p[0]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cz1 = pi[3]
+    m2 = pi[10]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    ixx3 = pi[24]
+    iyy3 = pi[25]
+    izz3 = pi[26]
+    ixy3 = pi[27]
+    ixz3 = pi[28]
+    iyz3 = pi[29]
+    t0 = dq1**2
+    t1 = -q2*t0
+    t2 = 2*dq1*dq2
+    t3 = casadi.cos(q3)
+    t4 = dq1*t3
+    t5 = t4
+    t6 = casadi.sin(q3)
+    t7 = dq1*t6
+    t8 = -t7
+    t9 = -dq3*t7
+    t10 = -dq3*t4
+    t11 = -L3*dq3**2 - L3*t8**2 + t1*t6
+    t12 = L3*t5
+    t13 = t1*t3 + t12*t8
+    t14 = -L3*t10 + dq3*t12 + t2
+    t15 = -cx3*t8 + cy3*t5
+    t16 = cx3*dq3 - cz3*t5
+    t17 = m3*(cz3*t10 - dq3*t16 + t11 + t15*t8)
+    t18 = -cy3*dq3 + cz3*t8
+    t19 = m3*(-cz3*t9 + dq3*t18 + t13 - t15*t5)
+    t20 = m3*(-cx3*t10 + cy3*t9 + t14 + t16*t5 - t18*t8)
+    t21 = dq3*iyz3 + ixy3*t5 + iyy3*t8
+    t22 = dq3*izz3 + ixz3*t5 + iyz3*t8
+    t23 = cy3*t20 - cz3*t19 - dq3*t21 + ixx3*t9 + ixy3*t10 + t22*t8
+    t24 = dq3*ixz3 + ixx3*t5 + ixy3*t8
+    t25 = -cx3*t20 + cz3*t17 + dq3*t24 + ixy3*t9 + iyy3*t10 - t22*t5
+    t26 = cx3*t19 - cy3*t17 + ixz3*t9 + iyz3*t10 + t21*t5 - t24*t8
+    t27 = L3*t19 + t26
+    t28 = m2*(-cy2*t0 + t1)
+    t29 = m2*(-cz2*t0 + t2)
+    t30 = t17*t6 + t19*t3 + t28
+    t31 = t20 + t29
+    t32 = L3*t20*t6 + cy2*t29 - cz2*t28 + t23*t3 - t25*t6
+    t33 = m1*t0
+    t34 = -cx1*t33
+    t35 = -cz1*t33
+    t36 = -cx1*t35 + cz1*t34 + q2*t31 + t32
+    c = symbol_type.zeros(3, 1)
+    c[0, 0] = t36
+    c[1, 0] = t30
+    c[2, 0] = t27
+    return casadi.Function(
+        "rpr_coriolis",
+        [q, dq, p, pi],
+        [c],
+        ["q", "dq", "p", "pi"],
+        ["c"],
+    )
+
+
+def coriolis_matrix_function(symbol_type=casadi.SX):
+    """Coriolis matrix (christoffel symbols) (138 operations) as a casadi.Function.
+
+    Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 1)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L3 = p[0]
+    m2 = pi[10]
+    cy2 = pi[12]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    ixx3 = pi[24]
+    iyy3 = pi[25]
+    ixy3 = pi[27]
+    ixz3 = pi[28]
+    iyz3 = pi[29]
+    t0 = casadi.cos(q3)
+    t1 = t0
+    t2 = casadi.sin(q3)
+    t3 = L3*t2
+    t4 = q2 + t3
+    t5 = m3*t2
+    t6 = cz3*t5
+    t7 = -t6
+    t8 = cz3*m3
+    t9 = -t1*t8
+    t10 = m3*(cx3*t2 + cy3*t1 + t4)
+    t11 = ixy3*t2
+    t12 = cy3*t10 - cz3*t9 + ixx3*t1 - t11
+    t13 = -cx3*t10 + cz3*t7 + ixy3*t1 - iyy3*t2
+    t14 = m2*(cy2 + q2)
+    t15 = t10 + t14
+    t16 = t2
+    t17 = t0
+    t18 = m3*t16
+    t19 = m3*t17
+    t20 = cx3*m3
+    t21 = -t20
+    t22 = cy3*m3
+    t23 = t22
+    t24 = cy2*m2 + m3*t3 + t0*t23 - t2*t21
+    t25 = m2 + m3
+    t26 = q2*t25 + t15 + t24
+    t27 = L3*t0
+    t28 = t27
+    t29 = m3*t28 + t0*t20 - t2*t22
+    t30 = -t0*t8
+    t31 = -cx3*t29 + cz3*t30 - iyy3*t0 - t11
+    t32 = t6
+    t33 = cy3*t29 - cz3*t32 - ixx3*t2 - ixy3*t0
+    t34 = -t0*t13 + t0*t33 + t10*t27 - t12*t2 - t2*t31 + t29*t3
+    t35 = q2*t29 + t34
+    t36 = t0*t32 + t0*t7 + t2*t30 - t2*t9
+    t37 = cx3*t32 - cy3*t30 - ixz3*t2 - iyz3*t0
+    t38 = L3*t32 + t37
+    t39 = t0
+    t40 = m3*t39
+    t41 = -t5
+    t42 = t0*t18 + t0*t41 - t19*t2 + t2*t40
+    t43 = cx3*t41 - cy3*t40
+    t44 = L3*t41 + t43
+    t45 = (1/2)*t26
+    t46 = (1/2)*dq3
+    t47 = dq1*t45
+    t48 = (1/2)*dq1
+    t49 = (1/2)*dq2
+    t50 = t35*t48 + t36*t49
+    t51 = t36*t48 + t42*t49
+    C = symbol_type.zeros(3, 3)
+    C[0, 0] = dq2*t45 + t35*t46
+    C[0, 1] = t36*t46 + t47
+    C[0, 2] = dq3*t38 + t50
+    C[1, 0] = (1/2)*dq3*t36 - t47
+    C[1, 1] = t42*t46
+    C[1, 2] = dq3*t44 + t51
+    C[2, 0] = -t50
+    C[2, 1] = -t51
+    return casadi.Function(
+        "rpr_coriolis_matrix",
+        [q, dq, p, pi],
+        [C],
+        ["q", "dq", "p", "pi"],
+        ["C"],
+    )
+
+
+def inverse_dynamics_function(symbol_type=casadi.SX):
+    """Inverse dynamics (176 operations) as a casadi.Function.
+
+    Output tau: tau = M ddq + C dq + G + F (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    ddq = symbol_type.sym("ddq", 3)
+    p = symbol_type.sym("p", 1)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    ddq1 = ddq[0]
+    ddq2 = ddq[1]
+    ddq3 = ddq[2]
+    L3 = p[0]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cz1 = pi[3]
+    iyy1 = pi[5]
+    m2 = pi[10]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    ixx2 = pi[14]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    ixx3 = pi[24]
+    iyy3 = pi[25]
+    izz3 = pi[26]
+    ixy3 = pi[27]
+    ixz3 = pi[28]
+    iyz3 = pi[29]
+    t0 = dq1**2
+    t1 = ddq2 - q2*t0
+    t2 = ddq1*q2 + 2*dq1*dq2
+    t3 = casadi.cos(q3)
+    t4 = dq1*t3
+    t5 = t4
+    t6 = casadi.sin(q3)
+    t7 = dq1*t6
+    t8 = -t7
+    t9 = ddq1*t3 - dq3*t7
+    t10 = -ddq1*t6 - dq3*t4
+    t11 = -L3*dq3**2 - L3*t8**2 + t1*t6 + 9.81*t3
+    t12 = L3*t5
+    t13 = L3*ddq3 + t1*t3 + t12*t8 - 9.81*t6
+    t14 = -L3*t10 + dq3*t12 + t2
+    t15 = -cx3*t8 + cy3*t5
+    t16 = cx3*dq3 - cz3*t5
+    t17 = m3*(-cy3*ddq3 + cz3*t10 - dq3*t16 + t11 + t15*t8)
+    t18 = -cy3*dq3 + cz3*t8
+    t19 = m3*(cx3*ddq3 - cz3*t9 + dq3*t18 + t13 - t15*t5)
+    t20 = m3*(-cx3*t10 + cy3*t9 + t14 + t16*t5 - t18*t8)
+    t21 = dq3*iyz3 + ixy3*t5 + iyy3*t8
+    t22 = dq3*izz3 + ixz3*t5 + iyz3*t8
+    t23 = cy3*t20 - cz3*t19 + ddq3*ixz3 - dq3*t21 + ixx3*t9 + ixy3*t10 + t22*t8
+    t24 = dq3*ixz3 + ixx3*t5 + ixy3*t8
+    t25 = -cx3*t20 + cz3*t17 + ddq3*iyz3 + dq3*t24 + ixy3*t9 + iyy3*t10 - t22*t5
+    t26 = cx3*t19 - cy3*t17 + ddq3*izz3 + ixz3*t9 + iyz3*t10 + t21*t5 - t24*t8
+    t27 = L3*t19 + t26
+    t28 = m2*(-cy2*t0 - cz2*ddq1 + t1)
+    t29 = m2*(cy2*ddq1 - cz2*t0 + t2)
+    t30 = t17*t6 + t19*t3 + t28
+    t31 = t20 + t29
+    t32 = L3*t20*t6 + cy2*t29 - cz2*t28 + ddq1*ixx2 + t23*t3 - t25*t6
+    t33 = m1*(-cx1*t0 + cz1*ddq1)
+    t34 = m1*(-cx1*ddq1 - cz1*t0)
+    t35 = -cx1*t34 + cz1*t33 + ddq1*iyy1 + q2*t31 + t32
+    tau = symbol_type.zeros(3, 1)
+    tau[0, 0] = t35
+    tau[1, 0] = t30
+    tau[2, 0] = t27
+    return casadi.Function(
+        "rpr_inverse_dynamics",
+        [q, dq, ddq, p, pi],
+        [tau],
+        ["q", "dq", "ddq", "p", "pi"],
+        ["tau"],
     )

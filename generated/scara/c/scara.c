@@ -9,6 +9,11 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+ *   gravity: 1 ops (1 multiplications)
+ *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -208,5 +213,266 @@ void scara_det_batch(size_t count, const double *q, const double *p, double *det
     size_t i;
     for (i = 0; i < count; ++i) {
         scara_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+{
+    const double q2 = q[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double izz3 = pi[26];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L1*t2 + L2;
+    const double t4 = -t1;
+    const double t5 = m3*(-cy3 - t4);
+    const double t6 = m3*(cx3 + t3);
+    const double t7 = cx3*t6 - cy3*t5 + izz3;
+    const double t8 = m2*(-cy2 - t4);
+    const double t9 = m2*(cx2 + t3);
+    const double t10 = t5 + t8;
+    const double t11 = t6 + t9;
+    const double t12 = cx2*t9 - cy2*t8 + izz2 + t7;
+    const double t13 = L2*t11 + t12;
+    const double t14 = -cy1*m1;
+    const double t15 = m1*(L1 + cx1);
+    const double t16 = t0*t10 + t11*t2;
+    const double t17 = t15 + t16;
+    const double t18 = -L2*t0*(-t0*t11 + t10*t2) + L2*t16*t2 + cx1*t15 - cy1*t14 + izz1 + t12;
+    const double t19 = L1*t17 + t18;
+    const double t20 = -cy3*m3;
+    const double t21 = m3*(L2 + cx3);
+    const double t22 = cx3*t21 - cy3*t20 + izz3;
+    const double t23 = -cy2*m2;
+    const double t24 = m2*(L2 + cx2);
+    const double t25 = t21 + t24;
+    const double t26 = cx2*t24 - cy2*t23 + izz2 + t22;
+    const double t27 = L2*t25 + t26;
+    M[0] = t19;
+    M[1] = t13;
+    M[2] = 0;
+    M[3] = t13;
+    M[4] = t27;
+    M[5] = 0;
+    M[6] = 0;
+    M[7] = 0;
+    M[8] = m3;
+}
+
+void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_mass_matrix(q + i * 3, p, pi, M + i * 9);
+    }
+}
+
+void scara_gravity(const double q[3], const double *p, const double *pi, double G[3])
+{
+    (void)q;
+    (void)p;
+    const double m3 = pi[20];
+    const double t0 = 9.8100000000000005*m3;
+    G[0] = 0;
+    G[1] = 0;
+    G[2] = t0;
+}
+
+void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_gravity(q + i * 3, p, pi, G + i * 3);
+    }
+}
+
+void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = dq1 + dq2;
+    const double t3 = t2*t2;
+    const double t4 = cos(q2);
+    const double t5 = -L2*t3 + t1*t4;
+    const double t6 = sin(q2);
+    const double t7 = -t1*t6;
+    const double t8 = -t5;
+    const double t9 = m3*(-cx3*t3 - t8);
+    const double t10 = -t7;
+    const double t11 = m3*(-cy3*t3 - t10);
+    const double t12 = cx3*t11 - cy3*t9;
+    const double t13 = m2*(-cx2*t3 - t8);
+    const double t14 = m2*(-cy2*t3 - t10);
+    const double t15 = t13 + t9;
+    const double t16 = t11 + t14;
+    const double t17 = cx2*t14 - cy2*t13 + t12;
+    const double t18 = L2*t16 + t17;
+    const double t19 = m1*(-cx1*t0 + t1);
+    const double t20 = -cy1*m1*t0;
+    const double t21 = t15*t6 + t16*t4;
+    const double t22 = t20 + t21;
+    const double t23 = L2*t21*t4 - L2*t6*(t15*t4 - t16*t6) + cx1*t20 - cy1*t19 + t17;
+    const double t24 = L1*t22 + t23;
+    c[0] = t24;
+    c[1] = t18;
+    c[2] = 0;
+}
+
+void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+    }
+}
+
+void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = t1;
+    const double t3 = cos(q2);
+    const double t4 = L1*t3;
+    const double t5 = L2 + t4;
+    const double t6 = -t2;
+    const double t7 = m3*(-cy3 - t6);
+    const double t8 = m3*(cx3 + t5);
+    const double t9 = m2*(-cy2 - t6);
+    const double t10 = m2*(cx2 + t5);
+    const double t11 = t7 + t9;
+    const double t12 = t10 + t8;
+    const double t13 = t4;
+    const double t14 = m3*t13;
+    const double t15 = m2*t13;
+    const double t16 = t14 + t15;
+    const double t17 = -t1;
+    const double t18 = m2*t17;
+    const double t19 = m3*t17;
+    const double t20 = t18 + t19;
+    const double t21 = -t0*t12 + t0*t16 + t11*t3 + t20*t3;
+    const double t22 = cx3*t19 - cy3*t14;
+    const double t23 = cx2*t18 - cy2*t15 + t22;
+    const double t24 = t20*(L2*t0*t0 + L2*t3*t3) + t23;
+    const double t25 = L1*t21 + t24;
+    const double t26 = L2*t20 + t23;
+    const double t27 = (1.0/2.0)*t25;
+    const double t28 = dq1*t27;
+    C[0] = dq2*t27;
+    C[1] = dq2*t26 + t28;
+    C[2] = 0;
+    C[3] = -t28;
+    C[4] = 0;
+    C[5] = 0;
+    C[6] = 0;
+    C[7] = 0;
+    C[8] = 0;
+}
+
+void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+    }
+}
+
+void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double ddq1 = ddq[0];
+    const double ddq2 = ddq[1];
+    const double ddq3 = ddq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double izz3 = pi[26];
+    const double t0 = dq1*dq1;
+    const double t1 = -L1*t0;
+    const double t2 = L1*ddq1;
+    const double t3 = dq1 + dq2;
+    const double t4 = ddq1 + ddq2;
+    const double t5 = cos(q2);
+    const double t6 = sin(q2);
+    const double t7 = t3*t3;
+    const double t8 = -L2*t7 + t1*t5 + t2*t6;
+    const double t9 = L2*t4 - t1*t6 + t2*t5;
+    const double t10 = ddq3 + 9.8100000000000005;
+    const double t11 = -t8;
+    const double t12 = m3*(-cx3*t7 - cy3*t4 - t11);
+    const double t13 = m3*(cx3*t4 - cy3*t7 + t9);
+    const double t14 = m3*t10;
+    const double t15 = cx3*t13 - cy3*t12 + izz3*t4;
+    const double t16 = m2*(-cx2*t7 - cy2*t4 - t11);
+    const double t17 = m2*(cx2*t4 - cy2*t7 + t9);
+    const double t18 = t12 + t16;
+    const double t19 = t13 + t17;
+    const double t20 = cx2*t17 - cy2*t16 + izz2*t4 + t15;
+    const double t21 = L2*t19 + t20;
+    const double t22 = m1*(-cx1*t0 - cy1*ddq1 + t1);
+    const double t23 = m1*(cx1*ddq1 - cy1*t0 + t2);
+    const double t24 = t18*t6 + t19*t5;
+    const double t25 = t23 + t24;
+    const double t26 = L2*t24*t5 - L2*t6*(t18*t5 - t19*t6) + cx1*t23 - cy1*t22 + ddq1*izz1 + t20;
+    const double t27 = L1*t25 + t26;
+    tau[0] = t27;
+    tau[1] = t21;
+    tau[2] = t14;
+}
+
+void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
     }
 }

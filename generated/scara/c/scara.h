@@ -9,6 +9,11 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+ *   gravity: 1 ops (1 multiplications)
+ *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (12 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_fk(const double q[3], const double *p, double T[16]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -35,6 +42,8 @@ void scara_fk_batch(size_t count, const double *q, const double *p, double *T);
 
 /* Tool position (11 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_position(const double q[3], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -42,6 +51,8 @@ void scara_position_batch(size_t count, const double *q, const double *p, double
 
 /* Geometric jacobian (13 operations).
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_jacobian(const double q[3], const double *p, double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -49,6 +60,8 @@ void scara_jacobian_batch(size_t count, const double *q, const double *p, double
 
 /* Analytic position jacobian (13 operations).
  * Jp[9]: dp/dq (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_position_jacobian(const double q[3], const double *p, double Jp[9]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -57,6 +70,8 @@ void scara_position_jacobian_batch(size_t count, const double *q, const double *
 /* Forward kinematics and jacobian (14 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_fk_jacobian(const double q[3], const double *p, double T[16], double J[18]);
 /* The same for count states: q is count x 3, each output count x its size. */
@@ -64,9 +79,65 @@ void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, dou
 
 /* Determinant of the task jacobian (rows x, y, z) (3 operations).
  * det[1]: det J (1x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
  */
 void scara_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (73 operations).
+ * M[9]: M(q) (3x3)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (1 operations).
+ * G[3]: G(q) (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void scara_gravity(const double q[3], const double *p, const double *pi, double G[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (66 operations).
+ * c[3]: c = C(q, dq) dq (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (56 operations).
+ * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (90 operations).
+ * tau[3]: tau = M ddq + C dq + G + F (3x1)
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ */
+void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* SCARA_KINEMATICS_H */

@@ -9,6 +9,11 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
+  mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+  gravity: 1 ops (1 multiplications)
+  coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
+  inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -207,4 +212,284 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def mass_matrix_function(symbol_type=casadi.SX):
+    """Mass matrix (73 operations) as a casadi.Function.
+
+    Output M: M(q) (3x3).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    izz2 = pi[16]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    izz3 = pi[26]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L1*t2 + L2
+    t4 = -t1
+    t5 = m3*(-cy3 - t4)
+    t6 = m3*(cx3 + t3)
+    t7 = cx3*t6 - cy3*t5 + izz3
+    t8 = m2*(-cy2 - t4)
+    t9 = m2*(cx2 + t3)
+    t10 = t5 + t8
+    t11 = t6 + t9
+    t12 = cx2*t9 - cy2*t8 + izz2 + t7
+    t13 = L2*t11 + t12
+    t14 = -cy1*m1
+    t15 = m1*(L1 + cx1)
+    t16 = t0*t10 + t11*t2
+    t17 = t15 + t16
+    t18 = -L2*t0*(-t0*t11 + t10*t2) + L2*t16*t2 + cx1*t15 - cy1*t14 + izz1 + t12
+    t19 = L1*t17 + t18
+    t20 = -cy3*m3
+    t21 = m3*(L2 + cx3)
+    t22 = cx3*t21 - cy3*t20 + izz3
+    t23 = -cy2*m2
+    t24 = m2*(L2 + cx2)
+    t25 = t21 + t24
+    t26 = cx2*t24 - cy2*t23 + izz2 + t22
+    t27 = L2*t25 + t26
+    M = symbol_type.zeros(3, 3)
+    M[0, 0] = t19
+    M[0, 1] = t13
+    M[1, 0] = t13
+    M[1, 1] = t27
+    M[2, 2] = m3
+    return casadi.Function(
+        "scara_mass_matrix",
+        [q, p, pi],
+        [M],
+        ["q", "p", "pi"],
+        ["M"],
+    )
+
+
+def gravity_function(symbol_type=casadi.SX):
+    """Gravity torques (1 operations) as a casadi.Function.
+
+    Output G: G(q) (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    m3 = pi[20]
+    t0 = 9.81*m3
+    G = symbol_type.zeros(3, 1)
+    G[2, 0] = t0
+    return casadi.Function(
+        "scara_gravity",
+        [q, p, pi],
+        [G],
+        ["q", "p", "pi"],
+        ["G"],
+    )
+
+
+def coriolis_function(symbol_type=casadi.SX):
+    """Coriolis and centrifugal torques (66 operations) as a casadi.Function.
+
+    Output c: c = C(q, dq) dq (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = dq1 + dq2
+    t3 = t2**2
+    t4 = casadi.cos(q2)
+    t5 = -L2*t3 + t1*t4
+    t6 = casadi.sin(q2)
+    t7 = -t1*t6
+    t8 = -t5
+    t9 = m3*(-cx3*t3 - t8)
+    t10 = -t7
+    t11 = m3*(-cy3*t3 - t10)
+    t12 = cx3*t11 - cy3*t9
+    t13 = m2*(-cx2*t3 - t8)
+    t14 = m2*(-cy2*t3 - t10)
+    t15 = t13 + t9
+    t16 = t11 + t14
+    t17 = cx2*t14 - cy2*t13 + t12
+    t18 = L2*t16 + t17
+    t19 = m1*(-cx1*t0 + t1)
+    t20 = -cy1*m1*t0
+    t21 = t15*t6 + t16*t4
+    t22 = t20 + t21
+    t23 = L2*t21*t4 - L2*t6*(t15*t4 - t16*t6) + cx1*t20 - cy1*t19 + t17
+    t24 = L1*t22 + t23
+    c = symbol_type.zeros(3, 1)
+    c[0, 0] = t24
+    c[1, 0] = t18
+    return casadi.Function(
+        "scara_coriolis",
+        [q, dq, p, pi],
+        [c],
+        ["q", "dq", "p", "pi"],
+        ["c"],
+    )
+
+
+def coriolis_matrix_function(symbol_type=casadi.SX):
+    """Coriolis matrix (christoffel symbols) (56 operations) as a casadi.Function.
+
+    Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = t1
+    t3 = casadi.cos(q2)
+    t4 = L1*t3
+    t5 = L2 + t4
+    t6 = -t2
+    t7 = m3*(-cy3 - t6)
+    t8 = m3*(cx3 + t5)
+    t9 = m2*(-cy2 - t6)
+    t10 = m2*(cx2 + t5)
+    t11 = t7 + t9
+    t12 = t10 + t8
+    t13 = t4
+    t14 = m3*t13
+    t15 = m2*t13
+    t16 = t14 + t15
+    t17 = -t1
+    t18 = m2*t17
+    t19 = m3*t17
+    t20 = t18 + t19
+    t21 = -t0*t12 + t0*t16 + t11*t3 + t20*t3
+    t22 = cx3*t19 - cy3*t14
+    t23 = cx2*t18 - cy2*t15 + t22
+    t24 = t20*(L2*t0**2 + L2*t3**2) + t23
+    t25 = L1*t21 + t24
+    t26 = L2*t20 + t23
+    t27 = (1/2)*t25
+    t28 = dq1*t27
+    C = symbol_type.zeros(3, 3)
+    C[0, 0] = dq2*t27
+    C[0, 1] = dq2*t26 + t28
+    C[1, 0] = -t28
+    return casadi.Function(
+        "scara_coriolis_matrix",
+        [q, dq, p, pi],
+        [C],
+        ["q", "dq", "p", "pi"],
+        ["C"],
+    )
+
+
+def inverse_dynamics_function(symbol_type=casadi.SX):
+    """Inverse dynamics (90 operations) as a casadi.Function.
+
+    Output tau: tau = M ddq + C dq + G + F (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    ddq = symbol_type.sym("ddq", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    ddq1 = ddq[0]
+    ddq2 = ddq[1]
+    ddq3 = ddq[2]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    izz2 = pi[16]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    izz3 = pi[26]
+    t0 = dq1**2
+    t1 = -L1*t0
+    t2 = L1*ddq1
+    t3 = dq1 + dq2
+    t4 = ddq1 + ddq2
+    t5 = casadi.cos(q2)
+    t6 = casadi.sin(q2)
+    t7 = t3**2
+    t8 = -L2*t7 + t1*t5 + t2*t6
+    t9 = L2*t4 - t1*t6 + t2*t5
+    t10 = ddq3 + 9.81
+    t11 = -t8
+    t12 = m3*(-cx3*t7 - cy3*t4 - t11)
+    t13 = m3*(cx3*t4 - cy3*t7 + t9)
+    t14 = m3*t10
+    t15 = cx3*t13 - cy3*t12 + izz3*t4
+    t16 = m2*(-cx2*t7 - cy2*t4 - t11)
+    t17 = m2*(cx2*t4 - cy2*t7 + t9)
+    t18 = t12 + t16
+    t19 = t13 + t17
+    t20 = cx2*t17 - cy2*t16 + izz2*t4 + t15
+    t21 = L2*t19 + t20
+    t22 = m1*(-cx1*t0 - cy1*ddq1 + t1)
+    t23 = m1*(cx1*ddq1 - cy1*t0 + t2)
+    t24 = t18*t6 + t19*t5
+    t25 = t23 + t24
+    t26 = L2*t24*t5 - L2*t6*(t18*t5 - t19*t6) + cx1*t23 - cy1*t22 + ddq1*izz1 + t20
+    t27 = L1*t25 + t26
+    tau = symbol_type.zeros(3, 1)
+    tau[0, 0] = t27
+    tau[1, 0] = t21
+    tau[2, 0] = t14
+    return casadi.Function(
+        "scara_inverse_dynamics",
+        [q, dq, ddq, p, pi],
+        [tau],
+        ["q", "dq", "ddq", "p", "pi"],
+        ["tau"],
     )

@@ -10,6 +10,11 @@
  *   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+ *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
+ *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
+ *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
+ *   coriolis_matrix: 2697 ops (1138 additions, 1544 multiplications, 7 divisions, 8 trig)
+ *   inverse_dynamics: 688 ops (294 additions, 380 multiplications, 8 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -9,6 +9,11 @@
  *   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+ *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
+ *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
+ *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
+ *   coriolis_matrix: 2697 ops (1138 additions, 1544 multiplications, 7 divisions, 8 trig)
+ *   inverse_dynamics: 688 ops (294 additions, 380 multiplications, 8 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -28,6 +33,8 @@
 
 /* Forward kinematics (80 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_fk(const double q[6], const double *p, double T[16]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -35,6 +42,8 @@ void stanford_fk_batch(size_t count, const double *q, const double *p, double *T
 
 /* Tool position (39 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_position(const double q[6], const double *p, double p_tool[3]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -42,6 +51,8 @@ void stanford_position_batch(size_t count, const double *q, const double *p, dou
 
 /* Geometric jacobian (80 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_jacobian(const double q[6], const double *p, double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -49,6 +60,8 @@ void stanford_jacobian_batch(size_t count, const double *q, const double *p, dou
 
 /* Analytic position jacobian (80 operations).
  * Jp[18]: dp/dq (3x6)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_position_jacobian(const double q[6], const double *p, double Jp[18]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -57,6 +70,8 @@ void stanford_position_jacobian_batch(size_t count, const double *q, const doubl
 /* Forward kinematics and jacobian (112 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_fk_jacobian(const double q[6], const double *p, double T[16], double J[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
@@ -64,9 +79,65 @@ void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, 
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (5 operations).
  * det[1]: det J (1x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
  */
 void stanford_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Mass matrix (751 operations).
+ * M[36]: M(q) (6x6)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void stanford_mass_matrix(const double q[6], const double *p, const double *pi, double M[36]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+
+/* Gravity torques (154 operations).
+ * G[6]: G(q) (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void stanford_gravity(const double q[6], const double *p, const double *pi, double G[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+
+/* Coriolis and centrifugal torques (644 operations).
+ * c[6]: c = C(q, dq) dq (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void stanford_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+
+/* Coriolis matrix (christoffel symbols) (2697 operations).
+ * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+
+/* Inverse dynamics (688 operations).
+ * tau[6]: tau = M ddq + C dq + G + F (6x1)
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ */
+void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
 #endif /* STANFORD_KINEMATICS_H */

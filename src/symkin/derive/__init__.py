@@ -17,7 +17,7 @@ from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
-from symkin.derive.newton_euler import newton_euler_dynamics
+from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
 from symkin.robot import Robot, joint_symbols
 
 __all__ = ["Dynamics", "Model", "PointMotion", "derive"]
@@ -164,6 +164,13 @@ class Model:
     def newton_euler(self) -> Dynamics:
         """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
         return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
+
+    @cached_property
+    def inverse_dynamics_recursion(
+        self,
+    ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
+        """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
+        return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
 
     def point_motion(self, link: int, point: Sequence[sp.Expr]) -> PointMotion:
         """Position, velocity and acceleration of a point fixed in ``link`` (base frame)."""

@@ -249,3 +249,18 @@ def coriolis_from_mass_matrix(
         lambda k, j: sum((dm(k, j, i) + dm(k, i, j) - dm(i, j, k)) * dq[i] / 2 for i in range(n)),
     )
     return sp.ImmutableMatrix(coriolis)
+
+
+def inverse_dynamics_recursion(
+    robot: Robot,
+    kinematics: Kinematics,
+    dq: Sequence[sp.Symbol],
+    ddq: Sequence[sp.Symbol],
+) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
+    """``tau(q, dq, ddq)`` in one recursion (the cheapest form for code), with friction and
+    rotor inertia added after it.  Returns the named intermediates and ``tau``."""
+    recorder = Recorder("s")
+    rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity)
+    rotor = motor_inertia_matrix(robot) * sp.Matrix(ddq)
+    torque = sp.Matrix(rigid) + rotor + friction_vector(robot, dq)
+    return tuple(recorder.assignments), sp.ImmutableMatrix(torque)

@@ -1174,7 +1174,12 @@ def latex_files(
     if legend:
         quantities.insert(0, Quantity("legend", "Legend", "the abbreviations", legend))
     if configuration:
-        quantities.insert(0, Quantity("configuration", "Configuration", "q*", configuration))
+        quantities.insert(
+            0,
+            Quantity(
+                "configuration", "Configuration", "q* and the parameter values", configuration
+            ),
+        )
     files = {f"{robot.name}.tex": document}
     for quantity in quantities:
         files[f"snippets/{quantity.key}.tex"] = render(

@@ -61,10 +61,26 @@ class OutputLayout:
         return ", ".join(["...", *map(str, position)])
 
 
+# Inputs that change from state to state (a batch has one row each); others are shared.
+STATE_INPUTS = ("q", "dq", "ddq")
+
+
+@dataclass(frozen=True)
+class InputLayout:
+    name: str
+    size: int
+    description: str
+
+    @property
+    def per_state(self) -> bool:
+        return self.name in STATE_INPUTS
+
+
 @dataclass(frozen=True)
 class KernelLayout:
     name: str
     description: str
+    inputs: tuple[InputLayout, ...]
     counts: dict[str, int]
     unpack: tuple[Unpack, ...]
     unused_inputs: tuple[str, ...]
@@ -99,6 +115,7 @@ def kernel_layout(kernel: Kernel, printer: Callable[[sp.Expr], str]) -> KernelLa
     return KernelLayout(
         name=kernel.name,
         description=kernel.description,
+        inputs=tuple(InputLayout(i.name, len(i.symbols), i.description) for i in kernel.inputs),
         counts=kernel.operation_counts,
         unpack=unpack,
         unused_inputs=tuple(i.name for i in kernel.inputs if i.name not in read),

@@ -12,6 +12,8 @@ from symkin.kernel import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}
+# The binding covers kernels of (q, p); dynamics kernels (dq, ddq, pi) are planned.
+BINDING_INPUTS = ("q", "p")
 
 
 def extension_name(robot: Robot) -> str:
@@ -36,6 +38,10 @@ def emit_python_extension(
         dof=robot.dof,
         parameter_names=[n for n, _ in robot.parameters],
         # Printing is not needed for the binding; the layout only supplies names and shapes.
-        kernels=[kernel_layout(k, lambda e: "") for k in kernels],
+        kernels=[
+            kernel_layout(k, lambda e: "")
+            for k in kernels
+            if tuple(i.name for i in k.inputs) == BINDING_INPUTS
+        ],
     )
     return {f"python/{module}.c": text}

@@ -1,0 +1,133 @@
+/*
+ * C-loop timing harness for bench/codegen_speed.py (PUMA 560): calls one kinematics kernel
+ * many times over a table of varying joint vectors and reports nanoseconds per call.
+ *
+ * Built twice by the script, against two implementations of the same kernels:
+ *   symkin:  gcc -O2 codegen_speed_loop.c puma560.c -lm                  (generated C API)
+ *   CasADi:  gcc -O2 -DBENCH_CASADI codegen_speed_loop.c casadi_puma560.c -lm
+ *            (code from casadi.CodeGenerator for the generated CasADi module's functions)
+ * The kernels are compiled in their own translation unit (no LTO), as a user links them,
+ * so every call is a real call.  Each call's outputs feed a checksum that is printed at the
+ * end; the compiler cannot drop the calls, and the script compares the two builds'
+ * checksums (same joint vectors, so they must agree to rounding).
+ *
+ * Usage: codegen_speed_loop KERNEL CALLS REPEATS
+ *   KERNEL   fk | fk_jacobian
+ *   CALLS    calls per timed repeat
+ *   REPEATS  timed repeats (one untimed warm-up repeat runs first)
+ * Prints one line "ns_per_call <value>" per repeat, then "checksum <value>".
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define NQ 1024 /* distinct joint vectors, cycled through (48 KiB: stays in cache) */
+#define DOF 6
+
+#ifdef BENCH_CASADI
+#include "casadi_puma560.h"
+/* CasADi outputs are column-major: the translation column is entries 12, 13, 14. */
+#define TX 12
+#define TY 13
+#define TZ 14
+#else
+#include "puma560.h"
+#define TX 3
+#define TY 7
+#define TZ 11
+#endif
+
+static double qs[NQ][DOF];
+static const double parameters[4] = {0.4318, 0.0203, 0.15005, 0.4318}; /* a2 a3 d3 d4 */
+
+static double now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+/* Deterministic joint vectors in [-pi, pi): a 64-bit LCG (Knuth's MMIX constants). */
+static void fill_joint_table(void)
+{
+    unsigned long long state = 560;
+    for (int i = 0; i < NQ; ++i) {
+        for (int j = 0; j < DOF; ++j) {
+            state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+            double unit = (double)(state >> 11) / 9007199254740992.0; /* [0, 1) */
+            qs[i][j] = (2.0 * unit - 1.0) * 3.141592653589793;
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 4) {
+        fprintf(stderr, "usage: %s fk|fk_jacobian CALLS REPEATS\n", argv[0]);
+        return 2;
+    }
+    const int with_jacobian = strcmp(argv[1], "fk_jacobian") == 0;
+    if (!with_jacobian && strcmp(argv[1], "fk") != 0) {
+        fprintf(stderr, "unknown kernel %s\n", argv[1]);
+        return 2;
+    }
+    const long calls = atol(argv[2]);
+    const int repeats = atoi(argv[3]);
+    double T[16], J[36];
+    double checksum = 0.0;
+    fill_joint_table();
+
+#ifdef BENCH_CASADI
+    const double *arg[2] = {NULL, parameters};
+    double *res[2] = {T, J};
+    casadi_int sz_arg, sz_res, sz_iw, sz_w;
+    if (with_jacobian) {
+        puma560_fk_jacobian_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+    } else {
+        puma560_fk_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+    }
+    if (sz_arg > 2 || sz_res > 2) {
+        fprintf(stderr, "unexpected CasADi work sizes\n");
+        return 1;
+    }
+    casadi_int *iw = malloc((size_t)(sz_iw > 0 ? sz_iw : 1) * sizeof(casadi_int));
+    casadi_real *w = malloc((size_t)(sz_w > 0 ? sz_w : 1) * sizeof(casadi_real));
+#endif
+
+    for (int r = -1; r < repeats; ++r) { /* r = -1: warm-up, not reported */
+        const double start = now_ns();
+        for (long i = 0; i < calls; ++i) {
+            const double *q = qs[i & (NQ - 1)];
+#ifdef BENCH_CASADI
+            arg[0] = q;
+            if (with_jacobian) {
+                puma560_fk_jacobian(arg, res, iw, w, 0);
+            } else {
+                puma560_fk(arg, res, iw, w, 0);
+            }
+#else
+            if (with_jacobian) {
+                puma560_fk_jacobian(q, parameters, T, J);
+            } else {
+                puma560_fk(q, parameters, T);
+            }
+#endif
+            checksum += T[TX] + T[TY] + T[TZ];
+            if (with_jacobian) {
+                checksum += J[0] + J[35]; /* diagonal: the same in either storage order */
+            }
+        }
+        const double elapsed = now_ns() - start;
+        if (r >= 0) {
+            printf("ns_per_call %.4f\n", elapsed / (double)calls);
+        }
+    }
+    printf("checksum %.17g\n", checksum);
+#ifdef BENCH_CASADI
+    free(iw);
+    free(w);
+#endif
+    return 0;
+}
