@@ -22,6 +22,7 @@ generate: $(STAMP)
 	$(BIN)/symkin generate
 
 test: $(STAMP)
+	sh scripts/install-latex.sh
 	$(BIN)/ruff check src tests bench
 	$(BIN)/python -m pytest -q
 

@@ -20,6 +20,14 @@ from symkin.build import build_extension
 from symkin.derive import Model, derive
 from symkin.derive.kinematics import joint_dh_values
 from symkin.emit.c import PRECISIONS
+from symkin.emit.latex import (
+    LANGUAGES,
+    SECTIONS,
+    TEXT_WIDTH_CM,
+    check_sections,
+    latex_files,
+    section_notes,
+)
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
 from symkin.evaluate import KinematicState, kinematic_state
@@ -31,6 +39,7 @@ from symkin.generate import (
     write_files,
 )
 from symkin.io import catalogue_names, load_robot
+from symkin.latex_build import compile_pdf
 from symkin.robot import Robot
 
 DEFAULT_ROBOT = "scara"
@@ -327,6 +336,31 @@ def command_generate(args: argparse.Namespace) -> None:
         print(f"wrote {root}/ for {len(catalogue_names())} robots")
 
 
+def command_latex(args: argparse.Namespace) -> None:
+    robot = load_robot(args.robot)
+    sections = check_sections(args.sections.split(","))
+    for note in section_notes(sections):
+        progress(note)
+    q = joint_values(args.q, "--q", robot) if args.q else None
+    files = latex_files(
+        derive(robot),
+        sections=sections,
+        shorthand=args.shorthand,
+        lang=args.lang,
+        q=q,
+        overrides=parameter_overrides(args.set),
+        text_width_cm=args.text_width,
+    )
+    out = Path(args.output or f"{robot.name}.tex")
+    document = files.pop(f"{robot.name}.tex")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(document, encoding="utf-8")
+    write_files(out.parent, files)  # snippets/ and <robot>-macros.tex beside the document
+    print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
+    if args.pdf:
+        print(f"wrote {compile_pdf(out)}")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="symkin",
@@ -380,7 +414,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--emit",
         default=",".join(BACKENDS),
         metavar="LIST",
-        help=f"backends, comma-separated (default: {','.join(BACKENDS)}; latex is planned)",
+        help=f"backends, comma-separated (default: {','.join(BACKENDS)}; also: latex)",
     )
     derive_parser.add_argument(
         "--precision", choices=PRECISIONS, default="double", help="C floating-point type"
@@ -389,6 +423,36 @@ def build_parser() -> argparse.ArgumentParser:
         "--no-build", action="store_true", help="do not compile the Python extension"
     )
     derive_parser.set_defaults(run=command_derive)
+
+    latex = commands.add_parser(
+        "latex",
+        help="the derivation as a LaTeX document and snippets (optionally a PDF)",
+        description="Write the DH table, transforms, Jacobian, determinant and singularities "
+        "as LaTeX: a standalone document plus snippets and macros to \\input into notes.",
+    )
+    latex.add_argument("robot", metavar="ROBOT")
+    latex.add_argument("-o", "--output", metavar="FILE", help="document path (default ROBOT.tex)")
+    latex.add_argument("--pdf", action="store_true", help="compile with pdflatex as well")
+    latex.add_argument("--shorthand", action="store_true", help="c_1, s_12, ... with a legend")
+    latex.add_argument("--lang", choices=LANGUAGES, default="en", help="headings (default: en)")
+    latex.add_argument("--q", metavar="V1,V2,...", help="also show numbers at this configuration")
+    latex.add_argument(
+        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
+    )
+    latex.add_argument(
+        "--sections",
+        default=",".join(SECTIONS),
+        metavar="LIST",
+        help=f"comma-separated, from {','.join(SECTIONS)}",
+    )
+    latex.add_argument(
+        "--text-width",
+        type=float,
+        default=TEXT_WIDTH_CM,
+        metavar="CM",
+        help=f"text width that decides where matrices split (default {TEXT_WIDTH_CM})",
+    )
+    latex.set_defaults(run=command_latex)
 
     generate = commands.add_parser(
         "generate", help="regenerate generated/<robot>/ for every built-in robot"

@@ -7,12 +7,14 @@ gives byte-identical text on every machine and under every ``PYTHONHASHSEED``.
 from __future__ import annotations
 
 import difflib
+import functools
 from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 from symkin.derive import Model, derive
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
+from symkin.emit.latex import latex_files
 from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
@@ -22,19 +24,17 @@ from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
 BACKENDS = ("numpy", "c", "python", "casadi")
-PLANNED_BACKENDS = {"latex": "the LaTeX backend is not available yet (it is planned)"}
+# On request only: the derivation document is slow for 6-DOF arms and not code.
+OPTIONAL_BACKENDS = ("latex",)
 
 
 def check_backends(names: Iterable[str]) -> tuple[str, ...]:
     """Validate backend names from the command line."""
     chosen = tuple(dict.fromkeys(n.strip() for n in names if n.strip()))
     for name in chosen:
-        if name in PLANNED_BACKENDS:
-            raise SymkinError(f"--emit {name}: {PLANNED_BACKENDS[name]}")
-        if name not in BACKENDS:
-            raise SymkinError(
-                f"--emit: unknown backend {name!r}; choose from {', '.join(BACKENDS)}"
-            )
+        if name not in BACKENDS + OPTIONAL_BACKENDS:
+            choices = ", ".join(BACKENDS + OPTIONAL_BACKENDS)
+            raise SymkinError(f"--emit: unknown backend {name!r}; choose from {choices}")
     if not chosen:
         raise SymkinError(f"--emit: name at least one backend of {', '.join(BACKENDS)}")
     return chosen
@@ -51,15 +51,17 @@ def files_for_robot(
     """``{relative path: text}`` of every chosen backend for one robot."""
     if precision not in PRECISIONS:
         raise SymkinError(f"--precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
-    kernels = robot_kernels(derive(robot))
+    # Only the code backends need kernels; a LaTeX-only request should not pay for them.
+    kernels = functools.cache(lambda: robot_kernels(derive(robot)))
     emitters: dict[str, Callable[[], dict[str, str]]] = {
-        "numpy": lambda: emit_numpy(robot, kernels),
-        "c": lambda: emit_c(robot, kernels, precision),
+        "numpy": lambda: emit_numpy(robot, kernels()),
+        "c": lambda: emit_c(robot, kernels(), precision),
         "python": lambda: {
-            **emit_c(robot, kernels, precision),
-            **emit_python_extension(robot, kernels, precision),
+            **emit_c(robot, kernels(), precision),
+            **emit_python_extension(robot, kernels(), precision),
         },
-        "casadi": lambda: emit_casadi(robot, kernels),
+        "casadi": lambda: emit_casadi(robot, kernels()),
+        "latex": lambda: {f"latex/{p}": t for p, t in latex_files(derive(robot)).items()},
     }
     files: dict[str, str] = {}
     for backend in check_backends(backends):

@@ -325,11 +325,11 @@ void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const doub
     const double t9 = m2*t8;
     const double t10 = t4;
     const double t11 = m2*t10;
-    const double t12 = t0*t11 - t0*t7 + t3*t6 + t3*t9;
-    const double t13 = cx2*t9 - cy2*t11;
-    const double t14 = t13 + t9*(L2*t0*t0 + L2*t3*t3);
-    const double t15 = L1*t12 + t14;
-    const double t16 = L2*t9 + t13;
+    const double t12 = cx2*t9 - cy2*t11;
+    const double t13 = t12 + t9*(L2*t0*t0 + L2*t3*t3);
+    const double t14 = t0*t11 - t0*t7 + t3*t6 + t3*t9;
+    const double t15 = L1*t14 + t13;
+    const double t16 = L2*t9 + t12;
     const double t17 = (1.0/2.0)*t15;
     const double t18 = dq1*t17;
     C[0] = dq2*t17;

@@ -344,11 +344,11 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t9 = m2*t8
     t10 = t4
     t11 = m2*t10
-    t12 = t0*t11 - t0*t7 + t3*t6 + t3*t9
-    t13 = cx2*t9 - cy2*t11
-    t14 = t13 + t9*(L2*t0**2 + L2*t3**2)
-    t15 = L1*t12 + t14
-    t16 = L2*t9 + t13
+    t12 = cx2*t9 - cy2*t11
+    t13 = t12 + t9*(L2*t0**2 + L2*t3**2)
+    t14 = t0*t11 - t0*t7 + t3*t6 + t3*t9
+    t15 = L1*t14 + t13
+    t16 = L2*t9 + t12
     t17 = (1/2)*t15
     t18 = dq1*t17
     C = numpy.zeros(batch + (2, 2))

@@ -12,7 +12,7 @@
  *   mass_matrix: 921 ops (380 additions, 531 multiplications, 10 trig)
  *   gravity: 183 ops (66 additions, 107 multiplications, 10 trig)
  *   coriolis: 700 ops (290 additions, 394 multiplications, 10 trig, 6 powers)
- *   coriolis_matrix: 3394 ops (1438 additions, 1937 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   coriolis_matrix: 3398 ops (1438 additions, 1941 multiplications, 7 divisions, 10 trig, 2 powers)
  *   inverse_dynamics: 745 ops (315 additions, 414 multiplications, 10 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -117,7 +117,7 @@ void puma560_coriolis(const double q[6], const double dq[6], const double *p, co
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (3394 operations).
+/* Coriolis matrix (christoffel symbols) (3398 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

@@ -12,7 +12,7 @@
  *   mass_matrix: 921 ops (380 additions, 531 multiplications, 10 trig)
  *   gravity: 183 ops (66 additions, 107 multiplications, 10 trig)
  *   coriolis: 700 ops (290 additions, 394 multiplications, 10 trig, 6 powers)
- *   coriolis_matrix: 3394 ops (1438 additions, 1937 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   coriolis_matrix: 3398 ops (1438 additions, 1941 multiplications, 7 divisions, 10 trig, 2 powers)
  *   inverse_dynamics: 745 ops (315 additions, 414 multiplications, 10 trig, 6 powers)
  *
  * CPython extension 'puma560_ext': the generated C kernels callable from Python with far
