@@ -320,7 +320,7 @@ alpha = -90
 type = "revolute"
 d = -0.1
 a = 0.25
-alpha = 45
+alpha = 90
 
 [[joints]]
 type = "revolute"
@@ -330,15 +330,15 @@ alpha = "-pi/3"
 
 [base]
 xyz = [0.1, -0.2, 0.3]
-rpy = [30, 45, 60]
+rpy = [90, 0, 30]
 
 [tool]
 xyz = [0.05, -0.02, 0.12]
-rpy = [-45, 30, 90]
+rpy = [0, -90, 45]
 """
 HAND_STANDARD_OVERRIDES = {"h": 0.42}
-HAND_STANDARD_BASE = frame([0.1, -0.2, 0.3], [30 * DEG, 45 * DEG, 60 * DEG])
-HAND_STANDARD_TOOL = frame([0.05, -0.02, 0.12], [-45 * DEG, 30 * DEG, 90 * DEG])
+HAND_STANDARD_BASE = frame([0.1, -0.2, 0.3], [90 * DEG, 0.0, 30 * DEG])
+HAND_STANDARD_TOOL = frame([0.05, -0.02, 0.12], [0.0, -90 * DEG, 45 * DEG])
 
 # Modified DH (Craig) with a prismatic joint, negative a and d, radians, base and tool.
 HAND_MODIFIED = """

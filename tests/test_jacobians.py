@@ -26,9 +26,12 @@ from numeric_dh import (
 from symkin.errors import SymkinError
 
 FD_TOL = 1e-6  # central differences, h = 1e-6: truncation ~1e-12, rounding ~1e-10
-SQUARE = tuple(n for n in ALL_ROBOTS if n != "panda")
-# Derivations that take tens of seconds on the 7-DOF Panda (see the report): checked on the rest.
-NOT_PANDA = SQUARE
+# Square task Jacobians.  The hand-written robots are left out of the determinant tests: with
+# decimal constants in the DH table symkin's determinant takes 20 s to more than 10 minutes.
+SQUARE = tuple(n for n in CATALOGUE if n != "panda")
+# Derivations that take tens of seconds (Panda) or minutes (hand_standard: exact constants of
+# its base and tool rotations multiply out) are checked on the other robots.
+CHEAP = (*SQUARE, "hand_modified")
 
 
 def exact_jacobian(name: str, q: np.ndarray) -> np.ndarray:
@@ -70,7 +73,7 @@ def test_position_jacobian_matches_finite_differences(name: str) -> None:
         np.testing.assert_allclose(jacobian(q), expected, rtol=0, atol=FD_TOL)
 
 
-@pytest.mark.parametrize("name", NOT_PANDA)
+@pytest.mark.parametrize("name", CHEAP)
 def test_tool_frame_jacobian_is_rotated_base_jacobian(name: str) -> None:
     jacobian = function(name, model(name).geometric_jacobian_tool)
     for q in samples(name, 13, 3):
@@ -103,7 +106,7 @@ def test_euler_zyx_jacobian_matches_finite_differences(name: str) -> None:
         np.testing.assert_allclose(jacobian(q), np.array(columns).T, rtol=0, atol=FD_TOL)
 
 
-@pytest.mark.parametrize("name", NOT_PANDA)
+@pytest.mark.parametrize("name", CHEAP)
 def test_jacobian_derivative_matches_time_differences(name: str) -> None:
     m = model(name)
     rate = function(name, m.geometric_jacobian_derivative, m.dq)
@@ -128,7 +131,7 @@ EXPECTED_TASK_ROWS = {
     "puma560": ("x", "y", "z", "wx", "wy", "wz"),
     "stanford": ("x", "y", "z", "wx", "wy", "wz"),
     "ur5": ("x", "y", "z", "wx", "wy", "wz"),
-    "panda": ("x", "y", "z", "wz", "wx", "wy"),
+    "panda": ("x", "y", "z", "wx", "wy", "wz"),
     "hand_standard": ("x", "y", "z", "wz"),
     "hand_modified": ("x", "y", "z", "wz"),
 }

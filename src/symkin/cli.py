@@ -10,6 +10,7 @@ import argparse
 import json
 import math
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -19,6 +20,7 @@ import sympy as sp
 from symkin.build import build_extension
 from symkin.derive import Model, derive
 from symkin.derive.kinematics import joint_dh_values
+from symkin.derive.lagrange import READABLE_DOF
 from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import (
     LANGUAGES,
@@ -30,7 +32,7 @@ from symkin.emit.latex import (
 )
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
-from symkin.evaluate import KinematicState, kinematic_state
+from symkin.evaluate import DynamicState, KinematicState, dynamic_state, kinematic_state
 from symkin.generate import (
     BACKENDS,
     check_backends,
@@ -191,6 +193,27 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     return "\n".join(out)
 
 
+def dynamics_show_text(model: Model) -> str:
+    """The equations of motion: Lagrange's readable M, C, G for small robots, else a summary."""
+    n = model.robot.dof
+    out = ["", "Equations of motion: tau = M(q) ddq + C(q, dq) dq + G(q) + F(dq)"]
+    if n <= READABLE_DOF:
+        dynamics = model.lagrange
+        out += ["", "M (Lagrange):", text_matrix(dynamics.mass_matrix)]
+        out += ["", "C (Christoffel symbols):", text_matrix(dynamics.coriolis_matrix)]
+        out += ["", "G:", text_matrix(dynamics.gravity_vector)]
+    else:
+        dynamics = model.newton_euler
+        out.append(
+            f"  {n} joints: derived by recursive Newton-Euler with {len(dynamics.assignments)} "
+            "named intermediates; too long to print readably. Use 'symkin derive' for code "
+            "or 'symkin eval --dynamics' for numbers."
+        )
+    if any(e != 0 for e in dynamics.friction):
+        out += ["", "F (friction):", text_matrix(dynamics.friction)]
+    return "\n".join(out)
+
+
 def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
     determinant = model.determinant(rows)
     return {
@@ -233,11 +256,35 @@ def eval_json(state: KinematicState) -> dict:
     return result
 
 
-def eval_text(state: KinematicState) -> str:
-    def fmt(values: np.ndarray) -> str:
-        # "+ 0.0" turns -0.0 into 0.0 so exact zeros print without a sign.
-        return np.array2string(np.asarray(values) + 0.0, precision=6, suppress_small=True)
+def dynamics_json(state: DynamicState | None) -> dict:
+    if state is None:
+        return {}
+    return {
+        "M": _array(state.mass_matrix),
+        "c": _array(state.coriolis),
+        "G": _array(state.gravity),
+        "tau": _array(state.torque),
+    }
 
+
+def dynamics_text(state: DynamicState | None) -> str:
+    if state is None:
+        return ""
+    lines = ["", "M =", _format(state.mass_matrix), f"G = {_format(state.gravity)}"]
+    if state.coriolis is not None:
+        lines.append(f"c = C dq = {_format(state.coriolis)}")
+    if state.torque is not None:
+        lines.append(f"tau = {_format(state.torque)}")
+    return "\n".join(lines)
+
+
+def _format(values: np.ndarray) -> str:
+    # "+ 0.0" turns -0.0 into 0.0 so exact zeros print without a sign.
+    return np.array2string(np.asarray(values) + 0.0, precision=6, suppress_small=True)
+
+
+def eval_text(state: KinematicState) -> str:
+    fmt = _format
     psi, theta, phi = state.euler_zyx
     out = [
         "T =",
@@ -276,28 +323,35 @@ def command_show(args: argparse.Namespace) -> None:
     if args.json:
         print(json.dumps(show_json(model, rows), indent=2))
     else:
-        print(show_text(model, rows))
+        print(show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else ""))
 
 
 def command_eval(args: argparse.Namespace) -> None:
     robot = load_robot(args.robot)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
-    robot.parameter_values(overrides)  # reject unknown names and missing values first
+    if not args.dynamics:
+        robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
     ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
+    q = joint_values(args.q, "--q", robot)
+    dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+    kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
     state = kinematic_state(
         model,
-        joint_values(args.q, "--q", robot),
+        q,
         dq,
         ddq,
-        overrides,
+        kinematic_overrides,
         [point_from_text(p, robot) for p in args.point],
         task_rows_from_text(args.task),
     )
-    print(json.dumps(eval_json(state), indent=2) if args.json else eval_text(state))
+    if args.json:
+        print(json.dumps(eval_json(state) | dynamics_json(dynamics), indent=2))
+    else:
+        print(eval_text(state) + dynamics_text(dynamics))
 
 
 def progress(message: str) -> None:
@@ -379,6 +433,9 @@ def build_parser() -> argparse.ArgumentParser:
     show.add_argument("robot", metavar="ROBOT")
     show.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
     show.add_argument("--task", metavar="ROWS", help=task_help)
+    show.add_argument(
+        "--dynamics", action="store_true", help="also print the equations of motion (M, C, G)"
+    )
     show.set_defaults(run=command_show)
 
     evaluate = commands.add_parser(
@@ -402,6 +459,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="a point fixed in link LINK (0 = base), coordinates in that link's frame",
     )
     evaluate.add_argument("--task", metavar="ROWS", help=task_help)
+    evaluate.add_argument(
+        "--dynamics",
+        action="store_true",
+        help="add M, c, G and tau (c needs --dq, tau --dq and --ddq); links without inertial "
+        "data need --set m1=...,cx1=...",
+    )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
     evaluate.set_defaults(run=command_eval)
 
@@ -463,11 +526,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def show_warning(message: Warning | str, *_: object, **__: object) -> None:
+    """One ``symkin: warning: ...`` line instead of Python's file-and-line format."""
+    print(f"symkin: warning: {message}", file=sys.stderr)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
-        args.run(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = show_warning
+            args.run(args)
     except SymkinError as error:
         print(f"symkin: error: {error}", file=sys.stderr)
         return 2

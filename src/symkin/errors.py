@@ -11,3 +11,8 @@ class SymkinError(Exception):
 
 class RobotError(SymkinError):
     """An invalid robot description (file, joint, key and what was expected)."""
+
+
+class RobotWarning(UserWarning):
+    """A robot description that loads but looks suspicious (e.g. inertia data that no rigid
+    body can have but that published models use, such as lumped link inertias)."""

@@ -8,12 +8,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.emit.numpy import emit_numpy
 from symkin.errors import SymkinError
+from symkin.kernel import dynamics_kernels, inertial_symbols
 from symkin.spatial import euler_zyx_from_rotation
 
 
@@ -137,3 +140,62 @@ def kinematic_state(
         manipulability=manipulability,
         points=tuple(states),
     )
+
+
+@dataclass(frozen=True)
+class DynamicState:
+    """Numeric equations of motion at one state: ``tau = M ddq + c + G + F``.
+
+    ``c`` needs joint velocities and ``tau`` velocities and accelerations; either is ``None``
+    when they were not given.
+    """
+
+    mass_matrix: np.ndarray
+    gravity: np.ndarray
+    coriolis: np.ndarray | None
+    torque: np.ndarray | None
+
+
+def dynamic_state(
+    model: Model,
+    q: Sequence[float],
+    dq: Sequence[float] | None = None,
+    ddq: Sequence[float] | None = None,
+    overrides: Mapping[str, float] | None = None,
+) -> DynamicState:
+    """``M``, ``G``, ``c`` and ``tau`` from the Newton–Euler kernels.
+
+    ``overrides`` may name robot parameters and the inertial symbols of links the robot file
+    leaves without data (``m1``, ``cx1``, ..., ``iyz1``); every such symbol needs a value.
+    """
+    n = model.robot.dof
+    for name, values in (("--q", q), ("--dq", dq), ("--ddq", ddq)):
+        _check_length(name, values, n)
+    overrides = dict(overrides or {})
+    inertial_names = [s.name for s in inertial_symbols(model)]
+    inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
+    missing = [name for name in inertial_names if name not in inertial]
+    if missing:
+        raise SymkinError(
+            f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
+            "the robot file ([joints.link]) or with --set NAME=VALUE"
+        )
+    values = model.robot.parameter_values(overrides)
+    p = np.array([values[name] for name, _ in model.robot.parameters])
+    pi = np.array([inertial[name] for name in inertial_names])
+    module = _dynamics_module(model)
+    shared = {"p": p, "pi": pi} if inertial_names else {"p": p}
+    return DynamicState(
+        mass_matrix=module.mass_matrix(q, **shared),
+        gravity=module.gravity(q, **shared),
+        coriolis=None if dq is None else module.coriolis(q, dq, **shared),
+        torque=None if dq is None or ddq is None else module.inverse_dynamics(q, dq, ddq, **shared),
+    )
+
+
+def _dynamics_module(model: Model) -> ModuleType:
+    """The NumPy backend's dynamics functions, rendered and loaded in memory."""
+    (source,) = emit_numpy(model.robot, dynamics_kernels(model)).values()
+    module = ModuleType(f"{model.robot.name}_dynamics")
+    exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
+    return module

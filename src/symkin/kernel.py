@@ -222,9 +222,7 @@ def kernel_from_assignments(
     kept.reverse()
     kept, matrices = _shared_subexpressions(kept, [sp.ImmutableMatrix(m) for _, m, _ in outputs])
     prefix = _intermediate_prefix([e for _, e in kept] + [s for _, s in kept])
-    renaming = {
-        old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)
-    }
+    renaming = {old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)}
     renamed = tuple((renaming[s], e.xreplace(renaming)) for s, e in kept)
     kernel_outputs = tuple(
         KernelOutput(out_name, matrix.xreplace(renaming), out_description)

@@ -88,11 +88,11 @@ def rows_from_names(names: Sequence[str]) -> tuple[int, ...]:
 def default_task_rows(jacobian: sp.MatrixBase) -> tuple[str, ...]:
     """The rows of the task Jacobian when the user chooses none.
 
-    All six when n >= 6; otherwise the first n rows that are not identically zero, in the order
+    All six when n = 6; otherwise the first n rows that are not identically zero, in the order
     x, y, z, wz, wx, wy (planar 2R: x, y; SCARA with prismatic z: x, y, z; planar 3R: x, y, wz).
     """
     n = jacobian.cols
-    if n >= 6:
+    if n == 6:
         return ROW_NAMES
     nonzero = [
         name

@@ -26,6 +26,7 @@ from symkin.derive.dynamics import (
     motor_inertia_matrix,
 )
 from symkin.derive.kinematics import Kinematics
+from symkin.derive.simplify import reduce_trig
 from symkin.robot import Robot
 
 # Up to this many joints the results are expanded and contracted into readable sums.
@@ -79,11 +80,11 @@ def lagrange_dynamics(
     def to_sympy(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
         # Expanding a 6-DOF Coriolis matrix gives ~10^5 terms: only small robots are expanded
         # and contracted for reading; larger ones keep SymEngine's compact product form.
-        entries = [
-            sp.sympify(se.expand(e) if readable else e).xreplace(restore) for e in matrix
-        ]
+        entries = [sp.sympify(se.expand(e) if readable else e).xreplace(restore) for e in matrix]
         matrix = sp.Matrix(matrix.rows, matrix.cols, entries)
-        return kinematics.contract(matrix) if readable else sp.ImmutableMatrix(matrix)
+        if not readable:
+            return sp.ImmutableMatrix(matrix)
+        return sp.ImmutableMatrix(matrix.applyfunc(lambda e: reduce_trig(e, kinematics.q)))
 
     dq_se = se.DenseMatrix([se.sympify(v) for v in dq])
     christoffel = _christoffel(mass, q, list(dq_se))

@@ -105,6 +105,12 @@ class _CircleVariables:
         return result
 
 
+def reduce_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
+    """``expr`` with ``sin^2 + cos^2 = 1`` applied (as a remainder), then contracted."""
+    circle = _CircleVariables.of(angles)
+    return contract_trig(circle.reduce(circle.polynomial(expr)).xreplace(circle.back))
+
+
 def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
     """Factor ``expr``, polynomial in ``sin``/``cos`` of ``angles``, into readable factors."""
     circle = _CircleVariables.of(angles)

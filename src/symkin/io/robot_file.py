@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from symkin.errors import RobotError
+from symkin.errors import RobotError, RobotWarning
 from symkin.robot import NAME_PATTERN, Joint, Link, Robot
 
 __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
@@ -524,23 +524,15 @@ def _inertia(value: Any, ctx: _Context) -> tuple[sp.Expr, ...]:
 
 
 def _check_inertia_physical(elements: np.ndarray, ctx: _Context) -> None:
-    """Reject tensors no rigid body can have: negative moments, not PSD, triangle violated."""
+    """Reject tensors no rigid body can have (negative moments, not PSD) with an error; warn
+    (:class:`RobotWarning`) about a violated triangle inequality, which published models with
+    lumped inertias do have (e.g. Corke's PUMA 560) and which the dynamics can still use."""
     ixx, iyy, izz, ixy, ixz, iyz = elements
     tolerance = 1e-9 * float(np.max(np.abs(elements)))
     where = ctx.prefix.rstrip(".")
     for key, moment in zip(INERTIA_KEYS[:3], elements[:3], strict=True):
         if moment < -tolerance:
             raise ctx.error(f"{ctx.key(key)!r} must be >= 0 (a moment of inertia), got {moment:g}")
-    for first, second, third, names in (
-        (ixx, iyy, izz, ("ixx", "iyy", "izz")),
-        (iyy, izz, ixx, ("iyy", "izz", "ixx")),
-        (izz, ixx, iyy, ("izz", "ixx", "iyy")),
-    ):
-        if first + second < third - tolerance:
-            raise ctx.error(
-                f"{where!r} violates the triangle inequality: {names[0]} + {names[1]} >= "
-                f"{names[2]} is required, got {first:g} + {second:g} < {third:g}"
-            )
     tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
     moments = np.linalg.eigvalsh(tensor)  # ascending
     if moments[0] < -tolerance:
@@ -548,11 +540,31 @@ def _check_inertia_physical(elements: np.ndarray, ctx: _Context) -> None:
             f"{where!r} is not positive semi-definite: principal moments "
             f"{', '.join(f'{m:g}' for m in moments)}"
         )
+    for first, second, third, names in (
+        (ixx, iyy, izz, ("ixx", "iyy", "izz")),
+        (iyy, izz, ixx, ("iyy", "izz", "ixx")),
+        (izz, ixx, iyy, ("izz", "ixx", "iyy")),
+    ):
+        if first + second < third - tolerance:
+            _warn(
+                ctx,
+                f"{where!r} violates the triangle inequality: {names[0]} + {names[1]} >= "
+                f"{names[2]} is required, got {first:g} + {second:g} < {third:g} "
+                "(no rigid body has this tensor; loaded as given)",
+            )
+            return
     if moments[0] + moments[1] < moments[2] - tolerance:
-        raise ctx.error(
+        _warn(
+            ctx,
             f"{where!r}: the principal moments {', '.join(f'{m:g}' for m in moments)} violate "
-            "the triangle inequality (the two smaller must add up to at least the largest)"
+            "the triangle inequality (the two smaller must add up to at least the largest; "
+            "loaded as given)",
         )
+
+
+def _warn(ctx: _Context, message: str) -> None:
+    """A :class:`RobotWarning` located like an error (file, joint, key)."""
+    warnings.warn(str(ctx.error(message)), RobotWarning, stacklevel=2)
 
 
 def _friction(value: Any, ctx: _Context) -> dict[str, sp.Expr | None]:
