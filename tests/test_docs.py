@@ -1,6 +1,7 @@
 """The examples in the documentation run and show what symkin really prints.
 
-Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md):
+Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md,
+docs/backends.md, docs/dynamics.md, docs/latex.md):
 
 * Each file runs in a fresh temporary directory, its fenced blocks in document order.
 * A ```toml block whose first line is a comment naming a file (``# two_link.toml: ...``) is
@@ -13,8 +14,8 @@ Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli
   status must be 0, or 2 when the shown output contains ``error:``.
 * ```bash blocks: each line starting with ``symkin `` runs and must exit with status 0 (other
   lines, such as ``make run``, are set-up commands and are not run here).
-* Other blocks (```text, ```sh, ...) are shown, not run: ``symkin generate`` needs the
-  repository checkout and takes long.
+* Other blocks (```text, ```sh, ```c, ...) are shown, not run: ``symkin generate`` needs the
+  repository checkout and takes long, and ``--pdf`` needs pdflatex.
 
 A failing Python block is reported as ``<file>:<line of its fence>``, line N of the block.
 """
@@ -178,6 +179,22 @@ def test_tutorial_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[s
 @pytest.mark.slow
 def test_cli_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     run_document(ROOT / "docs" / "cli.md", capsys)
+
+
+@pytest.mark.slow
+def test_backends_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run_document(ROOT / "docs" / "backends.md", capsys)
+
+
+@pytest.mark.slow
+def test_dynamics_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run_document(ROOT / "docs" / "dynamics.md", capsys)
+
+
+@pytest.mark.slow
+def test_latex_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The Python example compiles a PDF: it needs pdflatex (``scripts/install-latex.sh``)."""
+    run_document(ROOT / "docs" / "latex.md", capsys)
 
 
 def test_doc_links_resolve() -> None:

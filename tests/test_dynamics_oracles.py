@@ -133,14 +133,14 @@ def pinocchio_model(robot: symkin.Robot):
     model = pin.Model()
     parent = 0
     placement = pin.SE3.Identity()
-    params = {s: v for s, v in robot.parameters}
+    params = {s: robot.parameter_values()[s.name] for s in robot.parameter_symbols}
     for i, joint in enumerate(robot.joints):
         assert joint.type == "revolute"
         parent = model.addJoint(parent, pin.JointModelRZ(), placement, f"joint{i + 1}")
         d, a, alpha, offset = (
             float(joint.d.subs(params)),
             float(joint.a.subs(params)),
-            float(joint.alpha),
+            float(joint.alpha.subs(params)),
             float(joint.theta.subs(params)),
         )
         fixed = (

@@ -214,6 +214,24 @@ def dynamics_show_text(model: Model) -> str:
     return "\n".join(out)
 
 
+def dynamics_show_json(model: Model, args: argparse.Namespace) -> dict:
+    """``M``, ``C``, ``G`` (Lagrange, SymPy syntax) for small robots; null for larger ones."""
+    if not args.dynamics:
+        return {}
+    if model.robot.dof > READABLE_DOF:
+        return {"M": None, "C": None, "G": None}
+    dynamics = model.lagrange
+
+    def strings(matrix: sp.MatrixBase) -> list:
+        return [[sp.sstr(e) for e in matrix.row(i)] for i in range(matrix.rows)]
+
+    return {
+        "M": strings(dynamics.mass_matrix),
+        "C": strings(dynamics.coriolis_matrix),
+        "G": [sp.sstr(e) for e in dynamics.gravity_vector],
+    }
+
+
 def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
     determinant = model.determinant(rows)
     return {
@@ -321,7 +339,7 @@ def command_show(args: argparse.Namespace) -> None:
     model = derive(load_robot(args.robot))
     rows = task_rows_from_text(args.task)
     if args.json:
-        print(json.dumps(show_json(model, rows), indent=2))
+        print(json.dumps(show_json(model, rows) | dynamics_show_json(model, args), indent=2))
     else:
         print(show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else ""))
 
@@ -415,6 +433,12 @@ def command_latex(args: argparse.Namespace) -> None:
         print(f"wrote {compile_pdf(out)}")
 
 
+def add_set_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="symkin",
@@ -448,9 +472,7 @@ def build_parser() -> argparse.ArgumentParser:
     evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
     evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
     evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
-    evaluate.add_argument(
-        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
-    )
+    add_set_option(evaluate)
     evaluate.add_argument(
         "--point",
         action="append",
@@ -499,14 +521,12 @@ def build_parser() -> argparse.ArgumentParser:
     latex.add_argument("--shorthand", action="store_true", help="c_1, s_12, ... with a legend")
     latex.add_argument("--lang", choices=LANGUAGES, default="en", help="headings (default: en)")
     latex.add_argument("--q", metavar="V1,V2,...", help="also show numbers at this configuration")
-    latex.add_argument(
-        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
-    )
+    add_set_option(latex)
     latex.add_argument(
         "--sections",
-        default=",".join(SECTIONS),
+        default=",".join(s for s in SECTIONS if s != "dynamics"),
         metavar="LIST",
-        help=f"comma-separated, from {','.join(SECTIONS)}",
+        help=f"comma-separated, from {','.join(SECTIONS)} (default: all but dynamics)",
     )
     latex.add_argument(
         "--text-width",

@@ -76,9 +76,12 @@ def numeric_function(
     return evaluate
 
 
-def _check_length(name: str, values: Sequence[float] | None, n: int) -> None:
-    if values is not None and len(values) != n:
-        raise SymkinError(f"{name} needs {n} values (one per joint), got {len(values)}")
+def _check_lengths(model: Model, *states: Sequence[float] | None) -> None:
+    """``q``, ``dq``, ``ddq`` (those given) hold one value per joint."""
+    n = model.robot.dof
+    for name, values in zip(("--q", "--dq", "--ddq"), states, strict=False):
+        if values is not None and len(values) != n:
+            raise SymkinError(f"{name} needs {n} values (one per joint), got {len(values)}")
 
 
 def kinematic_state(
@@ -95,9 +98,7 @@ def kinematic_state(
     The determinant and manipulability are those of the task Jacobian (``rows``, or the
     model's default task rows), computed numerically from the evaluated Jacobian.
     """
-    n = model.robot.dof
-    for name, values in (("--q", q), ("--dq", dq), ("--ddq", ddq)):
-        _check_length(name, values, n)
+    _check_lengths(model, q, dq, ddq)
     rows = tuple(rows or model.task_rows)
     # Numbers come from the unsimplified product form: the same mathematics, far shorter
     # expressions to lambdify on a long or oddly angled chain.
@@ -168,9 +169,7 @@ def dynamic_state(
     ``overrides`` may name robot parameters and the inertial symbols of links the robot file
     leaves without data (``m1``, ``cx1``, ..., ``iyz1``); every such symbol needs a value.
     """
-    n = model.robot.dof
-    for name, values in (("--q", q), ("--dq", dq), ("--ddq", ddq)):
-        _check_length(name, values, n)
+    _check_lengths(model, q, dq, ddq)
     overrides = dict(overrides or {})
     inertial_names = [s.name for s in inertial_symbols(model)]
     inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}

@@ -43,6 +43,9 @@ class KernelOutput:
     name: str
     matrix: sp.ImmutableMatrix
     description: str
+    # "matrix", "vector" or "scalar": how array backends shape it (a 1-DOF mass matrix is a
+    # 1x1 matrix, a 1-DOF gravity vector has one entry, a determinant is a scalar).
+    kind: str = "matrix"
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -115,12 +118,12 @@ def kernel_from_outputs(
 
     The intermediates are numbered deterministically in the order SymPy's ``cse`` emits them.
     """
-    matrices = [sp.ImmutableMatrix(matrix) for _, matrix, _ in outputs]
+    matrices = [sp.ImmutableMatrix(matrix) for _, matrix, *_ in outputs]
     prefix = _intermediate_prefix([e for m in matrices for e in m])
     assignments, reduced = sp.cse(matrices, symbols=sp.numbered_symbols(prefix, real=True))
     kernel_outputs = tuple(
-        KernelOutput(out_name, sp.ImmutableMatrix(matrix), out_description)
-        for (out_name, _, out_description), matrix in zip(outputs, reduced, strict=True)
+        KernelOutput(spec[0], sp.ImmutableMatrix(matrix), *spec[2:])
+        for spec, matrix in zip(outputs, reduced, strict=True)
     )
     return Kernel(name, description, tuple(inputs), kernel_outputs, tuple(assignments))
 
@@ -166,7 +169,12 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
     def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
         table = {
             "T": lambda m: ("T", m.forward_kinematics, "pose of the tool in the base frame (4x4)"),
-            "p": lambda m: ("p_tool", m.tool_position, "tool position in the base frame (3x1)"),
+            "p": lambda m: (
+                "p_tool",
+                m.tool_position,
+                "tool position in the base frame (3x1)",
+                "vector",
+            ),
             "J": lambda m: (
                 "J",
                 m.geometric_jacobian,
@@ -193,7 +201,7 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
                 "det",
                 f"determinant of the task Jacobian (rows {rows})",
                 inputs,
-                [("det", sp.Matrix([[determinant]]), "det J (1x1)")],
+                [("det", sp.Matrix([[determinant]]), "det J", "scalar")],
             )
         )
     return tuple(kernels)
@@ -212,7 +220,7 @@ def kernel_from_assignments(
     ``t0, t1, ...`` so the text does not depend on how many were recorded before.
     """
     needed: set[sp.Symbol] = set()
-    for _, matrix, _ in outputs:
+    for _, matrix, *_ in outputs:
         needed |= sp.ImmutableMatrix(matrix).free_symbols
     kept = []
     for symbol, expr in reversed(assignments):
@@ -220,15 +228,31 @@ def kernel_from_assignments(
             kept.append((symbol, expr))
             needed |= expr.free_symbols
     kept.reverse()
-    kept, matrices = _shared_subexpressions(kept, [sp.ImmutableMatrix(m) for _, m, _ in outputs])
+    kept, matrices = _shared_subexpressions(kept, [sp.ImmutableMatrix(m) for _, m, *_ in outputs])
+    kept, matrices = _without_aliases(kept, matrices)
     prefix = _intermediate_prefix([e for _, e in kept] + [s for _, s in kept])
     renaming = {old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)}
     renamed = tuple((renaming[s], e.xreplace(renaming)) for s, e in kept)
     kernel_outputs = tuple(
-        KernelOutput(out_name, matrix.xreplace(renaming), out_description)
-        for (out_name, _, out_description), matrix in zip(outputs, matrices, strict=True)
+        KernelOutput(spec[0], matrix.xreplace(renaming), *spec[2:])
+        for spec, matrix in zip(outputs, matrices, strict=True)
     )
     return Kernel(name, description, tuple(inputs), kernel_outputs, renamed)
+
+
+def _without_aliases(
+    assignments: list[tuple[sp.Symbol, sp.Expr]], matrices: list[sp.ImmutableMatrix]
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.ImmutableMatrix]]:
+    """Substitute intermediates that merely copy a symbol or a number (``t7 = t3``)."""
+    aliases: dict[sp.Symbol, sp.Expr] = {}
+    kept = []
+    for symbol, expr in assignments:
+        expr = expr.xreplace(aliases)
+        if expr.is_Atom:
+            aliases[symbol] = expr
+        else:
+            kept.append((symbol, expr))
+    return kept, [m.xreplace(aliases) for m in matrices]
 
 
 def _shared_subexpressions(
@@ -319,7 +343,7 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             description,
             dynamics_inputs(model, *(r for r in rates if r)),
             dynamics.assignments,
-            [(output, matrix, output_description)],
+            [(output, matrix, output_description, "vector" if output in ("G", "c") else "matrix")],
         )
         for name, description, rates, output, matrix, output_description in steps
     ]
@@ -329,7 +353,7 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             "inverse dynamics",
             dynamics_inputs(model, "dq", "ddq"),
             torque_assignments,
-            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)")],
+            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector")],
         )
     )
     return tuple(kernels)

@@ -78,7 +78,7 @@ void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, doubl
 void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (3 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (d1, d6)
  */

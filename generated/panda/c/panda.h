@@ -11,7 +11,7 @@
  *   mass_matrix: 1455 ops (596 additions, 847 multiplications, 12 trig)
  *   gravity: 227 ops (81 additions, 134 multiplications, 12 trig)
  *   coriolis: 851 ops (353 additions, 476 multiplications, 12 trig, 10 powers)
- *   coriolis_matrix: 6289 ops (2673 additions, 3596 multiplications, 8 divisions, 12 trig)
+ *   coriolis_matrix: 6293 ops (2673 additions, 3600 multiplications, 8 divisions, 12 trig)
  *   inverse_dynamics: 891 ops (375 additions, 494 multiplications, 12 trig, 10 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -107,7 +107,7 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, cons
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (6289 operations).
+/* Coriolis matrix (christoffel symbols) (6293 operations).
  * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)

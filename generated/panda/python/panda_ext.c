@@ -11,7 +11,7 @@
  *   mass_matrix: 1455 ops (596 additions, 847 multiplications, 12 trig)
  *   gravity: 227 ops (81 additions, 134 multiplications, 12 trig)
  *   coriolis: 851 ops (353 additions, 476 multiplications, 12 trig, 10 powers)
- *   coriolis_matrix: 6289 ops (2673 additions, 3596 multiplications, 8 divisions, 12 trig)
+ *   coriolis_matrix: 6293 ops (2673 additions, 3600 multiplications, 8 divisions, 12 trig)
  *   inverse_dynamics: 891 ops (375 additions, 494 multiplications, 12 trig, 10 powers)
  *
  * CPython extension 'panda_ext': the generated C kernels callable from Python with far

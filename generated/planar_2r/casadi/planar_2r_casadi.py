@@ -188,7 +188,7 @@ def fk_jacobian_function(symbol_type=casadi.SX):
 def det_function(symbol_type=casadi.SX):
     """Determinant of the task jacobian (rows x, y) (3 operations) as a casadi.Function.
 
-    Output det: det J (1x1).
+    Output det: det J.
     """
     q = symbol_type.sym("q", 2)
     p = symbol_type.sym("p", 2)
@@ -344,27 +344,25 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     cy2 = pi[12]
     t0 = casadi.sin(q2)
     t1 = L1*t0
-    t2 = t1
-    t3 = casadi.cos(q2)
-    t4 = L1*t3
-    t5 = L2 + t4
-    t6 = m2*(-cy2 + t2)
-    t7 = m2*(cx2 + t5)
+    t2 = casadi.cos(q2)
+    t3 = L1*t2
+    t4 = L2 + t3
+    t5 = m2*(-cy2 + t1)
+    t6 = m2*(cx2 + t4)
+    t7 = m2*t3
     t8 = -t1
     t9 = m2*t8
-    t10 = t4
-    t11 = m2*t10
-    t12 = cx2*t9 - cy2*t11
-    t13 = t12 + t9*(L2*t0**2 + L2*t3**2)
-    t14 = t0*t11 - t0*t7 + t3*t6 + t3*t9
-    t15 = L1*t14 + t13
-    t16 = L2*t9 + t12
-    t17 = (1/2)*t15
-    t18 = dq1*t17
+    t10 = -t0*t6 + t0*t7 + t2*t5 + t2*t9
+    t11 = cx2*t9 - cy2*t7
+    t12 = t11 + t9*(L2*t0**2 + L2*t2**2)
+    t13 = L1*t10 + t12
+    t14 = L2*t9 + t11
+    t15 = (1/2)*t13
+    t16 = dq1*t15
     C = symbol_type.zeros(2, 2)
-    C[0, 0] = dq2*t17
-    C[0, 1] = dq2*t16 + t18
-    C[1, 0] = -t18
+    C[0, 0] = dq2*t15
+    C[0, 1] = dq2*t14 + t16
+    C[1, 0] = -t16
     return casadi.Function(
         "planar_2r_coriolis_matrix",
         [q, dq, p, pi],

@@ -78,7 +78,7 @@ void planar_3r_fk_jacobian(const double q[3], const double *p, double T[16], dou
 void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, wz) (4 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3)
  */

@@ -10,11 +10,11 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 921 ops (380 additions, 531 multiplications, 10 trig)
- *   gravity: 183 ops (66 additions, 107 multiplications, 10 trig)
- *   coriolis: 700 ops (290 additions, 394 multiplications, 10 trig, 6 powers)
- *   coriolis_matrix: 3398 ops (1438 additions, 1941 multiplications, 7 divisions, 10 trig, 2 powers)
- *   inverse_dynamics: 745 ops (315 additions, 414 multiplications, 10 trig, 6 powers)
+ *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
+ *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
+ *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
+ *   coriolis_matrix: 2242 ops (879 additions, 1344 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   inverse_dynamics: 490 ops (192 additions, 281 multiplications, 10 trig, 7 powers)
  */
 #include <stdio.h>
 

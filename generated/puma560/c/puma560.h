@@ -9,11 +9,11 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 921 ops (380 additions, 531 multiplications, 10 trig)
- *   gravity: 183 ops (66 additions, 107 multiplications, 10 trig)
- *   coriolis: 700 ops (290 additions, 394 multiplications, 10 trig, 6 powers)
- *   coriolis_matrix: 3398 ops (1438 additions, 1941 multiplications, 7 divisions, 10 trig, 2 powers)
- *   inverse_dynamics: 745 ops (315 additions, 414 multiplications, 10 trig, 6 powers)
+ *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
+ *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
+ *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
+ *   coriolis_matrix: 2242 ops (879 additions, 1344 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   inverse_dynamics: 490 ops (192 additions, 281 multiplications, 10 trig, 7 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -78,7 +78,7 @@ void puma560_fk_jacobian(const double q[6], const double *p, double T[16], doubl
 void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (18 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
  */
@@ -86,58 +86,53 @@ void puma560_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_det_batch(size_t count, const double *q, const double *p, double *det);
 
-/* Mass matrix (921 operations).
+/* Mass matrix (541 operations).
  * M[36]: M(q) (6x6)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
  */
-void puma560_mass_matrix(const double q[6], const double *p, const double *pi, double M[36]);
+void puma560_mass_matrix(const double q[6], const double *p, double M[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *M);
 
-/* Gravity torques (183 operations).
+/* Gravity torques (154 operations).
  * G[6]: G(q) (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
  */
-void puma560_gravity(const double q[6], const double *p, const double *pi, double G[6]);
+void puma560_gravity(const double q[6], const double *p, double G[6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+void puma560_gravity_batch(size_t count, const double *q, const double *p, double *G);
 
-/* Coriolis and centrifugal torques (700 operations).
+/* Coriolis and centrifugal torques (445 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
  */
-void puma560_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6]);
+void puma560_coriolis(const double q[6], const double dq[6], const double *p, double c[6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c);
 
-/* Coriolis matrix (christoffel symbols) (3398 operations).
+/* Coriolis matrix (christoffel symbols) (2242 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
  */
-void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36]);
+void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C);
 
-/* Inverse dynamics (745 operations).
+/* Inverse dynamics (490 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
  */
-void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6]);
+void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
+void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau);
 
 #endif /* PUMA560_KINEMATICS_H */

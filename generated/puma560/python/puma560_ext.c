@@ -9,11 +9,11 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 921 ops (380 additions, 531 multiplications, 10 trig)
- *   gravity: 183 ops (66 additions, 107 multiplications, 10 trig)
- *   coriolis: 700 ops (290 additions, 394 multiplications, 10 trig, 6 powers)
- *   coriolis_matrix: 3398 ops (1438 additions, 1941 multiplications, 7 divisions, 10 trig, 2 powers)
- *   inverse_dynamics: 745 ops (315 additions, 414 multiplications, 10 trig, 6 powers)
+ *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
+ *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
+ *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
+ *   coriolis_matrix: 2242 ops (879 additions, 1344 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   inverse_dynamics: 490 ops (192 additions, 281 multiplications, 10 trig, 7 powers)
  *
  * CPython extension 'puma560_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (6,) or (N, 6) and
@@ -202,6 +202,38 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void mass_matrix_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    puma560_mass_matrix_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape mass_matrix_shapes[] = {
+    { 2, { 6, 6 } },
+};
+
+static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, mass_matrix_adapter, 1, mass_matrix_shapes);
+}
+
+static void gravity_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    puma560_gravity_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape gravity_shapes[] = {
+    { 1, { 6, 0 } },
+};
+
+static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, gravity_adapter, 1, gravity_shapes);
+}
+
 static PyMethodDef methods[] = {
     {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
      "fk(q, p=None): forward kinematics; returns T."},
@@ -215,6 +247,10 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z, wx, wy, wz); returns det."},
+    {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL,
+     "mass_matrix(q, p=None): mass matrix; returns M."},
+    {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL,
+     "gravity(q, p=None): gravity torques; returns G."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -78,7 +78,7 @@ void scara_fk_jacobian(const double q[3], const double *p, double T[16], double 
 void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, z) (3 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2)
  */

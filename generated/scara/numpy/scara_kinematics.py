@@ -184,7 +184,7 @@ def det(q, p=DEFAULT_PARAMETERS):
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2), 2 values.
-    Returns det: det J (1x1), shape (..., ).
+    Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
@@ -374,37 +374,35 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     cy3 = pi[..., 22]
     t0 = numpy.sin(q2)
     t1 = L1*t0
-    t2 = t1
-    t3 = numpy.cos(q2)
-    t4 = L1*t3
-    t5 = L2 + t4
-    t6 = -t2
-    t7 = m3*(-cy3 - t6)
-    t8 = m3*(cx3 + t5)
-    t9 = m2*(-cy2 - t6)
-    t10 = m2*(cx2 + t5)
+    t2 = numpy.cos(q2)
+    t3 = L1*t2
+    t4 = L2 + t3
+    t5 = -t1
+    t6 = m3*(-cy3 - t5)
+    t7 = m3*(cx3 + t4)
+    t8 = m2*(-cy2 - t5)
+    t9 = m2*(cx2 + t4)
+    t10 = t6 + t8
     t11 = t7 + t9
-    t12 = t10 + t8
-    t13 = -t1
-    t14 = m3*t13
-    t15 = m2*t13
-    t16 = t14 + t15
-    t17 = t4
-    t18 = m2*t17
-    t19 = m3*t17
-    t20 = t18 + t19
-    t21 = -t0*t12 + t0*t20 + t11*t3 + t16*t3
-    t22 = cx3*t14 - cy3*t19
-    t23 = cx2*t15 - cy2*t18 + t22
-    t24 = t16*(L2*t0**2 + L2*t3**2) + t23
-    t25 = L1*t21 + t24
-    t26 = L2*t16 + t23
-    t27 = (1/2)*t25
-    t28 = dq1*t27
+    t12 = m3*t3
+    t13 = m2*t3
+    t14 = t12 + t13
+    t15 = -t1
+    t16 = m3*t15
+    t17 = m2*t15
+    t18 = t16 + t17
+    t19 = -t0*t11 + t0*t14 + t10*t2 + t18*t2
+    t20 = cx3*t16 - cy3*t12
+    t21 = cx2*t17 - cy2*t13 + t20
+    t22 = t18*(L2*t0**2 + L2*t2**2) + t21
+    t23 = L1*t19 + t22
+    t24 = L2*t18 + t21
+    t25 = (1/2)*t23
+    t26 = dq1*t25
     C = numpy.zeros(batch + (3, 3))
-    C[..., 0, 0] = dq2*t27
-    C[..., 0, 1] = dq2*t26 + t28
-    C[..., 1, 0] = -t28
+    C[..., 0, 0] = dq2*t25
+    C[..., 0, 1] = dq2*t24 + t26
+    C[..., 1, 0] = -t26
     return C
 
 

@@ -13,7 +13,7 @@
  *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
  *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
  *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
- *   coriolis_matrix: 2699 ops (1138 additions, 1546 multiplications, 7 divisions, 8 trig)
+ *   coriolis_matrix: 2698 ops (1138 additions, 1545 multiplications, 7 divisions, 8 trig)
  *   inverse_dynamics: 688 ops (294 additions, 380 multiplications, 8 trig, 6 powers)
  */
 #include <stdio.h>

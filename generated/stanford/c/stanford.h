@@ -12,7 +12,7 @@
  *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
  *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
  *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
- *   coriolis_matrix: 2699 ops (1138 additions, 1546 multiplications, 7 divisions, 8 trig)
+ *   coriolis_matrix: 2698 ops (1138 additions, 1545 multiplications, 7 divisions, 8 trig)
  *   inverse_dynamics: 688 ops (294 additions, 380 multiplications, 8 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -78,7 +78,7 @@ void stanford_fk_jacobian(const double q[6], const double *p, double T[16], doub
 void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (5 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6)
  */
@@ -117,7 +117,7 @@ void stanford_coriolis(const double q[6], const double dq[6], const double *p, c
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (2699 operations).
+/* Coriolis matrix (christoffel symbols) (2698 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

@@ -13,7 +13,7 @@
  *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
  *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
  *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
- *   coriolis_matrix: 3272 ops (1387 additions, 1866 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   coriolis_matrix: 3270 ops (1387 additions, 1864 multiplications, 7 divisions, 10 trig, 2 powers)
  *   inverse_dynamics: 763 ops (324 additions, 418 multiplications, 10 trig, 11 powers)
  */
 #include <stdio.h>

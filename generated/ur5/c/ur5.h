@@ -12,7 +12,7 @@
  *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
  *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
  *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
- *   coriolis_matrix: 3272 ops (1387 additions, 1866 multiplications, 7 divisions, 10 trig, 2 powers)
+ *   coriolis_matrix: 3270 ops (1387 additions, 1864 multiplications, 7 divisions, 10 trig, 2 powers)
  *   inverse_dynamics: 763 ops (324 additions, 418 multiplications, 10 trig, 11 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -78,7 +78,7 @@ void ur5_fk_jacobian(const double q[6], const double *p, double T[16], double J[
 void ur5_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (16 operations).
- * det[1]: det J (1x1)
+ * det[1]: det J
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6)
  */
@@ -117,7 +117,7 @@ void ur5_coriolis(const double q[6], const double dq[6], const double *p, const 
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (3272 operations).
+/* Coriolis matrix (christoffel symbols) (3270 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

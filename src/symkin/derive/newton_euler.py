@@ -71,7 +71,9 @@ class Recorder:
     def derivative(self, expr: sp.Expr, variable: sp.Symbol) -> sp.Expr:
         """``d expr / d variable`` through the named intermediates (forward mode)."""
         total = sp.diff(expr, variable)
-        for symbol in expr.free_symbols & self._definitions.keys():
+        # Sorted: set order follows string hashes, which change with PYTHONHASHSEED.
+        named = expr.free_symbols & self._definitions.keys()
+        for symbol in sorted(named, key=lambda s: s.name):
             inner = self._derivative_of_symbol(symbol, variable)
             if inner != 0:
                 total += sp.diff(expr, symbol) * inner

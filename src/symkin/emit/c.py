@@ -6,7 +6,7 @@ from functools import partial
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
-from symkin.emit.render import preamble_lines, render
+from symkin.emit.render import parameter_context, preamble_lines, render
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -30,11 +30,7 @@ def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double")
         "dof": robot.dof,
         "header": header,
         "source": source,
-        "parameter_names": [n for n, _ in robot.parameters],
-        # A parameter without a value has no default; NAN makes misuse visible, not silent.
-        "parameter_values": [
-            "NAN" if v is None else c_literal(v, precision) for _, v in robot.parameters
-        ],
+        **parameter_context(robot, partial(c_literal, precision=precision), "NAN"),
         "example_q": [round(0.1 * (i + 1), 1) for i in range(robot.dof)],
         "example_q_literals": [
             c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)

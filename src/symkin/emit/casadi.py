@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import casadi_code
-from symkin.emit.render import preamble_lines, render
+from symkin.emit.render import parameter_context, preamble_lines, render
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -20,10 +20,7 @@ def emit_casadi(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
         preamble=preamble_lines(robot, kernels, "CasADi kinematics"),
         prefix=robot.name,
         dof=robot.dof,
-        parameter_names=[n for n, _ in robot.parameters],
-        parameter_values=[
-            repr(float(v)) if v is not None else "float('nan')" for _, v in robot.parameters
-        ],
+        **parameter_context(robot, lambda v: repr(float(v)), "float('nan')"),
         kernels=[kernel_layout(k, casadi_code) for k in kernels],
     )
     return {f"casadi/{module_name(robot)}.py": text}

@@ -41,6 +41,7 @@ class OutputLayout:
     rows: int
     cols: int
     entries: tuple[Entry, ...]
+    kind: str
 
     @property
     def size(self) -> int:
@@ -48,16 +49,12 @@ class OutputLayout:
 
     @property
     def numpy_shape(self) -> tuple[int, ...]:
-        """``(rows, cols)``; a column vector is ``(rows,)`` and a 1x1 output a scalar ``()``."""
-        if self.cols == 1:
-            return () if self.rows == 1 else (self.rows,)
-        return (self.rows, self.cols)
+        """``(rows, cols)`` for a matrix, ``(rows,)`` for a vector, ``()`` for a scalar."""
+        return {"scalar": (), "vector": (self.rows,)}.get(self.kind, (self.rows, self.cols))
 
     def numpy_index(self, entry: Entry) -> str:
         """Index of an entry after the batch dimensions: ``"..., 0, 1"``."""
-        position = {(): (), (self.rows,): (entry.row,)}.get(
-            self.numpy_shape, (entry.row, entry.col)
-        )
+        position = {"scalar": (), "vector": (entry.row,)}.get(self.kind, (entry.row, entry.col))
         return ", ".join(["...", *map(str, position)])
 
 
@@ -96,7 +93,12 @@ def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> O
         for e in (output.matrix[i, j],)
     )
     return OutputLayout(
-        output.name, output.description, output.matrix.rows, output.matrix.cols, entries
+        output.name,
+        output.description,
+        output.matrix.rows,
+        output.matrix.cols,
+        entries,
+        output.kind,
     )
 
 

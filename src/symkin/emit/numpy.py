@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import numpy_code
-from symkin.emit.render import preamble_lines, render
+from symkin.emit.render import parameter_context, preamble_lines, render
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -19,10 +19,7 @@ def emit_numpy(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
         "numpy/module.py.j2",
         preamble=preamble_lines(robot, kernels, "NumPy kinematics"),
         dof=robot.dof,
-        parameter_names=[n for n, _ in robot.parameters],
-        parameter_values=[
-            repr(float(v)) if v is not None else "numpy.nan" for _, v in robot.parameters
-        ],
+        **parameter_context(robot, lambda v: repr(float(v)), "numpy.nan"),
         kernels=[kernel_layout(k, numpy_code) for k in kernels],
     )
     return {f"numpy/{module_name(robot)}.py": text}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import cache
 from importlib import resources
 
@@ -29,6 +30,17 @@ def environment() -> jinja2.Environment:
 
 def render(template: str, **context: object) -> str:
     return environment().get_template(template).render(**context)
+
+
+def parameter_context(
+    robot: Robot, literal: Callable[[float], str], missing: str
+) -> dict[str, list[str]]:
+    """Parameter names and default values as code literals (``missing`` where none is given;
+    a NaN default makes a forgotten value visible instead of silently wrong)."""
+    return {
+        "parameter_names": [name for name, _ in robot.parameters],
+        "parameter_values": [missing if v is None else literal(v) for _, v in robot.parameters],
+    }
 
 
 def counts_text(kernel: Kernel) -> str:
