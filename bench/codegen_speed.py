@@ -25,16 +25,15 @@ clock of the timing thread (``CLOCK_THREAD_CPUTIME_ID``, in C and in Python), wh
 count the time other programs on the shared machine hold the CPU; the contenders are
 interleaved repeat by repeat so that what load still shows (caches, a busy sibling core)
 falls on all of them alike.  The load average at the start and end is recorded with the
-table.  No test
-passes or fails on these numbers.
+table.  No test passes or fails on these numbers.
 
 The script prints a Markdown table and writes it into ``docs/benchmarks.md`` between
 ``<!-- codegen-speed:begin -->`` and ``<!-- codegen-speed:end -->``.
 
 Usage::
 
-    .venv/bin/python bench/codegen_speed.py            # full run, a few minutes
-    .venv/bin/python bench/codegen_speed.py --quick    # fewer repeats
+    .venv/bin/python bench/codegen_speed.py            # full run, about 2 CPU minutes
+    .venv/bin/python bench/codegen_speed.py --quick    # fewer repeats, under 1 minute
     .venv/bin/python bench/codegen_speed.py --quick --no-write
 """
 
@@ -956,7 +955,7 @@ def write_docs(table: str, path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="fewer repeats (about a minute)")
+    parser.add_argument("--quick", action="store_true", help="fewer repeats (under a minute)")
     parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
     parser.add_argument("--no-write", action="store_true", help="print only")
     args = parser.parse_args(argv)

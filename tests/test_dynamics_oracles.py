@@ -19,9 +19,9 @@ from types import ModuleType
 
 import numpy as np
 import pytest
-from codegen_helpers import import_path, write_tree
 
 import symkin
+from codegen_helpers import import_path, write_tree
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
 

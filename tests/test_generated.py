@@ -183,14 +183,14 @@ def test_example_and_makefile_headers_name_source_and_command():
 # ---------------------------------------------------------------- derive options
 
 
-def test_derive_with_a_planned_backend_is_a_clear_error(tmp_path, capsys):
+def test_derive_latex_backend_writes_only_the_document_files(tmp_path, capsys):
     out = tmp_path / "out"
-    assert main(["derive", "scara", "--out", str(out), "--emit", "latex"]) == 2
-    captured = capsys.readouterr()
-    assert captured.err.startswith("symkin: error: --emit latex:")
-    assert "planned" in captured.err
-    assert "Traceback" not in captured.err
-    assert not out.exists()
+    assert main(["derive", "scara", "--out", str(out), "--emit", "latex"]) == 0
+    written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert "latex/scara.tex" in written
+    assert all(path.startswith("latex/") for path in written)
+    document = (out / "latex" / "scara.tex").read_text()
+    assert "\\documentclass" in document and "\\end{document}" in document
 
 
 def test_derive_with_an_unknown_backend_names_the_choices(tmp_path, capsys):
