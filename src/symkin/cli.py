@@ -331,7 +331,10 @@ def eval_text(state: KinematicState) -> str:
 
 def command_list(_: argparse.Namespace) -> None:
     for name in catalogue_names():
-        robot = load_robot(name)
+        with warnings.catch_warnings():
+            # Listing is not the place for data-quality warnings (show and eval give them).
+            warnings.simplefilter("ignore")
+            robot = load_robot(name)
         print(f"{name:<24} {robot.dof} DOF  {robot.convention:<8}  {robot.title}")
 
 
