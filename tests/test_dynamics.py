@@ -19,7 +19,6 @@ import symkin
 from codegen_helpers import import_path, write_tree
 from symkin.derive import Model
 from symkin.derive.dynamics import Dynamics, link_inertial_data
-from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.newton_euler import newton_euler_dynamics
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
@@ -370,21 +369,6 @@ def test_mass_matrix_is_symmetric_positive_definite(large):
         m = evaluate(state, zero, zero)[0]
         np.testing.assert_array_equal(m, m.T)
         assert np.linalg.eigvalsh(m)[0] > 0
-
-
-def test_symkin_lagrange_matches_newton_euler_numerically_on_puma560():
-    model = symkin.derive(load("puma560"))
-    kinematics = model.product_form.kinematics
-    lagrange = lagrange_dynamics(model.robot, kinematics, model.dq, model.ddq, False)
-    ne = newton_euler_dynamics(model.robot, model.kinematics, model.dq, model.ddq, False)
-    exprs = [lagrange.mass_matrix, lagrange.gravity_vector, lagrange.coriolis_vector]
-    by_lagrange = numeric(model, lagrange, exprs, {})
-    exprs = [ne.mass_matrix, ne.gravity_vector, ne.coriolis_vector]
-    by_ne = numeric(model, ne, exprs, {})
-    q, dq, ddq = states(model.robot, 5, seed=9)
-    for state in zip(q, dq, ddq, strict=True):
-        for a, b, what in zip(by_lagrange(*state), by_ne(*state), "MGc", strict=True):
-            close(a, b, 1e-11, what)
 
 
 # ------------------------------------------------------------------------- dM/dt - 2C

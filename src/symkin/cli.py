@@ -383,7 +383,8 @@ def command_derive(args: argparse.Namespace) -> None:
     backends = check_backends(args.emit.split(","))
     robot = load_robot(args.robot)
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
-    files = files_for_robot(robot, backends, args.precision)
+    points = [point_from_text(p, robot) for p in args.point]
+    files = files_for_robot(robot, backends, args.precision, points)
     out = Path(args.out)
     write_files(out, files)
     print(f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {out}/:")
@@ -509,6 +510,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     derive_parser.add_argument(
         "--no-build", action="store_true", help="do not compile the Python extension"
+    )
+    derive_parser.add_argument(
+        "--point",
+        action="append",
+        default=[],
+        metavar="LINK:X,Y,Z",
+        help="also a kernel pointK for a point fixed in link LINK (position, velocity, "
+        "acceleration)",
     )
     derive_parser.set_defaults(run=command_derive)
 

@@ -19,7 +19,7 @@ from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
 from symkin.io import catalogue_names, load_robot
-from symkin.kernel import Kernel, dynamics_kernels, kinematics_kernels
+from symkin.kernel import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
 from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
@@ -46,13 +46,18 @@ def robot_kernels(model: Model) -> tuple[Kernel, ...]:
 
 
 def files_for_robot(
-    robot: Robot, backends: Sequence[str] = BACKENDS, precision: str = "double"
+    robot: Robot,
+    backends: Sequence[str] = BACKENDS,
+    precision: str = "double",
+    points: Sequence[tuple[int, Sequence[float]]] = (),
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot."""
     if precision not in PRECISIONS:
         raise SymkinError(f"--precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
-    kernels = functools.cache(lambda: robot_kernels(derive(robot)))
+    kernels = functools.cache(
+        lambda: robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
+    )
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels()),
         "c": lambda: emit_c(robot, kernels(), precision),

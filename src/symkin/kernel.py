@@ -204,6 +204,38 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
                 [("det", sp.Matrix([[determinant]]), "det J", "scalar")],
             )
         )
+        kernels.append(
+            kernel_from_outputs(
+                "manipulability",
+                "Yoshikawa manipulability of the task Jacobian (|det J| when square)",
+                inputs,
+                [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar")],
+            )
+        )
+    return tuple(kernels)
+
+
+def point_kernels(
+    model: Model, points: Sequence[tuple[int, Sequence[float]]]
+) -> tuple[Kernel, ...]:
+    """``point1, point2, ...``: position, velocity and acceleration of points fixed in links
+    (U-matrix method), each point given as ``(link, (x, y, z))`` in the link's frame."""
+    kernels = []
+    for k, (link, point) in enumerate(points, start=1):
+        motion = model.point_motion(link, [sp.nsimplify(c) for c in point])
+        where = f"({', '.join(f'{c:g}' for c in point)}) in frame {link}"
+        kernels.append(
+            kernel_from_outputs(
+                f"point{k}",
+                f"motion of the point {where}",
+                state_inputs(model, "dq", "ddq"),
+                [
+                    ("p_point", motion.position, "position, base frame", "vector"),
+                    ("v_point", motion.velocity, "velocity, base frame", "vector"),
+                    ("a_point", motion.acceleration, "acceleration, base frame", "vector"),
+                ],
+            )
+        )
     return tuple(kernels)
 
 
@@ -295,15 +327,20 @@ def inertial_symbols(model: Model) -> tuple[sp.Symbol, ...]:
     return tuple(symbols)
 
 
-def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
-    """``q``, the chosen rates (``dq``, ``ddq``), parameters ``p``, inertial symbols ``pi``."""
+def state_inputs(model: Model, *rates: str) -> list[KernelInput]:
+    """``q``, the chosen rates (``dq``, ``ddq``) and the parameters ``p``."""
     descriptions = {
         "dq": (model.dq, "joint velocities (rad/s or m/s)"),
         "ddq": (model.ddq, "joint accelerations (rad/s^2 or m/s^2)"),
     }
     inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
     inputs += [KernelInput(r, *descriptions[r]) for r in rates]
-    inputs += [i for i in standard_inputs(model) if i.name == "p"]
+    return inputs + [i for i in standard_inputs(model) if i.name == "p"]
+
+
+def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
+    """:func:`state_inputs`, then the inertial symbols ``pi`` the robot file leaves out."""
+    inputs = state_inputs(model, *rates)
     inertial = inertial_symbols(model)
     if inertial:
         names = ", ".join(s.name for s in inertial)

@@ -9,6 +9,7 @@
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 2 ops (1 multiplications, 1 trig)
  *   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
  *   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
  *   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
@@ -330,6 +331,22 @@ void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double
     size_t i;
     for (i = 0; i < count; ++i) {
         cylindrical_rtt_wrist_det(q + i * 6, p, det + i * 1);
+    }
+}
+
+void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[1])
+{
+    (void)p;
+    const double q3 = q[2];
+    const double q5 = q[4];
+    mu[0] = fabs(q3*sin(q5));
+}
+
+void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_manipulability(q + i * 6, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 2 ops (1 multiplications, 1 trig)
  *   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
  *   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
  *   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
@@ -85,6 +86,15 @@ void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, cons
 void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (2 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6)
+ */
+void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (522 operations).
  * M[36]: M(q) (6x6)

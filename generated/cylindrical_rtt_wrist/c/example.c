@@ -10,6 +10,7 @@
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 2 ops (1 multiplications, 1 trig)
  *   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
  *   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
  *   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
   det: 3 ops (2 multiplications, 1 trig)
+  manipulability: 2 ops (1 multiplications, 1 trig)
   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
@@ -323,6 +324,26 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (2 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 6)
+    p = symbol_type.sym("p", 2)
+    q3 = q[2]
+    q5 = q[4]
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(q3*casadi.sin(q5))
+    return casadi.Function(
+        "cylindrical_rtt_wrist_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
   det: 3 ops (2 multiplications, 1 trig)
+  manipulability: 2 ops (1 multiplications, 1 trig)
   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
@@ -306,6 +307,23 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = -q3*numpy.sin(q5)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 2 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d6), 2 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q5 = q[..., 4]
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(q3*numpy.sin(q5))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):

@@ -9,6 +9,7 @@
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 2 ops (1 multiplications, 1 trig)
  *   mass_matrix: 522 ops (201 additions, 315 multiplications, 6 trig)
  *   gravity: 109 ops (36 additions, 67 multiplications, 6 trig)
  *   coriolis: 423 ops (170 additions, 244 multiplications, 6 trig, 3 powers)
@@ -202,6 +203,22 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void manipulability_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    cylindrical_rtt_wrist_manipulability_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape manipulability_shapes[] = {
+    { 0, { 0, 0 } },
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+}
+
 static PyMethodDef methods[] = {
     {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
      "fk(q, p=None): forward kinematics; returns T."},
@@ -215,6 +232,8 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z, wx, wy, wz); returns det."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+     "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -10,6 +10,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)

@@ -9,6 +9,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
@@ -195,6 +196,22 @@ void planar_2r_det_batch(size_t count, const double *q, const double *p, double 
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_2r_det(q + i * 2, p, det + i * 1);
+    }
+}
+
+void planar_2r_manipulability(const double q[2], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    mu[0] = fabs(L1*L2*sin(q2));
+}
+
+void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_manipulability(q + i * 2, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
@@ -85,6 +86,15 @@ void planar_2r_fk_jacobian_batch(size_t count, const double *q, const double *p,
 void planar_2r_det(const double q[2], const double *p, double det[1]);
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ */
+void planar_2r_manipulability(const double q[2], const double *p, double mu[1]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (49 operations).
  * M[4]: M(q) (2x2)

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
+  manipulability: 3 ops (2 multiplications, 1 trig)
   mass_matrix: 49 ops (20 additions, 27 multiplications, 2 trig)
   gravity: 0 ops (none)
   coriolis: 48 ops (15 additions, 29 multiplications, 2 trig, 2 powers)
@@ -186,6 +187,24 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = L1*L2*numpy.sin(q2)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 3 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    p: parameters (L1, L2), 2 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(L1*L2*numpy.sin(q2))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):

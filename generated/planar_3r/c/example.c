@@ -10,6 +10,7 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)

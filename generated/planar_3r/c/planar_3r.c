@@ -9,6 +9,7 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
@@ -231,6 +232,22 @@ void planar_3r_det_batch(size_t count, const double *q, const double *p, double 
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_3r_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void planar_3r_manipulability(const double q[3], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    mu[0] = fabs(L1*L2*cos(q2));
+}
+
+void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_manipulability(q + i * 3, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
@@ -85,6 +86,15 @@ void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p,
 void planar_3r_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3)
+ */
+void planar_3r_manipulability(const double q[3], const double *p, double mu[1]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (121 operations).
  * M[9]: M(q) (3x3)

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
+  manipulability: 3 ops (2 multiplications, 1 trig)
   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
   gravity: 0 ops (none)
   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
@@ -232,6 +233,27 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 3)
+    q2 = q[1]
+    L1 = p[0]
+    L2 = p[1]
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(L1*L2*casadi.cos(q2))
+    return casadi.Function(
+        "planar_3r_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 21 ops (6 additions, 9 multiplications, 6 trig)
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
+  manipulability: 3 ops (2 multiplications, 1 trig)
   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
   gravity: 0 ops (none)
   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
@@ -215,6 +216,24 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = -L1*L2*numpy.cos(q2)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 3 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L1, L2, L3), 3 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(L1*L2*numpy.cos(q2))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):

@@ -10,6 +10,7 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+ *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
  *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
  *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)

@@ -9,6 +9,7 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+ *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
  *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
  *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
@@ -396,6 +397,26 @@ void puma560_det_batch(size_t count, const double *q, const double *p, double *d
     size_t i;
     for (i = 0; i < count; ++i) {
         puma560_det(q + i * 6, p, det + i * 1);
+    }
+}
+
+void puma560_manipulability(const double q[6], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q5 = q[4];
+    const double a2 = p[0];
+    const double a3 = p[1];
+    const double d4 = p[3];
+    const double t0 = q2 + q3;
+    mu[0] = fabs(a2*(a3*sin(q3) + d4*cos(q3))*(a2*cos(q2) + a3*cos(t0) - d4*sin(t0))*sin(q5));
+}
+
+void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        puma560_manipulability(q + i * 6, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+ *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
  *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
  *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
@@ -85,6 +86,15 @@ void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, d
 void puma560_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (18 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[4]: parameters (a2, a3, d3, d4)
+ */
+void puma560_manipulability(const double q[6], const double *p, double mu[1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (541 operations).
  * M[36]: M(q) (6x6)

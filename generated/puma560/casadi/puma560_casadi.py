@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+  manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
@@ -391,6 +392,31 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (18 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 6)
+    p = symbol_type.sym("p", 4)
+    q2 = q[1]
+    q3 = q[2]
+    q5 = q[4]
+    a2 = p[0]
+    a3 = p[1]
+    d4 = p[3]
+    t0 = q2 + q3
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(a2*(a3*casadi.sin(q3) + d4*casadi.cos(q3))*(a2*casadi.cos(q2) + a3*casadi.cos(t0) - d4*casadi.sin(t0))*casadi.sin(q5))
+    return casadi.Function(
+        "puma560_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+  manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
@@ -374,6 +375,28 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = a2*(a3*numpy.sin(q3) + d4*numpy.cos(q3))*(a2*numpy.cos(q2) + a3*numpy.cos(t0) - d4*numpy.sin(t0))*numpy.sin(q5)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 18 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (a2, a3, d3, d4), 4 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q5 = q[..., 4]
+    a2 = p[..., 0]
+    a3 = p[..., 1]
+    d4 = p[..., 3]
+    t0 = q2 + q3
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(a2*(a3*numpy.sin(q3) + d4*numpy.cos(q3))*(a2*numpy.cos(q2) + a3*numpy.cos(t0) - d4*numpy.sin(t0))*numpy.sin(q5))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):

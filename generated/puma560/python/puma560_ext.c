@@ -9,6 +9,7 @@
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
+ *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   mass_matrix: 541 ops (205 additions, 326 multiplications, 10 trig)
  *   gravity: 154 ops (51 additions, 93 multiplications, 10 trig)
  *   coriolis: 445 ops (167 additions, 261 multiplications, 10 trig, 7 powers)
@@ -202,6 +203,22 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void manipulability_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    puma560_manipulability_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape manipulability_shapes[] = {
+    { 0, { 0, 0 } },
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+}
+
 static void mass_matrix_adapter(size_t count, const double *q, const double *p,
                         double **outputs)
 {
@@ -247,6 +264,8 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z, wx, wy, wz); returns det."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+     "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL,
      "mass_matrix(q, p=None): mass matrix; returns M."},
     {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL,

@@ -10,6 +10,7 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
  *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
  *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)

@@ -9,6 +9,7 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
  *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
  *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
@@ -222,6 +223,23 @@ void rpr_det_batch(size_t count, const double *q, const double *p, double *det)
     size_t i;
     for (i = 0; i < count; ++i) {
         rpr_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void rpr_manipulability(const double q[3], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double L3 = p[0];
+    const double t0 = L3*sin(q3);
+    mu[0] = fabs(t0*(q2 + t0));
+}
+
+void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_manipulability(q + i * 3, p, mu + i * 1);
     }
 }
 

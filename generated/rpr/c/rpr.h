@@ -9,6 +9,7 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
  *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
  *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
@@ -85,6 +86,15 @@ void rpr_fk_jacobian_batch(size_t count, const double *q, const double *p, doubl
 void rpr_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (4 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[1]: parameters (L3)
+ */
+void rpr_manipulability(const double q[3], const double *p, double mu[1]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (87 operations).
  * M[9]: M(q) (3x3)

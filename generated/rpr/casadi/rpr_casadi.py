@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+  manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
@@ -235,6 +236,28 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (4 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 1)
+    q2 = q[1]
+    q3 = q[2]
+    L3 = p[0]
+    t0 = L3*casadi.sin(q3)
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(t0*(q2 + t0))
+    return casadi.Function(
+        "rpr_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+  manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
@@ -218,6 +219,25 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = t0*(q2 + t0)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 4 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    p: parameters (L3), 1 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    L3 = p[..., 0]
+    t0 = L3*numpy.sin(q3)
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(t0*(q2 + t0))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):

@@ -9,6 +9,7 @@
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
+ *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   mass_matrix: 87 ops (34 additions, 51 multiplications, 2 trig)
  *   gravity: 21 ops (4 additions, 15 multiplications, 2 trig)
  *   coriolis: 143 ops (52 additions, 86 multiplications, 2 trig, 3 powers)
@@ -202,6 +203,22 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void manipulability_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    rpr_manipulability_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape manipulability_shapes[] = {
+    { 0, { 0, 0 } },
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+}
+
 static PyMethodDef methods[] = {
     {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
      "fk(q, p=None): forward kinematics; returns T."},
@@ -215,6 +232,8 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z); returns det."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+     "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {NULL, NULL, 0, NULL},
 };
 

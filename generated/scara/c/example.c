@@ -10,6 +10,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)

@@ -9,6 +9,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
@@ -213,6 +214,22 @@ void scara_det_batch(size_t count, const double *q, const double *p, double *det
     size_t i;
     for (i = 0; i < count; ++i) {
         scara_det(q + i * 3, p, det + i * 1);
+    }
+}
+
+void scara_manipulability(const double q[3], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    mu[0] = fabs(L1*L2*sin(q2));
+}
+
+void scara_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_manipulability(q + i * 3, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
@@ -85,6 +86,15 @@ void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, dou
 void scara_det(const double q[3], const double *p, double det[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2)
+ */
+void scara_manipulability(const double q[3], const double *p, double mu[1]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (73 operations).
  * M[9]: M(q) (3x3)

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
+  manipulability: 3 ops (2 multiplications, 1 trig)
   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
   gravity: 1 ops (1 multiplications)
   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
@@ -212,6 +213,27 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 3)
+    p = symbol_type.sym("p", 2)
+    q2 = q[1]
+    L1 = p[0]
+    L2 = p[1]
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(L1*L2*casadi.sin(q2))
+    return casadi.Function(
+        "scara_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 13 ops (3 additions, 6 multiplications, 4 trig)
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
+ *   manipulability: 3 ops (2 multiplications, 1 trig)
  *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
@@ -202,6 +203,22 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void manipulability_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    scara_manipulability_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape manipulability_shapes[] = {
+    { 0, { 0, 0 } },
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+}
+
 static PyMethodDef methods[] = {
     {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
      "fk(q, p=None): forward kinematics; returns T."},
@@ -215,6 +232,8 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z); returns det."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+     "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {NULL, NULL, 0, NULL},
 };
 

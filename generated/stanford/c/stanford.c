@@ -9,6 +9,7 @@
  *   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+ *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
  *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
  *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
@@ -376,6 +377,23 @@ void stanford_det_batch(size_t count, const double *q, const double *p, double *
     size_t i;
     for (i = 0; i < count; ++i) {
         stanford_det(q + i * 6, p, det + i * 1);
+    }
+}
+
+void stanford_manipulability(const double q[6], const double *p, double mu[1])
+{
+    (void)p;
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q5 = q[4];
+    mu[0] = q3*q3*fabs(sin(q2)*sin(q5));
+}
+
+void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        stanford_manipulability(q + i * 6, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+ *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
  *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
  *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
@@ -85,6 +86,15 @@ void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, 
 void stanford_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (5 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6)
+ */
+void stanford_manipulability(const double q[6], const double *p, double mu[1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (751 operations).
  * M[36]: M(q) (6x6)

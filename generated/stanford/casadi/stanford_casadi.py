@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+  manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
@@ -384,6 +385,27 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (5 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 6)
+    p = symbol_type.sym("p", 3)
+    q2 = q[1]
+    q3 = q[2]
+    q5 = q[4]
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = q3**2*abs(casadi.sin(q2)*casadi.sin(q5))
+    return casadi.Function(
+        "stanford_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

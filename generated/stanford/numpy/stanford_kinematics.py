@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+  manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
@@ -367,6 +368,24 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = q3**2*numpy.sin(q2)*numpy.sin(q5)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 5 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, d2, d6), 3 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q5 = q[..., 4]
+    mu = numpy.zeros(batch + ())
+    mu[...] = q3**2*abs(numpy.sin(q2)*numpy.sin(q5))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):

@@ -9,6 +9,7 @@
  *   position_jacobian: 80 ops (21 additions, 51 multiplications, 8 trig)
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
+ *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
  *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
  *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
@@ -202,6 +203,22 @@ static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return run_kernel(args, nargs, det_adapter, 1, det_shapes);
 }
 
+static void manipulability_adapter(size_t count, const double *q, const double *p,
+                        double **outputs)
+{
+    stanford_manipulability_batch(count, q, p, outputs[0]);
+}
+
+static const output_shape manipulability_shapes[] = {
+    { 0, { 0, 0 } },
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+}
+
 static PyMethodDef methods[] = {
     {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
      "fk(q, p=None): forward kinematics; returns T."},
@@ -215,6 +232,8 @@ static PyMethodDef methods[] = {
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, z, wx, wy, wz); returns det."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+     "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -10,6 +10,7 @@
  *   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
+ *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
  *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
  *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)

@@ -9,6 +9,7 @@
  *   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
+ *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
  *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
  *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
@@ -428,6 +429,27 @@ void ur5_det_batch(size_t count, const double *q, const double *p, double *det)
     size_t i;
     for (i = 0; i < count; ++i) {
         ur5_det(q + i * 6, p, det + i * 1);
+    }
+}
+
+void ur5_manipulability(const double q[6], const double *p, double mu[1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double a2 = p[1];
+    const double a3 = p[2];
+    const double d5 = p[4];
+    const double t0 = q2 + q3;
+    mu[0] = fabs(a2*a3*(a2*cos(q2) + a3*cos(t0) + d5*sin(q4 + t0))*sin(q3)*sin(q5));
+}
+
+void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        ur5_manipulability(q + i * 6, p, mu + i * 1);
     }
 }
 

@@ -9,6 +9,7 @@
  *   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
+ *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
  *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
  *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
@@ -85,6 +86,15 @@ void ur5_fk_jacobian_batch(size_t count, const double *q, const double *p, doubl
 void ur5_det(const double q[6], const double *p, double det[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_det_batch(size_t count, const double *q, const double *p, double *det);
+
+/* Yoshikawa manipulability of the task jacobian (|det j| when square) (16 operations).
+ * mu[1]: sqrt(det(J J^T))
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, a2, a3, d4, d5, d6)
+ */
+void ur5_manipulability(const double q[6], const double *p, double mu[1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
 /* Mass matrix (873 operations).
  * M[36]: M(q) (6x6)

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
   det: 16 ops (4 additions, 7 multiplications, 5 trig)
+  manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
@@ -439,6 +440,32 @@ def det_function(symbol_type=casadi.SX):
         [det],
         ["q", "p"],
         ["det"],
+    )
+
+
+def manipulability_function(symbol_type=casadi.SX):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square) (16 operations) as a casadi.Function.
+
+    Output mu: sqrt(det(J J^T)).
+    """
+    q = symbol_type.sym("q", 6)
+    p = symbol_type.sym("p", 6)
+    q2 = q[1]
+    q3 = q[2]
+    q4 = q[3]
+    q5 = q[4]
+    a2 = p[1]
+    a3 = p[2]
+    d5 = p[4]
+    t0 = q2 + q3
+    mu = symbol_type.zeros(1, 1)
+    mu[0, 0] = abs(a2*a3*(a2*casadi.cos(q2) + a3*casadi.cos(t0) + d5*casadi.sin(q4 + t0))*casadi.sin(q3)*casadi.sin(q5))
+    return casadi.Function(
+        "ur5_manipulability",
+        [q, p],
+        [mu],
+        ["q", "p"],
+        ["mu"],
     )
 
 

@@ -9,6 +9,7 @@ Operation counts after common-subexpression elimination:
   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
   det: 16 ops (4 additions, 7 multiplications, 5 trig)
+  manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
@@ -422,6 +423,29 @@ def det(q, p=DEFAULT_PARAMETERS):
     det = numpy.zeros(batch + ())
     det[...] = a2*a3*(a2*numpy.cos(q2) + a3*numpy.cos(t0) + d5*numpy.sin(q4 + t0))*numpy.sin(q3)*numpy.sin(q5)
     return det
+
+
+def manipulability(q, p=DEFAULT_PARAMETERS):
+    """Yoshikawa manipulability of the task jacobian (|det j| when square): 16 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6), 6 values.
+    Returns mu: sqrt(det(J J^T)), shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d5 = p[..., 4]
+    t0 = q2 + q3
+    mu = numpy.zeros(batch + ())
+    mu[...] = abs(a2*a3*(a2*numpy.cos(q2) + a3*numpy.cos(t0) + d5*numpy.sin(q4 + t0))*numpy.sin(q3)*numpy.sin(q5))
+    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
