@@ -93,6 +93,8 @@ REFERENCE_OUTPUTS = {
     "J": lambda model: model.geometric_jacobian,
     "Jp": lambda model: model.position_jacobian,
     "det": lambda model: model.determinant(),
+    # Backend parity only; test_point_kernels.py checks it against sqrt(det(J J^T)).
+    "mu": lambda model: model.manipulability(),
 }
 
 

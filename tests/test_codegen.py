@@ -127,7 +127,8 @@ def run(command: list[str], cwd: Path) -> subprocess.CompletedProcess:
 def test_kernels_are_the_documented_set(gen):
     names = [k.name for k in gen.kernels]
     assert names[:5] == list(KERNEL_NAMES)
-    assert names[5:] == (["det"] if gen.model.determinant() is not None else [])
+    square = gen.model.determinant() is not None
+    assert names[5:] == (["det", "manipulability"] if square else [])
     for kernel in gen.kernels:
         assert callable(getattr(gen.numpy, kernel.name)), kernel.name
     assert gen.robot.dof == gen.numpy.DOF

@@ -409,9 +409,9 @@ def rx(angle: float) -> np.ndarray:
 def link_toml(mass: float, com, tensor: np.ndarray) -> str:
     keys = {"ixx": (0, 0), "iyy": (1, 1), "izz": (2, 2), "ixy": (0, 1), "ixz": (0, 2)}
     keys["iyz"] = (1, 2)
-    inertia = ", ".join(f"{k} = {tensor[i, j]!r}" for k, (i, j) in keys.items())
+    inertia = ", ".join(f"{k} = {float(tensor[i, j])!r}" for k, (i, j) in keys.items())
     com_text = ", ".join(repr(float(c)) for c in com)
-    return f"[joints.link]\nmass = {mass!r}\ncom = [{com_text}]\ninertia = {{ {inertia} }}\n"
+    return f"[joints.link]\nmass = {float(mass)!r}\ncom = [{com_text}]\ninertia = {{ {inertia} }}\n"
 
 
 def standard_and_modified(seed: int) -> tuple[str, str]:
@@ -432,7 +432,7 @@ def standard_and_modified(seed: int) -> tuple[str, str]:
         com_m = np.array([a, 0, 0]) + rx(alpha) @ com
         tensor_m = rx(alpha) @ tensor @ rx(alpha).T
         modified += f'[[joints]]\ntype = "revolute"\ntheta = {theta!r}\nd = {d!r}\n'
-        modified += f"a = {previous[0]!r}\nalpha = {previous[1]!r}\n"
+        modified += f"a = {float(previous[0])!r}\nalpha = {float(previous[1])!r}\n"
         modified += link_toml(mass, com_m, tensor_m)
         previous = (a, alpha)
     return standard, modified
