@@ -1572,3 +1572,25 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         ["q", "dq", "ddq", "p", "pi"],
         ["tau"],
     )
+
+
+def forward_dynamics_function(symbol_type=casadi.SX):
+    """Forward dynamics as a casadi.Function: ddq from M ddq = tau - c - G - F (casadi.solve)."""
+    q = symbol_type.sym("q", 6)
+    dq = symbol_type.sym("dq", 6)
+    tau = symbol_type.sym("tau", 6)
+    p = symbol_type.sym("p", 2)
+    inputs = [q, dq, tau, p]
+    pi = symbol_type.sym("pi", 60)
+    inputs.append(pi)
+    extra = [pi]
+    mass = mass_matrix_function(symbol_type)(q, p, *extra)
+    bias = inverse_dynamics_function(symbol_type)(q, dq, symbol_type.zeros(6), p, *extra)
+    ddq = casadi.solve(mass, tau - bias)
+    return casadi.Function(
+        "cylindrical_rtt_wrist_forward_dynamics",
+        inputs,
+        [ddq],
+        [name for name in ("q", "dq", "tau", "p", "pi")][: len(inputs)],
+        ["ddq"],
+    )

@@ -3122,3 +3122,45 @@ void panda_inverse_dynamics_batch(size_t count, const double *q, const double *d
         panda_inverse_dynamics(q + i * 7, dq + i * 7, ddq + i * 7, p, pi, tau + i * 7);
     }
 }
+
+/* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
+void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, const double *pi, double ddq[7])
+{
+    double M[49];
+    double bias[7];
+    const double zero[7] = { 0 };
+    int i, j, k;
+
+    panda_mass_matrix(q, p, pi, M);
+    panda_inverse_dynamics(q, dq, zero, p, pi, bias);
+    /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
+    for (j = 0; j < 7; ++j) {
+        double diagonal = M[j * 7 + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= M[j * 7 + k] * M[j * 7 + k];
+        }
+        M[j * 7 + j] = sqrt(diagonal);
+        for (i = j + 1; i < 7; ++i) {
+            double entry = M[i * 7 + j];
+            for (k = 0; k < j; ++k) {
+                entry -= M[i * 7 + k] * M[j * 7 + k];
+            }
+            M[i * 7 + j] = entry / M[j * 7 + j];
+        }
+    }
+    for (i = 0; i < 7; ++i) {
+        double value = tau[i] - bias[i];
+        for (k = 0; k < i; ++k) {
+            value -= M[i * 7 + k] * ddq[k];
+        }
+        ddq[i] = value / M[i * 7 + i];
+    }
+    for (i = 7 - 1; i >= 0; --i) {
+        double value = ddq[i];
+        for (k = i + 1; k < 7; ++k) {
+            value -= M[k * 7 + i] * ddq[k];
+        }
+        ddq[i] = value / M[i * 7 + i];
+    }
+}

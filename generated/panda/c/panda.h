@@ -130,4 +130,8 @@ void panda_inverse_dynamics(const double q[7], const double dq[7], const double 
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
+/* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
+ * Inputs as for inverse_dynamics, with tau[7] in place of ddq. */
+void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, const double *pi, double ddq[7]);
+
 #endif /* PANDA_KINEMATICS_H */

@@ -3159,3 +3159,16 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 5] = t99
     tau[..., 6] = t83
     return tau
+
+
+def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):
+    """Joint accelerations from M(q) ddq = tau - c - G - F (a linear solve, no inverse).
+
+    c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
+    """
+    q = numpy.asarray(q, dtype=float)
+    extra = {"pi": pi}
+    mass = mass_matrix(q, p, **extra)
+    bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
+    rhs = numpy.asarray(tau, dtype=float) - bias
+    return numpy.linalg.solve(mass, rhs[..., None])[..., 0]

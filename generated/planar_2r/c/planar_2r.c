@@ -409,3 +409,45 @@ void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const doubl
         planar_2r_inverse_dynamics(q + i * 2, dq + i * 2, ddq + i * 2, p, pi, tau + i * 2);
     }
 }
+
+/* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
+void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[2])
+{
+    double M[4];
+    double bias[2];
+    const double zero[2] = { 0 };
+    int i, j, k;
+
+    planar_2r_mass_matrix(q, p, pi, M);
+    planar_2r_inverse_dynamics(q, dq, zero, p, pi, bias);
+    /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
+    for (j = 0; j < 2; ++j) {
+        double diagonal = M[j * 2 + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= M[j * 2 + k] * M[j * 2 + k];
+        }
+        M[j * 2 + j] = sqrt(diagonal);
+        for (i = j + 1; i < 2; ++i) {
+            double entry = M[i * 2 + j];
+            for (k = 0; k < j; ++k) {
+                entry -= M[i * 2 + k] * M[j * 2 + k];
+            }
+            M[i * 2 + j] = entry / M[j * 2 + j];
+        }
+    }
+    for (i = 0; i < 2; ++i) {
+        double value = tau[i] - bias[i];
+        for (k = 0; k < i; ++k) {
+            value -= M[i * 2 + k] * ddq[k];
+        }
+        ddq[i] = value / M[i * 2 + i];
+    }
+    for (i = 2 - 1; i >= 0; --i) {
+        double value = ddq[i];
+        for (k = i + 1; k < 2; ++k) {
+            value -= M[k * 2 + i] * ddq[k];
+        }
+        ddq[i] = value / M[i * 2 + i];
+    }
+}

@@ -150,4 +150,8 @@ void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const dou
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
+/* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
+ * Inputs as for inverse_dynamics, with tau[2] in place of ddq. */
+void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[2]);
+
 #endif /* PLANAR_2R_KINEMATICS_H */

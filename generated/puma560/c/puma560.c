@@ -1882,3 +1882,45 @@ void puma560_inverse_dynamics_batch(size_t count, const double *q, const double 
         puma560_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, tau + i * 6);
     }
 }
+
+/* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
+void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[6])
+{
+    double M[36];
+    double bias[6];
+    const double zero[6] = { 0 };
+    int i, j, k;
+
+    puma560_mass_matrix(q, p, M);
+    puma560_inverse_dynamics(q, dq, zero, p, bias);
+    /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
+    for (j = 0; j < 6; ++j) {
+        double diagonal = M[j * 6 + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= M[j * 6 + k] * M[j * 6 + k];
+        }
+        M[j * 6 + j] = sqrt(diagonal);
+        for (i = j + 1; i < 6; ++i) {
+            double entry = M[i * 6 + j];
+            for (k = 0; k < j; ++k) {
+                entry -= M[i * 6 + k] * M[j * 6 + k];
+            }
+            M[i * 6 + j] = entry / M[j * 6 + j];
+        }
+    }
+    for (i = 0; i < 6; ++i) {
+        double value = tau[i] - bias[i];
+        for (k = 0; k < i; ++k) {
+            value -= M[i * 6 + k] * ddq[k];
+        }
+        ddq[i] = value / M[i * 6 + i];
+    }
+    for (i = 6 - 1; i >= 0; --i) {
+        double value = ddq[i];
+        for (k = i + 1; k < 6; ++k) {
+            value -= M[k * 6 + i] * ddq[k];
+        }
+        ddq[i] = value / M[i * 6 + i];
+    }
+}

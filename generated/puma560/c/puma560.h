@@ -145,4 +145,8 @@ void puma560_inverse_dynamics(const double q[6], const double dq[6], const doubl
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau);
 
+/* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
+ * Inputs as for inverse_dynamics, with tau[6] in place of ddq. */
+void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[6]);
+
 #endif /* PUMA560_KINEMATICS_H */

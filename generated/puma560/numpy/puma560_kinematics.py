@@ -1874,3 +1874,16 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 4] = 0.170706291657*ddq5 - t74
     tau[..., 5] = 0.194064505668*ddq6 + t65
     return tau
+
+
+def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
+    """Joint accelerations from M(q) ddq = tau - c - G - F (a linear solve, no inverse).
+
+    c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
+    """
+    q = numpy.asarray(q, dtype=float)
+    extra = {}
+    mass = mass_matrix(q, p, **extra)
+    bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
+    rhs = numpy.asarray(tau, dtype=float) - bias
+    return numpy.linalg.solve(mass, rhs[..., None])[..., 0]

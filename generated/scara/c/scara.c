@@ -491,3 +491,45 @@ void scara_inverse_dynamics_batch(size_t count, const double *q, const double *d
         scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
     }
 }
+
+/* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
+void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3])
+{
+    double M[9];
+    double bias[3];
+    const double zero[3] = { 0 };
+    int i, j, k;
+
+    scara_mass_matrix(q, p, pi, M);
+    scara_inverse_dynamics(q, dq, zero, p, pi, bias);
+    /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
+    for (j = 0; j < 3; ++j) {
+        double diagonal = M[j * 3 + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= M[j * 3 + k] * M[j * 3 + k];
+        }
+        M[j * 3 + j] = sqrt(diagonal);
+        for (i = j + 1; i < 3; ++i) {
+            double entry = M[i * 3 + j];
+            for (k = 0; k < j; ++k) {
+                entry -= M[i * 3 + k] * M[j * 3 + k];
+            }
+            M[i * 3 + j] = entry / M[j * 3 + j];
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        double value = tau[i] - bias[i];
+        for (k = 0; k < i; ++k) {
+            value -= M[i * 3 + k] * ddq[k];
+        }
+        ddq[i] = value / M[i * 3 + i];
+    }
+    for (i = 3 - 1; i >= 0; --i) {
+        double value = ddq[i];
+        for (k = i + 1; k < 3; ++k) {
+            value -= M[k * 3 + i] * ddq[k];
+        }
+        ddq[i] = value / M[i * 3 + i];
+    }
+}

@@ -150,4 +150,8 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
+/* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
+ * Inputs as for inverse_dynamics, with tau[3] in place of ddq. */
+void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3]);
+
 #endif /* SCARA_KINEMATICS_H */

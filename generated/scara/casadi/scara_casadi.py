@@ -513,3 +513,25 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         ["q", "dq", "ddq", "p", "pi"],
         ["tau"],
     )
+
+
+def forward_dynamics_function(symbol_type=casadi.SX):
+    """Forward dynamics as a casadi.Function: ddq from M ddq = tau - c - G - F (casadi.solve)."""
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    tau = symbol_type.sym("tau", 3)
+    p = symbol_type.sym("p", 2)
+    inputs = [q, dq, tau, p]
+    pi = symbol_type.sym("pi", 30)
+    inputs.append(pi)
+    extra = [pi]
+    mass = mass_matrix_function(symbol_type)(q, p, *extra)
+    bias = inverse_dynamics_function(symbol_type)(q, dq, symbol_type.zeros(3), p, *extra)
+    ddq = casadi.solve(mass, tau - bias)
+    return casadi.Function(
+        "scara_forward_dynamics",
+        inputs,
+        [ddq],
+        [name for name in ("q", "dq", "tau", "p", "pi")][: len(inputs)],
+        ["ddq"],
+    )

@@ -150,4 +150,8 @@ void ur5_inverse_dynamics(const double q[6], const double dq[6], const double dd
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
 
+/* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
+ * Inputs as for inverse_dynamics, with tau[6] in place of ddq. */
+void ur5_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[6]);
+
 #endif /* UR5_KINEMATICS_H */

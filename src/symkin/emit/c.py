@@ -6,7 +6,12 @@ from functools import partial
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
-from symkin.emit.render import parameter_context, preamble_lines, render
+from symkin.emit.render import (
+    forward_dynamics_context,
+    parameter_context,
+    preamble_lines,
+    render,
+)
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -36,6 +41,8 @@ def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double")
             c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)
         ],
         "kernels": [kernel_layout(k, partial(c_code, precision=precision)) for k in kernels],
+        "forward": forward_dynamics_context(kernels),
+        "sqrt": "sqrtf" if precision == "float" else "sqrt",
     }
     context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})")
     return {

@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import casadi_code
-from symkin.emit.render import parameter_context, preamble_lines, render
+from symkin.emit.render import (
+    forward_dynamics_context,
+    parameter_context,
+    preamble_lines,
+    render,
+)
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -22,5 +27,6 @@ def emit_casadi(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
         dof=robot.dof,
         **parameter_context(robot, lambda v: repr(float(v)), "float('nan')"),
         kernels=[kernel_layout(k, casadi_code) for k in kernels],
+        forward=forward_dynamics_context(kernels),
     )
     return {f"casadi/{module_name(robot)}.py": text}

@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import numpy_code
-from symkin.emit.render import parameter_context, preamble_lines, render
+from symkin.emit.render import (
+    forward_dynamics_context,
+    parameter_context,
+    preamble_lines,
+    render,
+)
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -21,5 +26,6 @@ def emit_numpy(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
         dof=robot.dof,
         **parameter_context(robot, lambda v: repr(float(v)), "numpy.nan"),
         kernels=[kernel_layout(k, numpy_code) for k in kernels],
+        forward=forward_dynamics_context(kernels),
     )
     return {f"numpy/{module_name(robot)}.py": text}

@@ -43,6 +43,19 @@ def parameter_context(
     }
 
 
+def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, int] | None:
+    """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
+
+    Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels;
+    ``pi`` is the number of inertial symbols they take (0: the file gives all the data).
+    """
+    names = {k.name: k for k in kernels}
+    if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
+        return None
+    inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
+    return {"pi": len(inputs["pi"].symbols) if "pi" in inputs else 0}
+
+
 def counts_text(kernel: Kernel) -> str:
     """``"12 ops (4 additions, 6 multiplications, 2 trig)"``, zero kinds left out."""
     counts = kernel.operation_counts
