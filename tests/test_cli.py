@@ -265,7 +265,9 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
 def run_json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
     code, out, err = run(capsys, *argv, "--json")
     assert code == 0, err
-    assert err == ""
+    # Only one-line warnings may go to stderr (the catalogue PUMA's link-3 inertia, as Corke
+    # published it, breaks the triangle inequality); the JSON stays clean on stdout.
+    assert all(line.startswith("symkin: warning: ") for line in err.splitlines()), err
     return json.loads(out, parse_constant=_no_nan)
 
 

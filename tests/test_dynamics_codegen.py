@@ -221,8 +221,6 @@ def test_generated_inverse_dynamics_is_m_ddq_plus_c_plus_g(gen):
 
 
 def test_dynamics_under_sanitizers(gen, tmp_path):
-    if gen.name not in ("planar_2r", "rpr"):
-        pytest.skip("one sanitizer build per small robot keeps the run short")
     n, name = gen.robot.dof, gen.name
     q, dq, ddq = states(gen, seed=43)
     pi = gen.pi if gen.pi is not None else np.zeros(0)

@@ -7,8 +7,8 @@ The toolbox model has a 0.672 m pedestal (d1) that ours has not: a translation o
 along the vertical axis of joint 1 changes no joint torque, so the torques still agree.
 
 The toolbox is a test dependency (``roboticstoolbox-python==1.5.0``): if it cannot be imported
-these tests FAIL with a message instead of being skipped.  Pinocchio is optional (a benchmark
-peer); its test is skipped when it is not installed.
+these tests FAIL with a message instead of being skipped; so does Pinocchio (``pin``), also a
+test dependency.
 """
 
 from __future__ import annotations
@@ -129,7 +129,7 @@ def pinocchio_model(robot: symkin.Robot):
     """A Pinocchio model built from the DH table: joint i's frame is DH frame i-1 turned by q_i,
     the next joint sits at the fixed part Tz(d) Tx(a) Rx(alpha) of A_i, and link i's inertia is
     given in DH frame i (= that fixed placement).  Rotor inertias are left out."""
-    pin = pytest.importorskip("pinocchio")
+    import pinocchio as pin  # a test dependency (pin): missing it is a failure, not a skip
     model = pin.Model()
     parent = 0
     placement = pin.SE3.Identity()
