@@ -131,7 +131,8 @@ EXPECTED_TASK_ROWS = {
     "puma560": ("x", "y", "z", "wx", "wy", "wz"),
     "stanford": ("x", "y", "z", "wx", "wy", "wz"),
     "ur5": ("x", "y", "z", "wx", "wy", "wz"),
-    "panda": ("x", "y", "z", "wx", "wy", "wz"),
+    # n = 7: all six non-zero rows, in the order x, y, z, wz, wx, wy.
+    "panda": ("x", "y", "z", "wz", "wx", "wy"),
     "hand_standard": ("x", "y", "z", "wz"),
     "hand_modified": ("x", "y", "z", "wz"),
 }
