@@ -22,6 +22,9 @@ import re
 import subprocess
 from pathlib import Path
 
+# SymPy's LaTeX parser needs the ANTLR runtime, a test extra (antlr4-python3-runtime==4.11.*):
+# without it these tests fail at import, they are not skipped.
+import antlr4  # noqa: F401
 import numpy as np
 import pytest
 import sympy as sp
@@ -42,16 +45,6 @@ from symkin.errors import SymkinError
 from symkin.evaluate import numeric_function
 from symkin.io import load_robot
 from symkin.latex_build import compile_pdf, log_problems
-
-try:  # SymPy's LaTeX parser needs the ANTLR runtime (test extra: antlr4-python3-runtime==4.11.*)
-    import antlr4  # noqa: F401
-
-    HAVE_PARSER = True
-except ImportError:
-    HAVE_PARSER = False
-needs_parser = pytest.mark.skipif(
-    not HAVE_PARSER, reason="parse_latex needs antlr4-python3-runtime==4.11.* (the test extra)"
-)
 
 MAX_OVERFULL_HBOXES = 1
 MAX_OVERFULL_PT = 3.0
@@ -305,7 +298,6 @@ def test_log_problems_reads_errors_and_overfull_boxes():
 # ---------------------------------------------------------------- content
 
 
-@needs_parser
 @pytest.mark.parametrize(("robot", "shorthand"), [(r, s) for r in ROBOTS for s in (False, True)])
 def test_formulas_parse_back_to_the_model(built, models, robot, shorthand):
     model = models[robot]
@@ -333,7 +325,6 @@ def test_formulas_parse_back_to_the_model(built, models, robot, shorthand):
     assert printed.is_Mul or robot == "scara"  # the factored form survives printing
 
 
-@needs_parser
 def test_scara_inverse_is_adjugate_over_determinant(built, models):
     model = models["scara"]
     files, _, _ = built("scara", False, "en")
@@ -345,7 +336,6 @@ def test_scara_inverse_is_adjugate_over_determinant(built, models):
     )
 
 
-@needs_parser
 def test_singular_configurations_are_those_of_the_model(built, models):
     model = models["puma560"]
     files, _, _ = built("puma560", False, "en")
