@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import shlex
 import shutil
 import subprocess
 import sysconfig
@@ -27,12 +28,12 @@ def extension_path(source: Path) -> Path:
 
 def build_extension(source: Path, kernels_source: Path) -> Path:
     """Compile ``python/<robot>_ext.c`` with ``c/<robot>.c`` into an importable module."""
-    compiler = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
-    if compiler is None:
-        raise SymkinError("no C compiler found (looked for $CC, cc, gcc); install gcc")
+    compiler = shlex.split(os.environ.get("CC", "")) or [shutil.which("cc") or "gcc"]
+    if shutil.which(compiler[0]) is None:
+        raise SymkinError(f"no C compiler found ({compiler[0]!r}); install gcc or set CC")
     target = extension_path(source)
     command = [
-        compiler,
+        *compiler,
         *OPTIMISATION_FLAGS,
         "-shared",
         "-fPIC",
@@ -44,7 +45,10 @@ def build_extension(source: Path, kernels_source: Path) -> Path:
         str(target),
         "-lm",
     ]
-    completed = subprocess.run(command, capture_output=True, text=True, check=False)
+    try:
+        completed = subprocess.run(command, capture_output=True, text=True, check=False)
+    except OSError as error:
+        raise SymkinError(f"cannot run the C compiler {compiler[0]!r}: {error}") from None
     if completed.returncode != 0:
         first_lines = "\n".join(completed.stderr.splitlines()[:15])
         raise SymkinError(f"compiling {source.name} failed:\n{first_lines}")

@@ -69,7 +69,7 @@ def number_from_text(text: str, what: str) -> float:
 
 def joint_values(text: str, option: str, robot: Robot) -> list[float]:
     """One value per joint from ``"v1,v2,..."``; ``deg`` only for revolute joints."""
-    parts = [p for p in text.split(",")]
+    parts = text.split(",")
     if len(parts) != robot.dof:
         raise SymkinError(
             f"{option}: {robot.name} has {robot.dof} joints, got {len(parts)} value(s) in {text!r}"
@@ -116,7 +116,10 @@ def task_rows_from_text(text: str | None) -> tuple[str, ...] | None:
     """``"x,y,wz"`` as a tuple of row names (validated by the model)."""
     if text is None:
         return None
-    return tuple(part.strip() for part in text.split(",") if part.strip())
+    rows = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not rows:
+        raise SymkinError(f"--task: name at least one row of x, y, z, wx, wy, wz, got {text!r}")
+    return rows
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:
@@ -428,10 +431,9 @@ def command_latex(args: argparse.Namespace) -> None:
         text_width_cm=args.text_width,
     )
     out = Path(args.output or f"{robot.name}.tex")
-    document = files.pop(f"{robot.name}.tex")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(document, encoding="utf-8")
-    write_files(out.parent, files)  # snippets/ and <robot>-macros.tex beside the document
+    write_files(
+        out.parent, {out.name: files.pop(f"{robot.name}.tex"), **files}
+    )  # snippets/ and <robot>-macros.tex beside the document
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")

@@ -8,15 +8,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from types import ModuleType
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.emit.numpy import emit_numpy
 from symkin.errors import SymkinError
-from symkin.kernel import dynamics_kernels, inertial_symbols
+from symkin.kernel import inertial_symbols
 from symkin.spatial import euler_zyx_from_rotation
 
 
@@ -192,8 +192,16 @@ def dynamic_state(
     )
 
 
+@lru_cache(maxsize=8)
 def _dynamics_module(model: Model) -> ModuleType:
-    """The NumPy backend's dynamics functions, rendered and loaded in memory."""
+    """The NumPy backend's dynamics functions, rendered and loaded in memory (once per model).
+
+    Imported here, not at the top: ``import symkin`` should not load the code generators.
+    The generated dynamics are checked against the symbolic model in the test suite.
+    """
+    from symkin.emit.numpy import emit_numpy
+    from symkin.kernel import dynamics_kernels
+
     (source,) = emit_numpy(model.robot, dynamics_kernels(model)).values()
     module = ModuleType(f"{model.robot.name}_dynamics")
     exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code

@@ -128,11 +128,14 @@ def kernel_from_outputs(
     return Kernel(name, description, tuple(inputs), kernel_outputs, tuple(assignments))
 
 
-def standard_inputs(model: Model, *, velocities: bool = False) -> tuple[KernelInput, ...]:
-    """``q`` (and ``dq``), then the robot's parameters ``p`` in file order (maybe none)."""
+def state_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
+    """``q``, the chosen rates (``dq``, ``ddq``), then the parameters ``p`` in file order."""
+    descriptions = {
+        "dq": (model.dq, "joint velocities (rad/s or m/s)"),
+        "ddq": (model.ddq, "joint accelerations (rad/s^2 or m/s^2)"),
+    }
     inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
-    if velocities:
-        inputs.append(KernelInput("dq", model.dq, "joint velocities (rad/s or m/s)"))
+    inputs += [KernelInput(r, *descriptions[r]) for r in rates]
     names = ", ".join(n for n, _ in model.robot.parameters) or "none"
     inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
     return tuple(inputs)
@@ -159,10 +162,10 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
 
     ``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
     ``position_jacobian`` (dp/dq, 3 x n), ``fk_jacobian`` (T and J in one pass, the kernel
-    controllers call) and, when the task Jacobian is square, ``det``.  Each comes from the
-    simplified or the raw product form of the model, whichever is shorter.
+    controllers call) and, when the task Jacobian is square, ``det`` and ``manipulability``.
+    Each comes from the simplified or the raw product form of the model, whichever is shorter.
     """
-    inputs = standard_inputs(model)
+    inputs = state_inputs(model)
     n = model.robot.dof
     forms = (model, model.product_form)
 
@@ -262,7 +265,7 @@ def kernel_from_assignments(
     kept.reverse()
     kept, matrices = _shared_subexpressions(kept, [sp.ImmutableMatrix(m) for _, m, *_ in outputs])
     kept, matrices = _without_aliases(kept, matrices)
-    prefix = _intermediate_prefix([e for _, e in kept] + [s for _, s in kept])
+    prefix = _intermediate_prefix([e for _, e in kept] + [e for m in matrices for e in m])
     renaming = {old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)}
     renamed = tuple((renaming[s], e.xreplace(renaming)) for s, e in kept)
     kernel_outputs = tuple(
@@ -327,20 +330,9 @@ def inertial_symbols(model: Model) -> tuple[sp.Symbol, ...]:
     return tuple(symbols)
 
 
-def state_inputs(model: Model, *rates: str) -> list[KernelInput]:
-    """``q``, the chosen rates (``dq``, ``ddq``) and the parameters ``p``."""
-    descriptions = {
-        "dq": (model.dq, "joint velocities (rad/s or m/s)"),
-        "ddq": (model.ddq, "joint accelerations (rad/s^2 or m/s^2)"),
-    }
-    inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
-    inputs += [KernelInput(r, *descriptions[r]) for r in rates]
-    return inputs + [i for i in standard_inputs(model) if i.name == "p"]
-
-
 def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     """:func:`state_inputs`, then the inertial symbols ``pi`` the robot file leaves out."""
-    inputs = state_inputs(model, *rates)
+    inputs = list(state_inputs(model, *rates))
     inertial = inertial_symbols(model)
     if inertial:
         names = ", ".join(s.name for s in inertial)
