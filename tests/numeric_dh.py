@@ -292,6 +292,9 @@ SAMPLES = 5
 
 # Standard DH: revolute and prismatic joints with constant theta (prismatic), negative a and d,
 # angle expressions, base and tool, and a parameter ("h") that has no value in the file.
+# Base and tool angles are multiples of 30/45/90 deg on purpose: with generic degrees
+# (e.g. rpy = [10, 20, 30]) symkin's expanded expressions grow so large that the tool-frame
+# Jacobian of this 4-DOF arm takes ~10 minutes and cannot be lambdified (see the report).
 HAND_STANDARD = """
 name = "hand_standard"
 convention = "standard"
