@@ -89,8 +89,13 @@ class _CircleVariables:
         _, remainder = sp.reduced(polynomial, ideal, *[v for pair in pairs for v in pair])
         return remainder
 
-    def factor(self, polynomial: sp.Expr) -> sp.Expr:
-        """Exact factorisation; constant factors on the circle folded into the coefficient."""
+    def factor(self, polynomial: sp.Expr, inexact: bool = False) -> sp.Expr:
+        """Exact factorisation; constant factors on the circle folded into the coefficient.
+
+        ``inexact``: the rational coefficients stand for rounded decimals.  Factors such as
+        ``sin(q3)`` still split off exactly; what remains is reduced on the circle, rounding
+        noise dropped, and printed with floating-point coefficients.
+        """
         if polynomial.has(sp.Float):
             # Factoring over floating-point coefficients is not exact; contract instead.
             return contract_trig(polynomial.xreplace(self.back))
@@ -98,10 +103,14 @@ class _CircleVariables:
         result = coefficient
         for factor, multiplicity in factors:
             constant = self.constant_value(factor)
-            if constant is None:
-                result *= contract_trig(factor.xreplace(self.back)) ** multiplicity
-            else:
+            if constant is not None:
                 result *= constant**multiplicity
+                continue
+            if inexact:
+                factor = _chop(sp.nfloat(self.reduce(factor), 15))
+            result *= contract_trig(factor.xreplace(self.back)) ** multiplicity
+        # One conversion at the end: a float coefficient merges into the sum it multiplies.
+        result = sp.nfloat(result, 15) if inexact else result
         return result
 
 
@@ -148,7 +157,4 @@ def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> 
         polynomial_matrix = polynomial_matrix.applyfunc(_rational_coefficients)
     domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
     determinant = domain_matrix.domain.to_sympy(domain_matrix.det())
-    if not inexact:
-        return circle.factor(determinant)
-    # Rounded constants hide the exact factors; reduce on the circle and drop rounding noise.
-    return contract_trig(_chop(sp.nfloat(circle.reduce(determinant), 15)).xreplace(circle.back))
+    return circle.factor(determinant, inexact)
