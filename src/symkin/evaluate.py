@@ -116,7 +116,7 @@ def kinematic_state(
         manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
     states = []
     for link, point in points:
-        motion = model.point_motion(link, [sp.Float(c) for c in point])
+        motion = model.point_motion(link, point)
 
         def value(quantity: str, motion=motion) -> np.ndarray:
             return numeric_function(model, getattr(motion, quantity), overrides)(q, dq, ddq).ravel()

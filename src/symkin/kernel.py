@@ -225,7 +225,7 @@ def point_kernels(
     (U-matrix method), each point given as ``(link, (x, y, z))`` in the link's frame."""
     kernels = []
     for k, (link, point) in enumerate(points, start=1):
-        motion = model.point_motion(link, [sp.nsimplify(c) for c in point])
+        motion = model.point_motion(link, point)
         where = f"({', '.join(f'{c:g}' for c in point)}) in frame {link}"
         kernels.append(
             kernel_from_outputs(

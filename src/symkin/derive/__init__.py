@@ -172,9 +172,15 @@ class Model:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
         return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
 
-    def point_motion(self, link: int, point: Sequence[sp.Expr]) -> PointMotion:
-        """Position, velocity and acceleration of a point fixed in ``link`` (base frame)."""
-        coordinates = tuple(sp.sympify(c) for c in point)
+    def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:
+        """Position, velocity and acceleration of a point fixed in ``link`` (base frame).
+
+        Plain numbers become exact rationals of their decimal text (0.1 -> 1/10), so the
+        reference evaluator and the generated kernels share one expression.
+        """
+        coordinates = tuple(
+            c if isinstance(c, sp.Basic) else sp.nsimplify(c, rational=True) for c in point
+        )
         return PointMotion(self.robot, self.kinematics, link, coordinates, self.dq, self.ddq)
 
 
