@@ -182,7 +182,7 @@ def dynamic_state(
     values = model.robot.parameter_values(overrides)
     p = np.array([values[name] for name, _ in model.robot.parameters])
     pi = np.array([inertial[name] for name in inertial_names])
-    module = _dynamics_module(model)
+    module = generated_numpy_module(model)
     shared = {"p": p, "pi": pi} if inertial_names else {"p": p}
     return DynamicState(
         mass_matrix=module.mass_matrix(q, **shared),
@@ -192,17 +192,21 @@ def dynamic_state(
     )
 
 
-@lru_cache(maxsize=8)
-def _dynamics_module(model: Model) -> ModuleType:
-    """The NumPy backend's dynamics functions, rendered and loaded in memory (once per model).
+@lru_cache(maxsize=16)
+def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
+    """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and loaded in
+    memory, once per model: the fast numeric path for solvers (IK, simulation, trajectories).
 
     Imported here, not at the top: ``import symkin`` should not load the code generators.
-    The generated dynamics are checked against the symbolic model in the test suite.
+    The generated code is checked against the symbolic model in the test suite.
     """
     from symkin.emit.numpy import emit_numpy
-    from symkin.kernel import dynamics_kernels
+    from symkin.kernel import dynamics_kernels, kinematics_kernels
 
-    (source,) = emit_numpy(model.robot, dynamics_kernels(model)).values()
-    module = ModuleType(f"{model.robot.name}_dynamics")
+    kernels = {"kinematics": kinematics_kernels, "dynamics": dynamics_kernels}
+    if kind not in kernels:
+        raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(kernels)}")
+    (source,) = emit_numpy(model.robot, kernels[kind](model)).values()
+    module = ModuleType(f"{model.robot.name}_{kind}")
     exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
     return module

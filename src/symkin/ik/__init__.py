@@ -1,0 +1,1 @@
+"""Inverse kinematics: numeric solvers, the path-following scheme and closed forms."""

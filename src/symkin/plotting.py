@@ -1,0 +1,39 @@
+"""Matplotlib, loaded on demand for the PNG plots (IK solutions, paths, optimal trajectories).
+
+Plots are an extra (``pip install symkin[plot]``): the core never imports matplotlib.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import ModuleType
+
+from symkin.errors import SymkinError
+
+
+def pyplot() -> ModuleType:
+    """``matplotlib.pyplot`` with the file-only Agg backend (no screen needed)."""
+    try:
+        import matplotlib
+    except ImportError as error:
+        raise SymkinError(
+            "plots need matplotlib: pip install 'symkin[plot]' (or pip install matplotlib)"
+        ) from error
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def save_figure(figure: object, path: str | Path) -> Path:
+    """Write ``figure`` as a PNG at ``path`` (parent folders created) and close it."""
+    path = Path(path)
+    plt = pyplot()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        figure.savefig(path, dpi=110, bbox_inches="tight")
+    except OSError as error:
+        raise SymkinError(f"cannot write plot {path}: {error.strerror or error}") from error
+    finally:
+        plt.close(figure)
+    return path
