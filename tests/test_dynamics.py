@@ -361,6 +361,26 @@ def test_newton_euler_matches_independent_numeric_lagrange(large):
         close(c.ravel(), coriolis(state, rate), 1e-6, "c")
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["puma560", "panda"])
+def test_lagrange_equals_newton_euler_numerically(name):
+    """symkin's own Lagrange (energies, Christoffel symbols) against its Newton–Euler."""
+    model = symkin.derive(load(name))
+    values = substitutions(model, seed=5)
+    matrices = ("mass_matrix", "gravity_vector", "coriolis_vector", "coriolis_matrix")
+    lagrange, ne = model.lagrange, model.newton_euler
+    assert lagrange.assignments, "large robots keep Lagrange's shared subexpressions named"
+    by_lagrange = numeric(model, lagrange, [getattr(lagrange, m) for m in matrices], values)
+    by_ne = numeric(model, ne, [getattr(ne, m) for m in matrices], values)
+    q, dq, _ = states(model.robot, 3, seed=13)
+    zero = np.zeros(model.robot.dof)
+    for state, rate in zip(q, dq, strict=True):
+        for what, got, want in zip(
+            matrices, by_lagrange(state, rate, zero), by_ne(state, rate, zero), strict=True
+        ):
+            close(got, want, 1e-9, what)
+
+
 def test_mass_matrix_is_symmetric_positive_definite(large):
     model, _, evaluate = large
     q, _, _ = states(model.robot, 10, seed=8)

@@ -75,30 +75,64 @@ def lagrange_dynamics(
     # SymEngine drops SymPy's assumptions; map the plain names back to our symbols.
     restore = {sp.Symbol(s.name): s for s in free_symbols}
 
-    readable = n <= READABLE_DOF
-
-    def to_sympy(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
-        # Expanding a 6-DOF Coriolis matrix gives ~10^5 terms: only small robots are expanded
-        # and contracted for reading; larger ones keep SymEngine's compact product form.
-        entries = [sp.sympify(se.expand(e) if readable else e).xreplace(restore) for e in matrix]
-        matrix = sp.Matrix(matrix.rows, matrix.cols, entries)
-        if not readable:
-            return sp.ImmutableMatrix(matrix)
-        return sp.ImmutableMatrix(matrix.applyfunc(lambda e: reduce_trig(e, kinematics.q)))
-
     dq_se = se.DenseMatrix([se.sympify(v) for v in dq])
     christoffel = _christoffel(mass, q, list(dq_se))
+    matrices = {
+        "mass_matrix": mass,
+        "coriolis_vector": christoffel * dq_se,
+        "gravity_vector": se.DenseMatrix([potential.diff(qk) for qk in q]),
+    }
+    if coriolis_matrix:
+        matrices["coriolis_matrix"] = christoffel
+    if n <= READABLE_DOF:
+        converted, assignments = _readable(matrices, restore, kinematics.q), ()
+    else:
+        converted, assignments = _shared(matrices, restore)
     return Dynamics(
         method="lagrange",
         q=kinematics.q,
         dq=tuple(dq),
         ddq=tuple(ddq),
-        mass_matrix=to_sympy(mass),
-        coriolis_vector=to_sympy(christoffel * dq_se),
-        gravity_vector=to_sympy(se.DenseMatrix([potential.diff(qk) for qk in q])),
         friction=friction_vector(robot, dq),
-        coriolis_matrix=to_sympy(christoffel) if coriolis_matrix else None,
+        assignments=assignments,
+        **converted,
     )
+
+
+def _readable(
+    matrices: dict[str, se.DenseMatrix], restore: dict, q: Sequence[sp.Symbol]
+) -> dict[str, sp.ImmutableMatrix]:
+    """Expanded and contracted into sums of angles: for reading (small robots only)."""
+
+    def convert(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
+        entries = [reduce_trig(sp.sympify(se.expand(e)).xreplace(restore), q) for e in matrix]
+        return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
+
+    return {name: convert(matrix) for name, matrix in matrices.items()}
+
+
+def _shared(
+    matrices: dict[str, se.DenseMatrix], restore: dict
+) -> tuple[dict[str, sp.ImmutableMatrix], tuple[tuple[sp.Symbol, sp.Expr], ...]]:
+    """Common subexpressions named ``l0, l1, ...`` (SymEngine's CSE), then converted.
+
+    Expanding a 6-DOF Coriolis matrix gives ~10^5 terms, and converting SymEngine's shared
+    trees to SymPy term by term copies every shared subtree: minutes for the Panda.  Naming
+    the shared parts first keeps each conversion small (seconds).
+    """
+    entries = [e for matrix in matrices.values() for e in matrix]
+    found, reduced = se.cse(entries)
+    names = {}
+    assignments = []
+    for k, (symbol, expr) in enumerate(found):
+        names[sp.sympify(symbol)] = name = sp.Symbol(f"lagrange_{k}", real=True)
+        assignments.append((name, sp.sympify(expr).xreplace(restore).xreplace(names)))
+    values = iter(sp.sympify(e).xreplace(restore).xreplace(names) for e in reduced)
+    converted = {
+        key: sp.ImmutableMatrix(m.rows, m.cols, [next(values) for _ in range(m.rows * m.cols)])
+        for key, m in matrices.items()
+    }
+    return converted, tuple(assignments)
 
 
 def _christoffel(mass: se.DenseMatrix, q: list, dq: list) -> se.DenseMatrix:

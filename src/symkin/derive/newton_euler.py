@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import sympy as sp
 
@@ -96,7 +97,9 @@ class _JointGeometry:
     point: sp.Matrix  # j_i, frame i-1
 
 
-def _joint_geometry(robot: Robot, kinematics: Kinematics) -> list[_JointGeometry]:
+@lru_cache(maxsize=16)
+def _joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometry, ...]:
+    """Per-joint geometry, simplified once and shared by every recursion of one robot."""
     geometry = []
     for joint, link in zip(robot.joints, kinematics.link_transforms, strict=True):
         rotation, translation = sp.Matrix(link[:3, :3]), sp.Matrix(link[:3, 3])
@@ -115,7 +118,7 @@ def _joint_geometry(robot: Robot, kinematics: Kinematics) -> list[_JointGeometry
                 point=point,
             )
         )
-    return geometry
+    return tuple(geometry)
 
 
 def _point_acceleration(dv: sp.Matrix, dw: sp.Matrix, w: sp.Matrix, x: sp.Matrix) -> sp.Matrix:
