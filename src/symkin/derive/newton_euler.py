@@ -18,8 +18,12 @@ where ``acc_{i-1}(x) = dv_{i-1} + dw_{i-1} x x + w_{i-1} x (w_{i-1} x x)`` and
 
   F_i = m_i (dv_i + dw_i x r_i + w_i x (w_i x r_i)),   N_i = I_i dw_i + w_i x (I_i w_i)
   f_i = F_i + R_{i+1} f_{i+1}
-  n_i = N_i + r_i x F_i + R_{i+1} n_{i+1} + p_{i+1} x (R_{i+1} f_{i+1})
-  tau_i = s_i . (n_i + e_i x f_i)  (revolute),   s_i . f_i  (prismatic)
+  m_i = N_i + r_i x F_i + e_i x f_i + R_{i+1} m_{i+1} + j_{i+1} x (R_{i+1} f_{i+1})
+  tau_i = s_i . m_i  (revolute),   s_i . f_i  (prismatic)
+
+``m_i`` is the moment about the joint's axis point ``j_i`` (not about origin i): it is what
+``tau`` needs, and carrying it to the parent costs one cross product with the sparse ``j``
+(zero in standard DH) instead of one with ``p``.
 
 ``M`` comes column by column from ``tau(q, 0, e_j)`` without gravity, ``G`` from
 ``tau(q, 0, 0)``, ``c`` from ``tau(q, dq, 0)`` without gravity.  The Coriolis matrix ``C``
@@ -159,7 +163,7 @@ def joint_torques(
         states.append((w, dw, dv))
 
     force = sp.zeros(3, 1)
-    moment = sp.zeros(3, 1)
+    about_joint = sp.zeros(3, 1)
     torques: list[sp.Expr] = [sp.Integer(0)] * robot.dof
     for i in reversed(range(robot.dof)):
         w, dw, dv = states[i]
@@ -171,16 +175,18 @@ def joint_torques(
         if i + 1 < robot.dof:
             child = geometry[i + 1]
             carried_force = child.rotation * force
-            carried_moment = child.rotation * moment + child.translation.cross(carried_force)
+            carried_moment = child.rotation * about_joint + child.point.cross(carried_force)
         else:
             carried_force = carried_moment = sp.zeros(3, 1)
         force = recorder.vector(body_force + carried_force)
-        moment = recorder.vector(body_moment + com.cross(body_force) + carried_moment)
         joint = geometry[i]
-        if joint.revolute:
-            torques[i] = recorder.name(joint.axis.dot(moment + joint.offset.cross(force)))
-        else:
-            torques[i] = recorder.name(joint.axis.dot(force))
+        # The moment about the joint's axis point gives tau and, rotated, the parent's load:
+        # one cross product per link instead of two (p_i x R f = j_i x R f + R (e_i x f)).
+        about_joint = recorder.vector(
+            body_moment + com.cross(body_force) + carried_moment + joint.offset.cross(force)
+        )
+        axis = joint.axis
+        torques[i] = recorder.name(axis.dot(about_joint if joint.revolute else force))
     return torques
 
 
