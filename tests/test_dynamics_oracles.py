@@ -55,11 +55,16 @@ def puma() -> symkin.Robot:
     return load_puma()
 
 
-@pytest.fixture(scope="module")
-def generated(puma, tmp_path_factory) -> ModuleType:
+@pytest.fixture(scope="module", params=["parameters", "numeric-parameters"])
+def generated(request, puma, tmp_path_factory) -> ModuleType:
+    """The generated NumPy dynamics: with the geometry as a parameter vector ``p``, and with
+    the numbers put in (``derive --numeric-parameters``: the recursion runs on base
+    parameters, a different set of link parameters that must give the same torques)."""
+    robot = puma if request.param == "parameters" else puma.with_parameter_values()
     root = tmp_path_factory.mktemp("puma560_oracle")
-    write_tree(root, files_for_robot(puma, ("numpy",)))
-    return import_path("generated_puma560_oracle", Path(root / "numpy" / "puma560_kinematics.py"))
+    write_tree(root, files_for_robot(robot, ("numpy",)))
+    name = f"generated_puma560_oracle_{request.param.replace('-', '_')}"
+    return import_path(name, Path(root / "numpy" / "puma560_kinematics.py"))
 
 
 @pytest.fixture(scope="module")

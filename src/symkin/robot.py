@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, replace
 from typing import Literal
 
 import sympy as sp
@@ -154,6 +154,32 @@ class Robot:
                 f"parameter(s) {', '.join(missing)} have no value; give one with --set NAME=VALUE"
             )
         return {n: float(v) for n, v in values.items()}  # type: ignore[arg-type]
+
+    def with_parameter_values(self, overrides: Mapping[str, float] | None = None) -> Robot:
+        """The same robot with every parameter replaced by its number: a robot without
+        parameters, whose generated code has no ``p`` input and folds the constants
+        (``symkin derive --numeric-parameters``)."""
+        values = {sp.Symbol(n, real=True): v for n, v in self.parameter_values(overrides).items()}
+
+        def numbers(item: object) -> object:
+            if isinstance(item, sp.Basic):
+                return item.xreplace(values)
+            if isinstance(item, tuple):
+                return tuple(numbers(x) for x in item)
+            if isinstance(item, (Joint, Link)):
+                return replace(
+                    item, **{f.name: numbers(getattr(item, f.name)) for f in fields(item)}
+                )
+            return item
+
+        return replace(
+            self,
+            joints=numbers(self.joints),
+            parameters=(),
+            gravity=numbers(self.gravity),
+            base=numbers(self.base),
+            tool=numbers(self.tool),
+        )
 
 
 def joint_symbols(n: int, prefix: str = "q") -> tuple[sp.Symbol, ...]:

@@ -39,6 +39,7 @@ from functools import lru_cache
 
 import sympy as sp
 
+from symkin.derive.base_parameters import BarycentricParameters, base_parameters
 from symkin.derive.dynamics import (
     Dynamics,
     friction_vector,
@@ -46,7 +47,7 @@ from symkin.derive.dynamics import (
     motor_inertia_matrix,
 )
 from symkin.derive.kinematics import Kinematics
-from symkin.robot import Robot
+from symkin.robot import Link, Robot
 from symkin.spatial import rot_x
 
 Z_AXIS = sp.Matrix([0, 0, 1])
@@ -129,6 +130,28 @@ def _point_acceleration(dv: sp.Matrix, dw: sp.Matrix, w: sp.Matrix, x: sp.Matrix
     return dv + dw.cross(x) + w.cross(w.cross(x))
 
 
+def _body_wrench(
+    link: Link, w: sp.Matrix, dw: sp.Matrix, dv: sp.Matrix, recorder: Recorder
+) -> tuple[sp.Matrix, sp.Matrix]:
+    """Force and moment about the frame origin that move the link (COM form):
+    ``F = m (dv + dw x r + w x (w x r))``, ``N = I_c dw + w x (I_c w) + r x F``."""
+    com = sp.Matrix(link.com)
+    inertia = sp.Matrix(link.inertia_matrix)
+    force = recorder.vector(link.mass * _point_acceleration(dv, dw, w, com))
+    return force, inertia * dw + w.cross(inertia * w) + com.cross(force)
+
+
+def _barycentric_wrench(
+    link: BarycentricParameters, w: sp.Matrix, dw: sp.Matrix, dv: sp.Matrix, recorder: Recorder
+) -> tuple[sp.Matrix, sp.Matrix]:
+    """The same with barycentric parameters (Khalil & Dombre, Ch. 9):
+    ``F = m dv + dw x mc + w x (w x mc)``, ``N = I_o dw + w x (I_o w) + mc x dv``."""
+    first = sp.Matrix(link.first_moment)
+    inertia = sp.Matrix(link.inertia)
+    force = recorder.vector(link.mass * dv + dw.cross(first) + w.cross(w.cross(first)))
+    return force, inertia * dw + w.cross(inertia * w) + first.cross(dv)
+
+
 def joint_torques(
     robot: Robot,
     kinematics: Kinematics,
@@ -136,8 +159,13 @@ def joint_torques(
     dq: Sequence[sp.Expr],
     ddq: Sequence[sp.Expr],
     gravity: Sequence[sp.Expr],
+    inertial: Sequence[BarycentricParameters] | None = None,
 ) -> list[sp.Expr]:
-    """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia)."""
+    """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia).
+
+    The links carry the robot file's data (mass, centre of mass, inertia about it) unless
+    ``inertial`` gives each link's barycentric parameters (the base parameters, say).
+    """
     geometry = _joint_geometry(robot, kinematics)
     base_rotation = sp.Matrix(robot.base[:3, :3])
     w = sp.zeros(3, 1)
@@ -167,11 +195,12 @@ def joint_torques(
     torques: list[sp.Expr] = [sp.Integer(0)] * robot.dof
     for i in reversed(range(robot.dof)):
         w, dw, dv = states[i]
-        data = link_inertial_data(robot, i)
-        com = sp.Matrix(data.com)
-        inertia = sp.Matrix(data.inertia_matrix)
-        body_force = recorder.vector(data.mass * _point_acceleration(dv, dw, w, com))
-        body_moment = inertia * dw + w.cross(inertia * w)
+        if inertial is None:
+            body_force, body_moment = _body_wrench(
+                link_inertial_data(robot, i), w, dw, dv, recorder
+            )
+        else:
+            body_force, body_moment = _barycentric_wrench(inertial[i], w, dw, dv, recorder)
         if i + 1 < robot.dof:
             child = geometry[i + 1]
             carried_force = child.rotation * force
@@ -182,9 +211,7 @@ def joint_torques(
         joint = geometry[i]
         # The moment about the joint's axis point gives tau and, rotated, the parent's load:
         # one cross product per link instead of two (p_i x R f = j_i x R f + R (e_i x f)).
-        about_joint = recorder.vector(
-            body_moment + com.cross(body_force) + carried_moment + joint.offset.cross(force)
-        )
+        about_joint = recorder.vector(body_moment + carried_moment + joint.offset.cross(force))
         axis = joint.axis
         torques[i] = recorder.name(axis.dot(about_joint if joint.revolute else force))
     return torques
@@ -202,12 +229,15 @@ def newton_euler_dynamics(
     zeros = [sp.Integer(0)] * n
     no_gravity = [sp.Integer(0)] * 3
     recorder = Recorder("r")
-    gravity = joint_torques(robot, kinematics, recorder, zeros, zeros, robot.gravity)
-    coriolis = joint_torques(robot, kinematics, recorder, dq, zeros, no_gravity)
+    inertial = base_parameters(robot, kinematics)
+    gravity = joint_torques(robot, kinematics, recorder, zeros, zeros, robot.gravity, inertial)
+    coriolis = joint_torques(robot, kinematics, recorder, dq, zeros, no_gravity, inertial)
     columns = []
     for j in range(n):
         unit = [sp.Integer(1 if k == j else 0) for k in range(n)]
-        columns.append(joint_torques(robot, kinematics, recorder, zeros, unit, no_gravity))
+        columns.append(
+            joint_torques(robot, kinematics, recorder, zeros, unit, no_gravity, inertial)
+        )
     mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
     # M is symmetric in exact arithmetic; use its lower triangle for both halves so the
     # generated code computes each entry once and the matrix is symmetric to the last bit.
@@ -271,7 +301,8 @@ def inverse_dynamics_recursion(
     """``tau(q, dq, ddq)`` in one recursion (the cheapest form for code), with friction and
     rotor inertia added after it.  Returns the named intermediates and ``tau``."""
     recorder = Recorder("s")
-    rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity)
+    inertial = base_parameters(robot, kinematics)
+    rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, inertial)
     rotor = motor_inertia_matrix(robot) * sp.Matrix(ddq)
     torque = sp.Matrix(rigid) + rotor + friction_vector(robot, dq)
     return tuple(recorder.assignments), sp.ImmutableMatrix(torque)

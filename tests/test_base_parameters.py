@@ -1,0 +1,128 @@
+"""Base inertial parameters: fewer link parameters, the same joint torques, shorter code.
+
+The torques with base parameters are compared with the recursion on the file's own data (centre
+of mass form, a separate code path) and, for the PUMA 560, with Robotics Toolbox and Pinocchio
+in ``test_dynamics_oracles.py``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symkin
+from symkin.derive import Model
+from symkin.derive.base_parameters import barycentric_from_link, base_parameters
+from symkin.derive.newton_euler import Recorder, joint_torques
+from symkin.errors import RobotWarning
+from symkin.kernel import dynamics_kernels
+from symkin.robot import Link
+
+pytestmark = pytest.mark.slow
+
+
+def puma(numeric: bool) -> symkin.Robot:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RobotWarning)
+        robot = symkin.load_robot("puma560")
+    return robot.with_parameter_values() if numeric else robot
+
+
+def random_link(rng: np.random.Generator) -> Link:
+    """A physical rigid body: positive mass, principal moments meeting the triangle inequality,
+    rotated by a random orthogonal matrix (so every product of inertia is non-zero)."""
+    moments = rng.uniform(0.05, 0.2, 3)
+    moments[2] = rng.uniform(abs(moments[0] - moments[1]) + 0.01, moments[0] + moments[1] - 0.01)
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    tensor = rotation @ np.diag(moments) @ rotation.T
+    return Link(
+        mass=sp.Float(rng.uniform(0.5, 3.0)),
+        com=tuple(sp.Float(c) for c in rng.uniform(-0.2, 0.2, 3)),
+        inertia=tuple(
+            sp.Float(tensor[i, j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+        ),
+    )
+
+
+def with_random_links(name: str, seed: int) -> symkin.Robot:
+    rng = np.random.default_rng(seed)
+    robot = symkin.load_robot(name)
+    joints = tuple(dataclasses.replace(j, link=random_link(rng)) for j in robot.joints)
+    return dataclasses.replace(robot, joints=joints).with_parameter_values()
+
+
+def torque_function(robot: symkin.Robot, grouped: bool):
+    model = Model(robot)
+    recorder = Recorder("x")
+    inertial = base_parameters(robot, model.kinematics) if grouped else None
+    torque = joint_torques(
+        robot, model.kinematics, recorder, model.dq, model.ddq, robot.gravity, inertial
+    )
+    return sp.lambdify(
+        [model.q, model.dq, model.ddq],
+        torque,
+        modules="numpy",
+        cse=lambda e: (recorder.assignments, e),
+    )
+
+
+@pytest.mark.parametrize("name", ["stanford", "cylindrical_rtt_wrist", "ur5"])
+def test_base_parameters_give_the_same_torques(name):
+    # Prismatic joints (Stanford, cylindrical) and three parallel axes (UR5) fold differently.
+    robot = with_random_links(name, seed=len(name))
+    model = Model(robot)
+    grouped = base_parameters(robot, model.kinematics)
+    assert grouped is not None
+    nonzero = sum(
+        1
+        for link in grouped
+        for value in (*link.inertia[:], *link.first_moment[:], link.mass)
+        if value != 0
+    )
+    # Random data fill all ten parameters of each link; some must have been folded away.
+    assert nonzero < 10 * robot.dof
+    with_file_data, with_base = torque_function(robot, False), torque_function(robot, True)
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q, dq, ddq = rng.uniform(-2.0, 2.0, (3, robot.dof))
+        expected = np.array(with_file_data(q, dq, ddq), dtype=float)
+        actual = np.array(with_base(q, dq, ddq), dtype=float)
+        np.testing.assert_allclose(actual, expected, rtol=0, atol=1e-9 * np.max(np.abs(expected)))
+
+
+def test_parallel_axis_theorem_on_a_rod():
+    # A uniform rod of mass m and length l along x, centre at (l/2, 0, 0): about its end the
+    # moment about y and z is m l^2 / 3 (textbook), about x it stays 0; first moment m l / 2.
+    m, length = 2.0, 0.6
+    rod = Link(
+        mass=m, com=(length / 2, 0, 0), inertia=(0, m * length**2 / 12, m * length**2 / 12, 0, 0, 0)
+    )
+    values = barycentric_from_link(rod)
+    assert values["yy"] == pytest.approx(m * length**2 / 3)
+    assert values["zz"] == pytest.approx(m * length**2 / 3)
+    assert values["xx"] == pytest.approx(0.0)
+    assert values["mx"] == pytest.approx(m * length / 2)
+    assert values["m"] == m
+
+
+def test_robots_with_parameters_keep_their_link_data():
+    # Folding depends on the geometry's numbers: with a parameter vector p it must not happen.
+    robot = puma(numeric=False)
+    assert base_parameters(robot, Model(robot).kinematics) is None
+
+
+def test_numeric_puma_inverse_dynamics_is_shorter():
+    counts = {
+        numeric: {
+            k.name: k.operation_counts["total"] for k in dynamics_kernels(Model(puma(numeric)))
+        }
+        for numeric in (False, True)
+    }
+    # The issue's target: under 400 operations with PUMA 560's numeric inertial parameters.
+    assert counts[True]["inverse_dynamics"] < 400
+    for kernel in ("mass_matrix", "gravity", "coriolis", "inverse_dynamics"):
+        assert counts[True][kernel] < counts[False][kernel], kernel
