@@ -76,6 +76,39 @@ class Recorder:
 
     def derivative(self, expr: sp.Expr, variable: sp.Symbol) -> sp.Expr:
         """``d expr / d variable`` through the named intermediates (forward mode)."""
+        return self.name(self._chain(expr, variable))
+
+    def _chain(self, expr: sp.Expr, variable: sp.Symbol) -> sp.Expr:
+        # One walk of the tree with the chain rule; a named symbol contributes its own
+        # (named, cached) derivative.  Sums, products, integer powers, sin and cos cover the
+        # recursions; anything else goes through SymPy's diff.
+        if expr.is_Symbol:
+            if expr == variable:
+                return sp.Integer(1)
+            if expr in self._definitions:
+                return self._derivative_of_symbol(expr, variable)
+            return sp.Integer(0)
+        if expr.is_Number:
+            return sp.Integer(0)
+        if expr.is_Add:
+            return sp.Add(*(self._chain(a, variable) for a in expr.args))
+        if expr.is_Mul:
+            args = expr.args
+            terms = []
+            for k, factor in enumerate(args):
+                inner = self._chain(factor, variable)
+                if inner != 0:
+                    terms.append(sp.Mul(*args[:k], inner, *args[k + 1 :]))
+            return sp.Add(*terms)
+        if expr.is_Pow and expr.exp.is_Number:
+            inner = self._chain(expr.base, variable)
+            return expr.exp * expr.base ** (expr.exp - 1) * inner if inner != 0 else inner
+        if isinstance(expr, (sp.sin, sp.cos)):
+            inner = self._chain(expr.args[0], variable)
+            if inner == 0:
+                return inner
+            outer = sp.cos(expr.args[0]) if isinstance(expr, sp.sin) else -sp.sin(expr.args[0])
+            return outer * inner
         total = sp.diff(expr, variable)
         # Sorted: set order follows string hashes, which change with PYTHONHASHSEED.
         named = expr.free_symbols & self._definitions.keys()
@@ -83,7 +116,7 @@ class Recorder:
             inner = self._derivative_of_symbol(symbol, variable)
             if inner != 0:
                 total += sp.diff(expr, symbol) * inner
-        return self.name(total)
+        return total
 
     def _derivative_of_symbol(self, symbol: sp.Symbol, variable: sp.Symbol) -> sp.Expr:
         key = (symbol, variable)
