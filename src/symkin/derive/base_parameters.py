@@ -35,7 +35,6 @@ from symkin.robot import Link, Robot
 PARAMETER_NAMES = ("zz", "yy", "xx", "yz", "xz", "xy", "m", "mz", "my", "mx")
 SAMPLES = 15
 RANK_TOLERANCE = 1e-8
-SIGNIFICANT_DIGITS = 12
 
 
 @dataclass(frozen=True)
@@ -146,10 +145,10 @@ def base_parameters(
     )
     beta = np.zeros_like(delta)
     beta[kept] = delta[kept] + folding @ delta[dropped]
-    # The least-squares fold leaves noise in the last digits (0.000884319999994): keep twelve
-    # digits after the largest parameter's first one.
-    digits = SIGNIFICANT_DIGITS - 1 - int(np.floor(np.log10(np.max(np.abs(beta)))))
-    beta = np.round(beta, digits)
+    # The least-squares fold leaves noise in the last digits (0.000884319999994): each value
+    # becomes the shortest decimal within 1e-13 of the largest parameter.
+    snap = 1e-13 * np.max(np.abs(beta))
+    beta = np.array([_shortest_decimal(b, snap) for b in beta])
     check = regressor(seed=2)
     error = np.max(np.abs(check @ beta - check @ delta))
     if error > 1e-10 * max(1.0, np.max(np.abs(check @ delta))):
@@ -163,3 +162,11 @@ def base_parameters(
         for row in beta.reshape(n, len(PARAMETER_NAMES))
     ]
     return tuple(BarycentricParameters.from_values(row) for row in rows)
+
+
+def _shortest_decimal(value: float, tolerance: float) -> float:
+    for digits in range(1, 18):
+        rounded = float(f"{value:.{digits}g}")
+        if abs(rounded - value) <= tolerance:
+            return rounded
+    return value
