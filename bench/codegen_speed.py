@@ -936,16 +936,22 @@ def render(
     return "\n".join(lines)
 
 
-def write_docs(table: str, path: Path) -> None:
-    """Put ``table`` between the markers in ``path`` (appending a section when missing)."""
-    block = f"{BEGIN}\n{table}\n{END}"
+def write_docs(
+    table: str,
+    path: Path,
+    markers: tuple[str, str] = (BEGIN, END),
+    heading: str = "Generated-code speed",
+) -> None:
+    """Put ``table`` between the ``markers`` in ``path`` (appending a section when missing)."""
+    begin, end = markers
+    block = f"{begin}\n{table}\n{end}"
     text = path.read_text() if path.exists() else "# Benchmarks\n"
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        _, tail = rest.split(END, 1)
+    if begin in text and end in text:
+        head, rest = text.split(begin, 1)
+        _, tail = rest.split(end, 1)
         text = head + block + tail
     else:
-        text = text.rstrip("\n") + f"\n\n## Generated-code speed\n\n{block}\n"
+        text = text.rstrip("\n") + f"\n\n## {heading}\n\n{block}\n"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text)
 

@@ -230,13 +230,14 @@ class Runs:
         return self.results[-1][key] if self.results else None
 
 
-def run_child(kind: str, name: str, timeout: float) -> dict:
+def run_child(kind: str, name: str, timeout: float, script: Path = Path(__file__)) -> dict:
     """One fresh process; ``{"timeout": s}`` or ``{"error": ...}`` when it does not finish.
 
-    The child applies ``timeout`` to its timed sections itself (imports and checks are not
-    counted); the parent kills it only after :func:`backstop` seconds of wall time.
+    The child is ``script --child KIND NAME TIMEOUT`` (this script's by default).  It applies
+    ``timeout`` to its timed sections itself (imports and checks are not counted); the parent
+    kills it only after :func:`backstop` seconds of wall time.
     """
-    command = [sys.executable, str(Path(__file__).resolve()), "--child", kind, name, f"{timeout}"]
+    command = [sys.executable, str(script.resolve()), "--child", kind, name, f"{timeout}"]
     try:
         done = subprocess.run(
             command,
@@ -255,11 +256,13 @@ def run_child(kind: str, name: str, timeout: float) -> dict:
     return json.loads(lines[-1])
 
 
-def measure(kind: str, name: str, repeat: int, timeout: float) -> Runs:
+def measure(
+    kind: str, name: str, repeat: int, timeout: float, script: Path = Path(__file__)
+) -> Runs:
     """``repeat`` cold runs; stops early after a timeout or error (the next would do the same)."""
     runs = Runs()
     for i in range(repeat):
-        result = run_child(kind, name, timeout)
+        result = run_child(kind, name, timeout, script)
         if "timeout" in result:
             runs.timeout = result["timeout"]
             _progress(

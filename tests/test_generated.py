@@ -205,7 +205,14 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["derive", "scara", "--out", str(out), "--emit", "c", "--precision", "float"]) == 0
     written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
-    assert written == ["c/Makefile", "c/example.c", "c/scara.c", "c/scara.h"]
+    assert written == [
+        "c/Makefile",
+        "c/example.c",
+        "c/scara.c",
+        "c/scara.h",
+        "c/scara_ik.c",
+        "c/scara_ik.h",
+    ]
     source = (out / "c" / "scara.c").read_text(encoding="utf-8")
     header = (out / "c" / "scara.h").read_text(encoding="utf-8")
     assert "void scara_fk(const float q[3], const float *p, float T[16]);" in header
@@ -215,7 +222,7 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
     assert not re.search(r"\bdouble\b", source)
     assert "{ 0.325F, 0.225F }" in header
     stdout = capsys.readouterr().out
-    assert f"wrote 4 files to {out}/" in stdout
+    assert f"wrote 6 files to {out}/" in stdout
 
 
 def test_derive_default_precision_is_double_and_matches_generated(tmp_path):

@@ -6,15 +6,18 @@ The public API::
     model = symkin.derive(robot)               # closed-form kinematics (SymPy)
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+    result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
 """
 
 from symkin.derive import Model, PointMotion, derive
 from symkin.errors import RobotError, SymkinError
 from symkin.evaluate import KinematicState, PointState, kinematic_state, numeric_function
+from symkin.ik import IKResult, pose_from_target, solve_ik
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.robot import Joint, Link, Robot, joint_symbols
 
 __all__ = [
+    "IKResult",
     "Joint",
     "KinematicState",
     "Link",
@@ -30,5 +33,7 @@ __all__ = [
     "kinematic_state",
     "load_robot",
     "numeric_function",
+    "pose_from_target",
     "robot_from_toml",
+    "solve_ik",
 ]

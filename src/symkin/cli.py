@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 import warnings
 from collections.abc import Sequence
@@ -40,13 +41,46 @@ from symkin.generate import (
     generate_catalogue,
     write_files,
 )
+from symkin.ik.numeric import (
+    DEFAULT_RESTARTS,
+    DEFAULT_TOLERANCE,
+    METHODS,
+    IKResult,
+    solve_ik,
+)
+from symkin.ik.path import (
+    CartesianPath,
+    NewtonPath,
+    follow_path,
+    newton_path_table,
+    path_table_json,
+    path_table_text,
+)
+from symkin.ik.plot import plot_path, plot_solutions
+from symkin.ik.solutions import SolutionSet, all_solutions
+from symkin.ik.target import pose_from_target
 from symkin.io import catalogue_names, load_robot
 from symkin.latex_build import compile_pdf
 from symkin.robot import Robot
 
 DEFAULT_ROBOT = "scara"
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
-VALUE_OPTIONS = frozenset({"--q", "--dq", "--ddq", "--set", "--point", "--task"})
+VALUE_OPTIONS = frozenset(
+    {
+        "--q",
+        "--dq",
+        "--ddq",
+        "--set",
+        "--point",
+        "--task",
+        "--target",
+        "--q0",
+        "--path-from",
+        "--to",
+    }
+)
+# Task rows written without commas: "xy", "xyz", "xywz".
+COMPACT_ROWS = re.compile(r"(?:w?[xyz])+")
 
 
 # ---------------------------------------------------------------- value parsing
@@ -113,13 +147,29 @@ def point_from_text(text: str, robot: Robot) -> tuple[int, list[float]]:
 
 
 def task_rows_from_text(text: str | None) -> tuple[str, ...] | None:
-    """``"x,y,wz"`` as a tuple of row names (validated by the model)."""
+    """``"x,y,wz"`` (or ``"xywz"``) as a tuple of row names (validated by the model)."""
     if text is None:
         return None
     rows = tuple(part.strip() for part in text.split(",") if part.strip())
+    if len(rows) == 1 and COMPACT_ROWS.fullmatch(rows[0]):
+        rows = tuple(re.findall(r"w?[xyz]", rows[0]))
     if not rows:
         raise SymkinError(f"--task: name at least one row of x, y, z, wx, wy, wz, got {text!r}")
     return rows
+
+
+def target_from_text(text: str, option: str) -> list[float]:
+    """``x,y``, ``x,y,z`` or ``x,y,z,rx,ry,rz``: metres, then Z-Y-X Euler angles (rad or deg)."""
+    parts = text.split(",")
+    if len(parts) not in (2, 3, 6):
+        raise SymkinError(
+            f"{option}: expected x,y or x,y,z or x,y,z,rx,ry,rz (Z-Y-X Euler angles), "
+            f"got {len(parts)} value(s) in {text!r}"
+        )
+    for part in parts[:3]:
+        if part.strip().endswith("deg"):
+            raise SymkinError(f"{option}: x, y, z are lengths in metres, got {part.strip()!r}")
+    return [number_from_text(part, option) for part in parts]
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:
@@ -385,6 +435,12 @@ def progress(message: str) -> None:
 def command_derive(args: argparse.Namespace) -> None:
     backends = check_backends(args.emit.split(","))
     robot = load_robot(args.robot)
+    if args.numeric_parameters:
+        robot = robot.with_parameter_values(parameter_overrides(args.set))
+    elif args.set:
+        raise SymkinError(
+            "--set puts parameter values into the code: use it with --numeric-parameters"
+        )
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
     files = files_for_robot(robot, backends, args.precision, points)
@@ -437,6 +493,307 @@ def command_latex(args: argparse.Namespace) -> None:
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
+
+
+def ik_problem(
+    values: list[float], task_text: str | None
+) -> tuple[np.ndarray, bool, tuple[str, ...] | None]:
+    """Pose, position-only flag and task rows of a target: ``x,y`` matches the rows x, y only."""
+    pose = pose_from_target([*values, 0.0] if len(values) == 2 else values)
+    task = task_rows_from_text(task_text) or (("x", "y") if len(values) == 2 else None)
+    return pose, len(values) < 6, task
+
+
+def target_text(values: list[float]) -> str:
+    position = ", ".join(f"{name}={v:g}" for name, v in zip("xyz", values, strict=False))
+    if len(values) < 6:
+        return f"{position} m (position only)"
+    angles = ", ".join(
+        f"{name}={math.degrees(v):g}"
+        for name, v in zip(("rx", "ry", "rz"), values[3:], strict=True)
+    )
+    return f"{position} m; {angles} deg (R = Rz(rz) Ry(ry) Rx(rx))"
+
+
+def joint_lines(robot: Robot, q: np.ndarray) -> list[str]:
+    """One line per joint: radians and degrees (revolute) or metres (prismatic)."""
+    lines = []
+    for i, (joint, value) in enumerate(zip(robot.joints, q + 0.0, strict=True), start=1):
+        if joint.type == "revolute":
+            lines.append(f"  q{i} = {value:>11.6f} rad = {math.degrees(value):>11.4f} deg")
+        else:
+            lines.append(f"  q{i} = {value:>11.6f} m")
+    return lines
+
+
+def ik_result_text(robot: Robot, result: IKResult, tolerance: float) -> str:
+    method = {"lm": "Levenberg-Marquardt", "newton": "Newton-Raphson"}[result.method]
+    outcome = "solved" if result.success else "NOT solved, closest pose reached"
+    errors = []
+    if set(result.rows) & {"x", "y", "z"}:
+        errors.append(f"position error {result.position_error:.3g} m")
+    if set(result.rows) & {"wx", "wy", "wz"}:
+        errors.append(f"rotation error {result.rotation_error:.3g} rad")
+    return "\n".join(
+        [
+            f"task rows {', '.join(result.rows)}; {method}, tolerance {tolerance:g}",
+            f"{outcome} after {result.iterations} iterations ({result.restarts} restarts):",
+            *joint_lines(robot, result.q),
+            ", ".join(errors),
+        ]
+    )
+
+
+def ik_result_json(result: IKResult) -> dict:
+    return {
+        "success": result.success,
+        "q": result.q.tolist(),
+        "task_rows": list(result.rows),
+        "method": result.method,
+        "position_error": result.position_error,
+        "rotation_error": result.rotation_error,
+        "residual": result.residual,
+        "iterations": result.iterations,
+        "restarts": result.restarts,
+        "T": result.pose.tolist(),
+    }
+
+
+def branch_text(solution_branch: dict, within_limits: bool) -> str:
+    flags = " ".join(f"{k}={v}" for k, v in solution_branch.items())
+    return flags + ("" if within_limits else " (outside the joint limits)")
+
+
+def solutions_text(robot: Robot, found: SolutionSet) -> str:
+    count = len(found.solutions)
+    lines = [
+        f"{count} solution{'s' if count != 1 else ''} by {found.method} ({found.description})",
+        f"{'#':>4}" + "".join(f"{f'q{i}':>12}" for i in range(1, robot.dof + 1)) + "  branch",
+    ]
+    for k, solution in enumerate(found.solutions, start=1):
+        values = "".join(f"{v + 0.0:>12.6f}" for v in solution.q)
+        flags = branch_text(dict(solution.branch), solution.within_limits)
+        lines.append(f"{k:>4}{values}  {flags}".rstrip())
+    return "\n".join(lines)
+
+
+def path_follow_text(robot: Robot, path: CartesianPath) -> str:
+    """Waypoint, target position, joint values and errors, one line per waypoint."""
+    head = ["x", "y", "z", *(f"q{i}" for i in range(1, robot.dof + 1))]
+    lines = [f"{'i':>4}" + "".join(f"{h:>12}" for h in head) + f"{'pos err':>10}{'rot err':>10}"]
+    for i, (target, result) in enumerate(zip(path.targets, path.results, strict=True)):
+        values = [*target[:3, 3], *result.q]
+        lines.append(
+            f"{i:>4}"
+            + "".join(f"{v + 0.0:>12.6f}" for v in values)
+            + f"{result.position_error:>10.1e}{result.rotation_error:>10.1e}"
+            + ("" if result.success else "  NOT solved")
+        )
+    return "\n".join(lines)
+
+
+def ik_path(model: Model, args: argparse.Namespace, q0: list[float] | None, overrides) -> int:
+    """``--path-from``: the lecture's table (``--table``) or the path follower."""
+    if args.to is None or args.steps is None:
+        raise SymkinError("--path-from needs --to and --steps as well")
+    if args.all:
+        raise SymkinError("--all solves one target; use it with --target, not --path-from")
+    start = target_from_text(args.path_from, "--path-from")
+    end = target_from_text(args.to, "--to")
+    if len(start) != len(end):
+        raise SymkinError(
+            f"--path-from and --to need the same number of values, got {len(start)} and {len(end)}"
+        )
+    robot = model.robot
+    if args.table:
+        return ik_table(model, args, start, end, q0, overrides)
+    start_pose, position_only, task = ik_problem(start, args.task)
+    end_pose = ik_problem(end, args.task)[0]
+    path = follow_path(
+        model,
+        start_pose,
+        end_pose,
+        args.steps,
+        q0,
+        restarts=args.restarts or 0,
+        method=args.method,
+        position_only=position_only,
+        task=task,
+        tolerance=args.tolerance,
+        seed=args.seed,
+        overrides=overrides,
+    )
+    if args.json:
+        waypoints = [
+            {"target": t.tolist(), **ik_result_json(r)}
+            for t, r in zip(path.targets, path.results, strict=True)
+        ]
+        print(
+            json.dumps(
+                {"robot": robot.name, "success": path.success, "waypoints": waypoints}, indent=2
+            )
+        )
+    else:
+        print(
+            f"{robot.name}: straight path in {args.steps} steps, each waypoint solved to "
+            f"{args.tolerance:g} from the previous solution"
+        )
+        print(path_follow_text(robot, path))
+    if args.plot:
+        rows = ("x", "y") if len(start) == 2 else ("x", "y", "z")
+        indices = ["xyz".index(r) for r in rows]
+        plot_path(
+            model,
+            np.array([t[indices, 3] for t in path.targets]),
+            np.array([r.pose[indices, 3] for r in path.results]),
+            np.array([r.q for r in path.results]),
+            args.plot,
+            task=rows,
+            overrides=overrides,
+        )
+        progress(f"wrote {args.plot}")
+    return 0 if path.success else 1
+
+
+def ik_table(
+    model: Model,
+    args: argparse.Namespace,
+    start: list[float],
+    end: list[float],
+    q0: list[float] | None,
+    overrides,
+) -> int:
+    """The lecture's Newton path table."""
+    if q0 is None:
+        raise SymkinError(
+            "--table starts from a known pair: give --q0, the joint values at --path-from"
+        )
+    if len(start) == 6:
+        raise SymkinError(
+            "--table interpolates positions: give --path-from and --to as x,y or x,y,z"
+        )
+    rows = task_rows_from_text(args.task) or ("x", "y", "z")[: len(start)]
+    if len(rows) != len(start):
+        raise SymkinError(
+            f"--task {','.join(rows)}: --path-from and --to need one value per row, "
+            f"got {len(start)}"
+        )
+    path: NewtonPath = newton_path_table(
+        model,
+        start,
+        q0,
+        end,
+        args.steps,
+        task=rows,
+        tolerance=args.tolerance,
+        overrides=overrides,
+    )
+    robot = model.robot
+    if args.json:
+        print(json.dumps({"robot": robot.name, **path_table_json(path)}, indent=2))
+    else:
+        corrections = len(path.rows) - args.steps - 1
+        print(
+            f"{robot.name}: Newton path from ({', '.join(f'{v:g}' for v in start)}) to "
+            f"({', '.join(f'{v:g}' for v in end)}) in {args.steps} steps, then "
+            f"{corrections} Newton correction{'s' if corrections != 1 else ''} at the end point"
+        )
+        print(path_table_text(path, [f"q{i}" for i in range(1, robot.dof + 1)]))
+        if not path.converged:
+            print(f"not converged to tolerance {args.tolerance:g} at the end point")
+    if args.plot:
+        plot_path(
+            model,
+            np.array([r.target for r in path.rows]),
+            np.array([r.real for r in path.rows]),
+            np.array([r.q for r in path.rows]),
+            args.plot,
+            task=path.task,
+            labels=[r.label for r in path.rows],
+            overrides=overrides,
+        )
+        progress(f"wrote {args.plot}")
+    return 0 if path.converged else 1
+
+
+def command_ik(args: argparse.Namespace) -> int:
+    robot = load_robot(args.robot)
+    model = derive(robot)
+    overrides = parameter_overrides(args.set)
+    robot.parameter_values(overrides)  # reject unknown names and missing values first
+    q0 = joint_values(args.q0, "--q0", robot) if args.q0 else None
+    if (args.target is None) == (args.path_from is None):
+        raise SymkinError("give either --target or --path-from (with --to and --steps)")
+    if args.path_from is not None:
+        return ik_path(model, args, q0, overrides)
+    if args.to is not None or args.steps is not None or args.table:
+        raise SymkinError("--to, --steps and --table go with --path-from, not --target")
+    values = target_from_text(args.target, "--target")
+    pose, position_only, task = ik_problem(values, args.task)
+    options = {"position_only": position_only, "task": task, "tolerance": args.tolerance}
+    if args.all:
+        found = all_solutions(model, pose, q0, seed=args.seed, overrides=overrides, **options)
+        if args.json:
+            solutions = [
+                {"q": s.q.tolist(), "branch": dict(s.branch), "within_limits": s.within_limits}
+                for s in found.solutions
+            ]
+            print(
+                json.dumps(
+                    {
+                        "robot": robot.name,
+                        "method": found.method,
+                        "description": found.description,
+                        "complete": found.complete,
+                        "solutions": solutions,
+                    },
+                    indent=2,
+                )
+            )
+        else:
+            print(f"{robot.name}: target {target_text(values)}")
+            print(solutions_text(robot, found))
+        if args.plot and found.solutions:
+            labels = [
+                f"{k}: {branch_text(dict(s.branch), s.within_limits)}".rstrip(": ")
+                for k, s in enumerate(found.solutions, start=1)
+            ]
+            plot_solutions(
+                model,
+                [s.q for s in found.solutions],
+                args.plot,
+                target=pose,
+                labels=labels,
+                overrides=overrides,
+            )
+            progress(f"wrote {args.plot}")
+        return 0 if found.solutions else 1
+    result = solve_ik(
+        model,
+        pose,
+        q0,
+        method=args.method,
+        restarts=DEFAULT_RESTARTS if args.restarts is None else args.restarts,
+        seed=args.seed,
+        overrides=overrides,
+        **options,
+    )
+    if args.json:
+        print(json.dumps({"robot": robot.name, **ik_result_json(result)}, indent=2))
+    else:
+        print(f"{robot.name}: target {target_text(values)}")
+        print(ik_result_text(robot, result, args.tolerance))
+    if args.plot:
+        plot_solutions(
+            model,
+            [result.q],
+            args.plot,
+            target=pose,
+            labels=["solution" if result.success else "closest pose reached"],
+            overrides=overrides,
+        )
+        progress(f"wrote {args.plot}")
+    return 0 if result.success else 1
 
 
 def add_set_option(parser: argparse.ArgumentParser) -> None:
@@ -521,6 +878,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="also a kernel pointK for a point fixed in link LINK (position, velocity, "
         "acceleration)",
     )
+    derive_parser.add_argument(
+        "--numeric-parameters",
+        action="store_true",
+        help="put the parameter values (file values, or --set) into the code: no p input, "
+        "constants folded, and for robots with full inertial data the dynamics run on base "
+        "parameters (fewer operations)",
+    )
+    add_set_option(derive_parser)
     derive_parser.set_defaults(run=command_derive)
 
     latex = commands.add_parser(
@@ -557,6 +922,59 @@ def build_parser() -> argparse.ArgumentParser:
     generate.add_argument("--check", action="store_true", help="compare only; exit 2 on a diff")
     generate.add_argument("--root", default="generated", metavar="DIR", help="default: generated")
     generate.set_defaults(run=command_generate)
+
+    ik = commands.add_parser(
+        "ik",
+        help="inverse kinematics: joint values for a tool pose, or along a straight path",
+        description="Solve for joint values that put the tool at a target (numeric "
+        "Levenberg-Marquardt or Newton; --all: every solution, in closed form where the robot "
+        "has one), or along a straight path (--path-from, --to, --steps; --table prints the "
+        "lecture's Newton path table). A target is x,y,z[,rx,ry,rz]: metres, then Z-Y-X "
+        "Euler angles, R = Rz(rz) Ry(ry) Rx(rx), in rad or with 'deg'; x,y matches only the "
+        "x and y rows. Exit status 1 when the target is not reached.",
+    )
+    ik.add_argument("robot", metavar="ROBOT")
+    ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
+    ik.add_argument(
+        "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
+    )
+    ik.add_argument(
+        "--all",
+        action="store_true",
+        help="every solution: closed form with branch flags, or numeric from many seeds",
+    )
+    ik.add_argument(
+        "--task", metavar="ROWS", help="rows to match, e.g. x,y or xy (default: the robot's)"
+    )
+    ik.add_argument(
+        "--method", choices=METHODS, default="lm", help="lm (default) or newton (Newton-Raphson)"
+    )
+    ik.add_argument(
+        "--tolerance",
+        type=float,
+        default=DEFAULT_TOLERANCE,
+        metavar="TOL",
+        help=f"position error in m and rotation error in rad (default {DEFAULT_TOLERANCE:g})",
+    )
+    ik.add_argument(
+        "--restarts",
+        type=int,
+        metavar="N",
+        help=f"random restarts after a failed attempt (default {DEFAULT_RESTARTS}; along a path 0)",
+    )
+    ik.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the restarts")
+    ik.add_argument("--path-from", metavar="X0", help="start of a straight path (as --target)")
+    ik.add_argument("--to", metavar="X_END", help="end of the path")
+    ik.add_argument("--steps", type=int, metavar="K", help="number of equal steps of the path")
+    ik.add_argument(
+        "--table",
+        action="store_true",
+        help="the lecture's scheme: one Newton step per waypoint from (--path-from, --q0)",
+    )
+    add_set_option(ik)
+    ik.add_argument("--json", action="store_true", help="print a JSON object")
+    ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
+    ik.set_defaults(run=command_ik)
     return parser
 
 
@@ -568,17 +986,18 @@ def show_warning(message: Warning | str, *_: object, **__: object) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
+    status = 0
     try:
         with warnings.catch_warnings():
             warnings.showwarning = show_warning
-            args.run(args)
+            status = args.run(args) or 0  # ik: 1 when the target is not reached
     except SymkinError as error:
         print(f"symkin: error: {error}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # Output piped into `head` and closed early: not an error of ours.
         sys.stderr.close()
-    return 0
+    return status
 
 
 if __name__ == "__main__":

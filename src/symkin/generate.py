@@ -14,6 +14,7 @@ from pathlib import Path
 from symkin.derive import Model, derive
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
+from symkin.emit.ik_c import emit_ik_c
 from symkin.emit.latex import latex_files
 from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
@@ -60,7 +61,10 @@ def files_for_robot(
     )
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels()),
-        "c": lambda: emit_c(robot, kernels(), precision),
+        "c": lambda: {
+            **emit_c(robot, kernels(), precision),
+            **emit_ik_c(robot, kernels(), precision),
+        },
         "python": lambda: {
             **emit_c(robot, kernels(), precision),
             **emit_python_extension(robot, kernels(), precision),

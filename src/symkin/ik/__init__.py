@@ -1,1 +1,34 @@
-"""Inverse kinematics: numeric solvers, the path-following scheme and closed forms."""
+"""Inverse kinematics: numeric solvers, the path-following scheme and closed forms.
+
+* :func:`solve_ik` (``numeric``): Levenberg–Marquardt or Newton–Raphson on the generated
+  forward kinematics and Jacobian, with joint limits, task rows, weights, random restarts and
+  a rest posture for redundant arms;
+* :func:`pose_from_target` (``target``): a 4x4 target from ``x, y, z[, rx, ry, rz]``;
+* :func:`newton_path_table` and :func:`follow_path` (``path``): the lecture's Newton path
+  scheme and a path follower that solves every waypoint;
+* :func:`all_solutions` (``solutions``): every solution, in closed form where the robot has
+  one (``closed_form``), else from many numeric seeds;
+* plots in ``symkin.ik.plot`` (matplotlib).
+
+Conventions and examples: ``docs/ik.md``.
+"""
+
+from symkin.ik.numeric import IKResult, solve_ik, task_errors
+from symkin.ik.path import CartesianPath, NewtonPath, PathRow, follow_path, newton_path_table
+from symkin.ik.solutions import Solution, SolutionSet, all_solutions
+from symkin.ik.target import pose_from_target
+
+__all__ = [
+    "CartesianPath",
+    "IKResult",
+    "NewtonPath",
+    "PathRow",
+    "Solution",
+    "SolutionSet",
+    "all_solutions",
+    "follow_path",
+    "newton_path_table",
+    "pose_from_target",
+    "solve_ik",
+    "task_errors",
+]

@@ -1,0 +1,937 @@
+"""Dynamics of the PUMA 560 and the Panda: symkin's derivation time, the size of its generated
+kernels and the speed of its generated inverse dynamics, against Pinocchio, Robotics Toolbox,
+CasADi and the issue's SymPyBotics figures.
+
+In one run, on the same machine:
+
+* **Derivation time**, each repetition in a fresh Python process (``derivation_time.measure``),
+  CPU seconds of the child:
+
+  - *full dynamics*: ``symkin.derive(robot)`` + ``symkin.kernel.dynamics_kernels(model)``
+    (M, G, c, C, tau), then the NumPy, C and CasADi modules of those kernels (which include
+    forward dynamics) from ``emit_numpy``, ``emit_c``, ``emit_casadi``;
+  - *the tau kernel alone*: the Newton–Euler recursion ``model.inverse_dynamics_recursion`` and
+    its kernel (one CSE);
+  - *Lagrange*: ``symkin.derive(robot).lagrange`` (M, C, c, G), under a CPU-time limit.
+
+  Each for several variants of the catalogue robot: inertial data as numbers (the PUMA's
+  catalogue file carries Corke's) or as symbols (``pi`` inputs of the generated code; the
+  Panda's file has none), and geometry as the file's parameter symbols (``p`` inputs) or
+  substituted by their values (as in the issue's SymPyBotics figures).
+* **Operation counts** of the generated kernels (``Kernel.operation_counts["total"]``, the
+  figures in the generated files' headers), next to the issue's figures for SymPyBotics and
+  Lagrange in SymPy, SymEngine and ``sympy.physics.mechanics``.  SymPyBotics itself is not on
+  PyPI and cannot be installed here; its figures are quoted, not measured.
+* **Inverse dynamics per call in a C loop**: ``bench/dynamics_speed_loop.c`` calls the generated
+  ``<robot>_inverse_dynamics`` over 65,536 precomputed states, and the C that
+  ``casadi.CodeGenerator`` writes for the generated CasADi module's
+  ``inverse_dynamics_function()``; both compiled with ``gcc -O2`` (symkin's extension flags).
+  The Panda's inertial parameters are Robotics Toolbox's (``models.DH.Panda``).
+* **Inverse dynamics per call from Python** (PUMA 560): symkin's C through ctypes, the generated
+  NumPy module, CasADi (``Function`` call and its C through ctypes), Pinocchio ``rnea`` on a
+  model built from the same DH table and inertial data (``tests/test_dynamics_oracles.py``),
+  and Robotics Toolbox ``DH.Puma560().rne`` (its C extension ``frne``); and in batches of
+  10,000 states: symkin's batched C, the NumPy module and Robotics Toolbox.
+
+Before any timing, every implementation's torques are compared with symkin's C at random
+states (the script stops if one differs by more than 1e-9 relative); the largest difference is
+printed with the table.  Python timings reuse ``codegen_speed``'s interleaved, CPU-time
+repeats.  The script prints a Markdown table and writes it into ``docs/benchmarks.md`` between
+``<!-- dynamics:begin -->`` and ``<!-- dynamics:end -->``.  No test passes or fails on it.
+
+Usage::
+
+    .venv/bin/python bench/dynamics_speed.py            # full run, about 7 minutes
+    .venv/bin/python bench/dynamics_speed.py --quick    # fewer repeats, about 3 minutes
+    .venv/bin/python bench/dynamics_speed.py --quick --no-write
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import ctypes
+import dataclasses
+import datetime
+import importlib.util
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from codegen_speed import (
+    FULL,
+    QUICK,
+    CheckError,
+    Contender,
+    Peers,
+    Result,
+    Settings,
+    check_close,
+    compile_c,
+    compiler,
+    compiler_version,
+    load_module,
+    ns_text,
+    ratio_text,
+    result_cells,
+    time_contenders,
+    write_docs,
+)
+from derivation_time import (
+    CLOCK,
+    Runs,
+    _time_limit,
+    _TimeLimit,
+    cpu_model,
+    measure,
+    seconds_text,
+    timing_cell,
+    version,
+)
+from symkin.build import OPTIMISATION_FLAGS
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs" / "benchmarks.md"
+BEGIN = "<!-- dynamics:begin -->"
+END = "<!-- dynamics:end -->"
+HARNESS = Path(__file__).resolve().with_name("dynamics_speed_loop.c")
+ROBOTS = ("puma560", "panda")
+SAMPLES = 65_536  # distinct states the per-call measurements walk through
+BATCH = 10_000  # states in the batch measurements
+CHECK_STATES = 20
+TOLERANCE = 1e-9  # largest difference allowed, relative to the largest torque (at least 1)
+
+# (robot, inertial data, geometry): "numeric" inertia is the catalogue file's (the Panda's file
+# has none); "numeric" geometry substitutes the file's parameter values for its symbols.
+VARIANTS = (
+    ("puma560", "numeric", "symbolic"),
+    ("puma560", "symbolic", "symbolic"),
+    ("puma560", "symbolic", "numeric"),
+    ("puma560", "numeric", "numeric"),
+    ("panda", "symbolic", "symbolic"),
+    ("panda", "symbolic", "numeric"),
+)
+KERNELS = ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics")
+
+# The issue's figures (SymPy 1.14, the same kind of 2-core machine, PUMA 560 with numeric
+# geometry and symbolic inertia); SymPyBotics is not on PyPI, so they are quoted, not measured.
+ISSUE_DERIVATION = (
+    ("SymPyBotics (Newton–Euler + incremental CSE): tau", "0.44 s"),
+    ("SymPyBotics: tau, g, c, C, M, regressor", "15.7 s (the C matrix alone 9.3 s); Panda 22.6 s"),
+    ("plain SymPy Lagrange (M, C, G), no simplification", "27 s"),
+    ("the same algorithm in SymEngine", "0.07 s (Panda 0.24 s)"),
+    ("`sympy.physics.mechanics` Lagrange", "107 s (Panda: did not finish in 600 s)"),
+    ("SymPy Lagrange with `trigsimp`", "did not finish in 600 s"),
+)
+ISSUE_OPERATIONS = (
+    ("SymPyBotics, inverse dynamics (tau)", "962 (Panda 860; M 780 / 1454)"),
+    ("plain SymPy Lagrange, after CSE", "7187"),
+    ("SymEngine Lagrange, after CSE", "6372"),
+    ("`sympy.physics.mechanics` Lagrange, after CSE", "6275"),
+    ("CasADi hand-written RNEA with numeric parameters", "528 instructions"),
+)
+ISSUE_PER_CALL = (
+    "Pinocchio `rnea` from Python 1.5–1.75 µs; CasADi-generated C in a C loop 205 ns "
+    "(via ctypes 1.5 µs); SymPyBotics C 362 ns in a loop; Robotics Toolbox `rne` (C) 19 µs"
+)
+SYMPYBOTICS_OPERATIONS = {"puma560": 962, "panda": 860}
+
+# The issue's targets.
+TARGET_DERIVATION_S = {"puma560": 3.0, "panda": 10.0}
+TARGET_NUMERIC_OPERATIONS = 400
+TARGET_C_NS = 150.0
+
+
+def _progress(text: str) -> None:
+    print(text, file=sys.stderr, flush=True)
+
+
+# --------------------------------------------------------------------------- robots
+
+
+def variant_name(robot: str, inertia: str, geometry: str) -> str:
+    return f"{robot}:{inertia}:{geometry}"
+
+
+def load_catalogue_robot(name: str):
+    """A catalogue robot, without the PUMA's documented triangle-inequality warning."""
+    import symkin
+    from symkin.errors import RobotWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RobotWarning)
+        return symkin.load_robot(name)
+
+
+def robot_variant(name: str, inertia: str, geometry: str):
+    """The catalogue robot with symbolic inertia and/or its parameters substituted."""
+    robot = load_catalogue_robot(name)
+    if inertia == "symbolic":
+        robot = dataclasses.replace(
+            robot, joints=tuple(dataclasses.replace(j, link=None) for j in robot.joints)
+        )
+    elif any(j.link is None for j in robot.joints):
+        raise SystemExit(f"{name}: the catalogue file has no inertial data")
+    return robot.with_parameter_values() if geometry == "numeric" else robot
+
+
+# --------------------------------------------------------------------------- children
+# Each child prints exactly one JSON object on its last line of stdout.
+
+
+def _child_full(robot) -> dict:
+    from symkin import derive
+    from symkin.emit.c import emit_c
+    from symkin.emit.casadi import emit_casadi
+    from symkin.emit.numpy import emit_numpy
+    from symkin.kernel import dynamics_kernels
+
+    start = CLOCK()
+    kernels = dynamics_kernels(derive(robot))
+    derived = CLOCK()
+    emit_numpy(robot, kernels)
+    emit_c(robot, kernels)
+    emit_casadi(robot, kernels)
+    end = CLOCK()
+    return {
+        "seconds": end - start,
+        "derive_s": derived - start,
+        "emit_s": end - derived,
+        "ops": {k.name: k.operation_counts["total"] for k in kernels},
+    }
+
+
+def _child_tau(robot) -> dict:
+    from symkin import derive
+    from symkin.kernel import dynamics_inputs, kernel_from_assignments
+
+    start = CLOCK()
+    model = derive(robot)
+    assignments, tau = model.inverse_dynamics_recursion
+    kernel_from_assignments(
+        "inverse_dynamics",
+        "inverse dynamics",
+        dynamics_inputs(model, "dq", "ddq"),
+        assignments,
+        [("tau", tau, "joint torques", "vector")],
+    )
+    return {"seconds": CLOCK() - start}
+
+
+def _child_lagrange(robot) -> dict:
+    from symkin import derive
+
+    start = CLOCK()
+    derive(robot).lagrange  # noqa: B018 - a cached property: this derives it
+    return {"seconds": CLOCK() - start}
+
+
+CHILDREN = {"full": _child_full, "tau": _child_tau, "lagrange": _child_lagrange}
+
+
+def _child(argv: list[str]) -> None:
+    kind, name, limit = argv[0], argv[1], float(argv[2])
+    robot = robot_variant(*name.split(":"))
+    try:
+        with _time_limit(limit):
+            result = CHILDREN[kind](robot)
+    except _TimeLimit:
+        result = {"timeout": limit}
+    print(json.dumps(result))
+
+
+def derivations(repeat: int, timeout: float) -> dict[tuple[str, str], Runs]:
+    """``{(kind, variant name): runs}`` for every child kind and variant."""
+    script = Path(__file__)
+    return {
+        (kind, variant_name(*variant)): measure(
+            kind, variant_name(*variant), repeat, timeout, script
+        )
+        for variant in VARIANTS
+        for kind in CHILDREN
+    }
+
+
+# --------------------------------------------------------------------------- building
+
+
+@dataclass
+class Built:
+    """One robot's generated code, built: the C loop for symkin and CasADi, shared libraries."""
+
+    robot: object  # symkin.robot.Robot
+    parameters: np.ndarray  # p, file order
+    inertial: np.ndarray | None  # pi, when the robot file has no inertial data
+    numpy_module: object
+    casadi_module: object
+    loop_ours: Path
+    loop_casadi: Path
+    lib_ours: Path
+    lib_casadi: Path
+
+
+def panda_inertial_parameters() -> np.ndarray:
+    """``pi`` (m, c, I per link) of the Panda from Robotics Toolbox's ``models.DH.Panda``.
+
+    The toolbox folds the 0.107 m flange into d7 (its frame 7 sits at the flange) where symkin's
+    panda puts it in the tool: link 7's centre of mass moves by d7 along z7.
+    """
+    import roboticstoolbox as rtb
+
+    panda = rtb.models.DH.Panda()
+    values: list[float] = []
+    for i, link in enumerate(panda.links):
+        com = np.array(link.r, dtype=float)
+        if i == panda.n - 1:
+            com[2] += link.d
+        tensor = np.asarray(link.I, dtype=float)
+        values += [float(link.m), *com, *tensor[[0, 1, 2, 0, 0, 1], [0, 1, 2, 1, 2, 2]]]
+    return np.array(values)
+
+
+# Inertial parameters ``pi`` for the catalogue robots whose files have none.
+INERTIAL_PARAMETERS = {"panda": panda_inertial_parameters}
+
+
+def build(directory: Path, name: str, cc: str, flags: tuple[str, ...]) -> Built:
+    import casadi
+
+    from symkin.generate import files_for_robot, write_files
+
+    robot = load_catalogue_robot(name)
+    write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi")))
+    numpy_module = load_module(directory / "numpy" / f"{name}_kinematics.py")
+    casadi_module = load_module(directory / "casadi" / f"{name}_casadi.py")
+    inertial = INERTIAL_PARAMETERS[name]() if name in INERTIAL_PARAMETERS else None
+    if inertial is None and any(j.link is None for j in robot.joints):
+        raise SystemExit(f"{name}: no inertial parameters to time it with")
+
+    casadi_dir = directory / "casadi_c"
+    casadi_dir.mkdir()
+    generator = casadi.CodeGenerator(f"casadi_{name}.c", {"with_header": True})
+    generator.add(casadi_module.inverse_dynamics_function())
+    generator.generate(f"{casadi_dir}/")
+
+    c_dir = directory / "c"
+    n_p, n_pi = len(robot.parameters), 0 if inertial is None else len(inertial)
+    defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}", f"-DN_PI={n_pi}")
+    loop_ours = compile_c(
+        cc,
+        flags,
+        [HARNESS, c_dir / f"{name}.c"],
+        directory / "loop_symkin",
+        f"-I{c_dir}",
+        f'-DHEADER="{name}.h"',
+        *defines,
+    )
+    loop_casadi = compile_c(
+        cc,
+        flags,
+        [HARNESS, casadi_dir / f"casadi_{name}.c"],
+        directory / "loop_casadi",
+        f"-I{casadi_dir}",
+        f'-DHEADER="casadi_{name}.h"',
+        "-DBENCH_CASADI",
+        *defines,
+    )
+    shared = ("-shared", "-fPIC")
+    lib_ours = compile_c(cc, flags, [c_dir / f"{name}.c"], directory / "libsymkin.so", *shared)
+    lib_casadi = compile_c(
+        cc, flags, [casadi_dir / f"casadi_{name}.c"], directory / "libcasadi.so", *shared
+    )
+    return Built(
+        robot=robot,
+        parameters=np.array(list(robot.parameter_values().values()), dtype=float),
+        inertial=inertial,
+        numpy_module=numpy_module,
+        casadi_module=casadi_module,
+        loop_ours=loop_ours,
+        loop_casadi=loop_casadi,
+        lib_ours=lib_ours,
+        lib_casadi=lib_casadi,
+    )
+
+
+# --------------------------------------------------------------------------- C loop
+
+
+def c_loop(builds: dict[str, Built], settings: Settings) -> dict[tuple[str, str], Result]:
+    """ns per inverse-dynamics call in a C loop, ``{(robot, "symkin" | "casadi"): result}``."""
+    results = {
+        (name, impl): Result(f"{impl} {name}", ours=impl == "symkin")
+        for name in builds
+        for impl in ("symkin", "casadi")
+    }
+    checksums: dict[tuple[str, str], float] = {}
+    for round_ in range(settings.c_rounds):
+        for name, b in builds.items():
+            values = [*b.parameters, *(() if b.inertial is None else b.inertial)]
+            arguments = [str(settings.c_calls), str(settings.c_repeats), *map(repr, values)]
+            for impl, executable in (("symkin", b.loop_ours), ("casadi", b.loop_casadi)):
+                done = subprocess.run(
+                    [str(executable), *arguments], capture_output=True, text=True, check=True
+                )
+                for line in done.stdout.splitlines():
+                    key, value = line.split()
+                    if key == "ns_per_call":
+                        results[name, impl].values.append(float(value))
+                    else:
+                        checksums[name, impl] = float(value)
+        _progress(
+            f"C loop round {round_ + 1}/{settings.c_rounds}: "
+            + ", ".join(f"{r.label} {r.values[-1]:.1f} ns" for r in results.values())
+        )
+    for name in builds:
+        ours, theirs = checksums[name, "symkin"], checksums[name, "casadi"]
+        if not abs(ours - theirs) <= 1e-9 * max(1.0, abs(ours)):
+            raise CheckError(f"C loop {name}: checksums differ, symkin {ours!r}, CasADi {theirs!r}")
+    return results
+
+
+# --------------------------------------------------------------------------- checks and peers
+
+
+def random_states(rng: np.random.Generator, count: int, dof: int) -> np.ndarray:
+    """``(count, 3, dof)``: q in [-pi, pi), dq in [-2, 2), ddq in [-5, 5), like the C harness."""
+    scale = np.array([np.pi, 2.0, 5.0])[:, None]
+    return rng.uniform(-1.0, 1.0, (count, 3, dof)) * scale
+
+
+@dataclass
+class Checked:
+    """Largest torque difference to symkin's C of every implementation, and notes."""
+
+    differences: dict[str, float] = dataclasses.field(default_factory=dict)
+    notes: list[str] = dataclasses.field(default_factory=list)
+
+    def compare(self, what: str, actual, expected) -> None:
+        scale = max(1.0, float(np.abs(expected).max()))
+        worst = check_close(what, actual, expected, TOLERANCE * scale)
+        self.differences[what] = max(worst, self.differences.get(what, 0.0))
+
+
+def symkin_c(b: Built):
+    """symkin's ``<robot>_inverse_dynamics`` and its ``_batch`` twin through ctypes."""
+    lib = ctypes.CDLL(str(b.lib_ours))
+    name = b.robot.name
+    arrays = 4 if b.inertial is None else 5
+    single = lib[f"{name}_inverse_dynamics"]
+    single.argtypes = [ctypes.c_void_p] * (arrays + 1)
+    single.restype = None
+    batch = lib[f"{name}_inverse_dynamics_batch"]
+    batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * (arrays + 1)
+    batch.restype = None
+    return single, batch
+
+
+def check_panda(b: Built, rng: np.random.Generator, checked: Checked) -> None:
+    """The Panda's generated code against Robotics Toolbox's ``rne`` with the same data."""
+    single, _ = symkin_c(b)
+    P, PI = b.parameters, b.inertial
+    assert PI is not None
+    import roboticstoolbox as rtb
+
+    panda = rtb.models.DH.Panda().nofriction(coulomb=True, viscous=True)
+    for q, dq, ddq in random_states(rng, CHECK_STATES, b.robot.dof):
+        tau = np.empty(b.robot.dof)
+        pointers = (q.ctypes.data, dq.ctypes.data, ddq.ctypes.data, P.ctypes.data)
+        single(*pointers, PI.ctypes.data, tau.ctypes.data)
+        numpy_tau = b.numpy_module.inverse_dynamics(q, dq, ddq, P, PI)
+        checked.compare("panda: symkin NumPy module", numpy_tau, tau)
+        checked.compare("panda: Robotics Toolbox `DH.Panda().rne`", panda.rne(q, dq, ddq), tau)
+
+
+@contextlib.contextmanager
+def python_fallback_fails(robot):
+    """Robotics Toolbox's ``rne`` falls back to ``rne_python`` silently: make that an error."""
+
+    def refuse(*args, **kwargs):
+        raise CheckError("Robotics Toolbox `rne` fell back to its Python implementation")
+
+    robot.rne_python = refuse
+    try:
+        yield
+    finally:
+        del robot.rne_python
+
+
+def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
+    """The namespace the PUMA's Python-side statements use, every peer checked first."""
+    import pinocchio as pin
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_dynamics_oracles import pinocchio_model
+
+    dof = b.robot.dof
+    single, batch = symkin_c(b)
+    P = b.parameters
+    ns: dict = {"np": np, "empty": np.empty, "np_dyn": b.numpy_module, "P": P}
+    tau_buffer = np.empty(dof)
+    ns.update(c_id=single, c_id_batch=batch, P_ptr=P.ctypes.data)
+    ns.update(tau_buffer=tau_buffer, out_ptr=tau_buffer.ctypes.data)
+    peers = Peers(ns)
+
+    def ours(q, dq, ddq) -> np.ndarray:
+        tau = np.empty(dof)
+        single(q.ctypes.data, dq.ctypes.data, ddq.ctypes.data, P.ctypes.data, tau.ctypes.data)
+        return tau
+
+    # CasADi: the generated module's Function, and its generated C through ctypes.
+    f_id = b.casadi_module.inverse_dynamics_function()
+    lib_c = ctypes.CDLL(str(b.lib_casadi))
+    cas_id = lib_c[f"{b.robot.name}_inverse_dynamics"]
+    cas_id.argtypes = [
+        ctypes.POINTER(ctypes.c_void_p),
+        ctypes.POINTER(ctypes.c_void_p),
+        ctypes.c_void_p,
+        ctypes.c_void_p,
+        ctypes.c_int,
+    ]
+    cas_id.restype = ctypes.c_int
+    sizes = [ctypes.c_longlong() for _ in range(4)]
+    lib_c[f"{b.robot.name}_inverse_dynamics_work"](*(ctypes.byref(s) for s in sizes))
+    if sizes[2].value or sizes[3].value:  # iw, w: none needed for this SX function
+        raise CheckError(f"CasADi inverse dynamics needs work arrays {[s.value for s in sizes]}")
+    ns.update(
+        casadi_id=f_id,
+        cas_id=cas_id,
+        cas_arg=(ctypes.c_void_p * 4)(None, None, None, P.ctypes.data),
+        cas_res=(ctypes.c_void_p * 1)(),
+    )
+
+    # Pinocchio on the model the dynamics tests use, with the rotor inertias as armature.
+    pin_model = pinocchio_model(b.robot)[1]
+    pin_model.armature = np.array([float(j.link.motor_inertia) for j in b.robot.joints])
+    ns.update(pin=pin, model=pin_model, data=pin_model.createData())
+
+    # Robotics Toolbox: Corke's PUMA with friction off (the catalogue file has none).
+    import roboticstoolbox as rtb
+
+    puma = rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
+    ns["puma"] = puma
+
+    numpy_id, rnea = b.numpy_module.inverse_dynamics, pin.rnea
+    states = random_states(rng, CHECK_STATES, dof)
+    for q, dq, ddq in states:
+        tau = ours(q, dq, ddq)
+        checked.compare("puma560: symkin NumPy module", numpy_id(q, dq, ddq), tau)
+        checked.compare("puma560: CasADi `Function`", f_id(q, dq, ddq, P).full().ravel(), tau)
+        out = np.empty(dof)
+        ns["cas_arg"][0:3] = [q.ctypes.data, dq.ctypes.data, ddq.ctypes.data]
+        ns["cas_res"][0] = out.ctypes.data
+        cas_id(ns["cas_arg"], ns["cas_res"], None, None, 0)
+        checked.compare("puma560: CasADi-generated C", out, tau)
+        checked.compare("puma560: Pinocchio `rnea`", rnea(pin_model, ns["data"], q, dq, ddq), tau)
+        with python_fallback_fails(puma):
+            checked.compare("puma560: Robotics Toolbox `rne`", puma.rne(q, dq, ddq), tau)
+    Q, DQ, DDQ = (np.ascontiguousarray(states[:, k]) for k in range(3))
+    expected = np.array([ours(*s) for s in states])
+    out = np.empty((CHECK_STATES, dof))
+    pointers = (Q.ctypes.data, DQ.ctypes.data, DDQ.ctypes.data, P.ctypes.data, out.ctypes.data)
+    batch(CHECK_STATES, *pointers)
+    checked.compare("puma560: symkin batched C", out, expected)
+    checked.compare("puma560: symkin NumPy module (batch)", numpy_id(Q, DQ, DDQ), expected)
+    with python_fallback_fails(puma):
+        checked.compare("puma560: Robotics Toolbox `rne` (batch)", puma.rne(Q, DQ, DDQ), expected)
+    checked.notes.append(
+        "Robotics Toolbox's `rne` ran its C extension (`frne`) in every check: its fallback to "
+        "`rne_python` was made to fail. Pinocchio's model is the one of "
+        "`tests/test_dynamics_oracles.py`, with the rotor inertias as `armature`."
+    )
+    return peers
+
+
+# --------------------------------------------------------------------------- Python timing
+
+
+# Every statement's loop variable q holds one state (q, dq, ddq) and the addresses of its
+# three arrays.
+UNPACK = "x, v, a, ptr = q; "
+
+
+def with_addresses(arrays: tuple[np.ndarray, ...]) -> tuple:
+    """``(*arrays, addresses)``: a state as the timed statements unpack it."""
+    arrays = tuple(np.ascontiguousarray(a) for a in arrays)
+    return (*arrays, tuple(a.ctypes.data for a in arrays))
+
+
+def per_call_contenders() -> tuple[list[Contender], Contender]:
+    rows = [
+        Contender(
+            Result("ctypes on symkin's C (`puma560_inverse_dynamics`, fresh output)", ours=True),
+            UNPACK + "tau = empty(6); "
+            "c_id(x.ctypes.data, v.ctypes.data, a.ctypes.data, P_ptr, tau.ctypes.data)",
+        ),
+        Contender(
+            Result("the same with the addresses of the arrays taken beforehand"),
+            UNPACK + "c_id(*ptr, P_ptr, out_ptr)",
+        ),
+        Contender(
+            Result("symkin NumPy module `inverse_dynamics(q, dq, ddq)`"),
+            UNPACK + "np_dyn.inverse_dynamics(x, v, a)",
+        ),
+        Contender(
+            Result("ctypes on CasADi-generated C (fresh output)"),
+            UNPACK + "tau = empty(6); cas_arg[0] = x.ctypes.data; cas_arg[1] = v.ctypes.data; "
+            "cas_arg[2] = a.ctypes.data; cas_res[0] = tau.ctypes.data; "
+            "cas_id(cas_arg, cas_res, None, None, 0)",
+        ),
+        Contender(
+            Result("CasADi `Function` call `f(q, dq, ddq, p).full()`"),
+            UNPACK + "casadi_id(x, v, a, P).full()",
+        ),
+        Contender(Result("Pinocchio `rnea`"), UNPACK + "pin.rnea(model, data, x, v, a)"),
+        Contender(
+            Result("Robotics Toolbox `DH.Puma560().rne(q, qd, qdd)` (C extension)"),
+            UNPACK + "puma.rne(x, v, a)",
+        ),
+    ]
+    empty = Contender(Result("empty loop iteration"), UNPACK.rstrip("; "))
+    return rows, empty
+
+
+def batch_contenders() -> list[Contender]:
+    return [
+        Contender(
+            Result("symkin batched C via ctypes (`puma560_inverse_dynamics_batch`)", ours=True),
+            UNPACK + f"tau = empty(({BATCH}, 6)); c_id_batch({BATCH}, x.ctypes.data, "
+            "v.ctypes.data, a.ctypes.data, P_ptr, tau.ctypes.data)",
+        ),
+        Contender(
+            Result("symkin NumPy module (broadcasts)"), UNPACK + "np_dyn.inverse_dynamics(x, v, a)"
+        ),
+        Contender(
+            Result("Robotics Toolbox `rne` on the whole trajectory (one C call)"),
+            UNPACK + "puma.rne(x, v, a)",
+        ),
+    ]
+
+
+# --------------------------------------------------------------------------- table
+
+
+def ops_cell(runs: Runs, kernel: str) -> str:
+    ops = runs.last("ops")
+    return "—" if ops is None else str(ops[kernel])
+
+
+def derivation_tables(runs: dict[tuple[str, str], Runs], repeat: int) -> list[str]:
+    lines = [
+        "### Derivation time",
+        "",
+        f"CPU seconds, median (min–max) of {repeat} run{'s' if repeat > 1 else ''}, each in a "
+        "fresh process. *Full dynamics* is `derive` + `dynamics_kernels` (M, G, c, C, tau) "
+        "and then the NumPy, C and CasADi modules (with forward dynamics); *tau alone* is the "
+        "Newton–Euler recursion and its kernel; *Lagrange* is `derive(robot).lagrange` "
+        "(M, C, c, G, no code).",
+        "",
+        "| robot | inertia | geometry | full dynamics [s] | of which derivation + kernels [s] "
+        "| of which emitting [s] | tau alone [s] | Lagrange [s] |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    for robot, inertia, geometry in VARIANTS:
+        name = variant_name(robot, inertia, geometry)
+        full = runs["full", name]
+        lines.append(
+            f"| {robot} | {inertia} | {geometry} | {timing_cell(full, 'seconds')} "
+            f"| {timing_cell(full, 'derive_s')} | {timing_cell(full, 'emit_s')} "
+            f"| {timing_cell(runs['tau', name], 'seconds')} "
+            f"| {timing_cell(runs['lagrange', name], 'seconds')} |"
+        )
+    lines += [
+        "",
+        "The issue's figures for the peers (PUMA 560 with numeric geometry and symbolic inertia "
+        "unless it says Panda; SymPy 1.14 on the same kind of 2-core machine; not measured in "
+        "this run):",
+        "",
+        "| peer | derivation time (from the issue) |",
+        "| --- | --- |",
+        *(f"| {peer} | {figure} |" for peer, figure in ISSUE_DERIVATION),
+        "",
+        "### Operations of the generated kernels",
+        "",
+        "Operations after CSE, as in the generated files' headers (`Kernel.operation_counts`).",
+        "",
+        "| robot | inertia | geometry | M | G | c = C dq | C | tau (inverse dynamics) |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    for robot, inertia, geometry in VARIANTS:
+        full = runs["full", variant_name(robot, inertia, geometry)]
+        cells = " | ".join(ops_cell(full, k) for k in KERNELS)
+        lines.append(f"| {robot} | {inertia} | {geometry} | {cells} |")
+    lines += [
+        "",
+        "| peer | operations (from the issue) |",
+        "| --- | --- |",
+        *(f"| {peer} | {figure} |" for peer, figure in ISSUE_OPERATIONS),
+    ]
+    return lines
+
+
+def c_loop_table(results: dict[tuple[str, str], Result], settings: Settings) -> list[str]:
+    lines = [
+        "### Inverse dynamics per call in a C loop",
+        "",
+        f"Median of {settings.c_rounds * settings.c_repeats} repeats of {settings.c_calls:,} "
+        "calls over 65,536 states (ns per call, including the loop and a checksum of the "
+        "torques). The Panda's code takes its 70 inertial parameters as an input array "
+        "(Robotics Toolbox's values).",
+        "",
+        "| implementation | PUMA 560 [ns/call] | ratio | Panda [ns/call] | ratio |",
+        "| --- | ---: | ---: | ---: | ---: |",
+    ]
+    labels = {
+        "symkin": "**symkin C** (`<robot>_inverse_dynamics`)",
+        "casadi": "CasADi-generated C (`casadi.CodeGenerator` of the generated CasADi module)",
+    }
+    for impl, label in labels.items():
+        cells = []
+        for name in ROBOTS:
+            reference = results[name, "symkin"].median
+            cells += result_cells(results[name, impl], reference)
+        lines.append(f"| {label} | {' | '.join(cells)} |")
+    return lines
+
+
+def python_tables(
+    rows: list[Contender], empty: Contender, batch: list[Contender], c_loop_ns: float
+) -> list[str]:
+    ctypes_ns = next(c.result.median for c in rows if c.result.ours)
+    lines = [
+        "### PUMA 560 inverse dynamics per call from Python",
+        "",
+        "Each call on a different state (from a pool of 65,536). An empty loop iteration, "
+        f"included in every figure, took {ns_text(empty.result.median)} ns. Ratios are a "
+        "contender's median over symkin's C in the C loop and over symkin's C called the same "
+        "way from Python (ctypes).",
+        "",
+        "| how | tau [ns/call] | ratio to symkin C loop | ratio to symkin C via ctypes "
+        "| repeats × calls |",
+        "| --- | ---: | ---: | ---: | ---: |",
+    ]
+    for c in rows:
+        value, ratio = result_cells(c.result, c_loop_ns)
+        label = f"**{c.result.label}**" if c.result.ours else c.result.label
+        count = f"{len(c.result.values)} × {c.batch}" if c.result.values else "—"
+        lines.append(
+            f"| {label} | {value} | {ratio} | {ratio_text(c.result.median, ctypes_ns)} | {count} |"
+        )
+    reference = next(c.result.median for c in batch if c.result.ours)
+    lines += [
+        "",
+        f"### PUMA 560 inverse dynamics in batches of {BATCH:,} states from Python",
+        "",
+        "| how | per state [ns] | ratio to symkin batched C | repeats |",
+        "| --- | ---: | ---: | ---: |",
+    ]
+    for c in batch:
+        label = f"**{c.result.label}**" if c.result.ours else c.result.label
+        value, ratio = result_cells(c.result, reference, 1 / BATCH)
+        lines.append(f"| {label} | {value} | {ratio} | {len(c.result.values)} |")
+    return lines
+
+
+def targets_table(
+    runs: dict[tuple[str, str], Runs], c_results: dict[tuple[str, str], Result]
+) -> list[str]:
+    def ops(variant: tuple[str, str, str]) -> int | None:
+        counts = runs["full", variant_name(*variant)].last("ops")
+        return None if counts is None else counts["inverse_dynamics"]
+
+    checks: list[tuple[str, str, bool | None]] = []
+    for robot, limit in TARGET_DERIVATION_S.items():
+        median = runs["full", variant_name(robot, "symbolic", "symbolic")].median("seconds")
+        checks.append(
+            (
+                f"{robot}: full dynamics with symbolic inertia derived and emitted in under "
+                f"{limit:g} s",
+                "—" if median is None else f"{seconds_text(median)} s",
+                None if median is None else median < limit,
+            )
+        )
+    for robot, theirs in SYMPYBOTICS_OPERATIONS.items():
+        for geometry in ("numeric", "symbolic"):
+            ours = ops((robot, "symbolic", geometry))
+            checks.append(
+                (
+                    f"{robot}: tau with symbolic inertia, {geometry} geometry, at most half "
+                    f"SymPyBotics' {theirs} operations ({theirs // 2})",
+                    "—" if ours is None else str(ours),
+                    None if ours is None else ours <= theirs / 2,
+                )
+            )
+    for geometry in ("symbolic", "numeric"):
+        ours = ops(("puma560", "numeric", geometry))
+        checks.append(
+            (
+                f"puma560: tau with the catalogue's numeric inertia, {geometry} geometry, under "
+                f"{TARGET_NUMERIC_OPERATIONS} operations",
+                "—" if ours is None else str(ours),
+                None if ours is None else ours < TARGET_NUMERIC_OPERATIONS,
+            )
+        )
+    c_ns = c_results["puma560", "symkin"].median
+    checks.append(
+        (
+            f"puma560: generated C inverse dynamics under {TARGET_C_NS:g} ns per call in a C loop",
+            f"{ns_text(c_ns)} ns",
+            c_ns < TARGET_C_NS,
+        )
+    )
+    lines = ["### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
+    for text, measured, met in checks:
+        verdict = "not measured" if met is None else ("met" if met else "**NOT met**")
+        lines.append(f"| {text} | {measured} | {verdict} |")
+    return lines
+
+
+def render(
+    runs: dict[tuple[str, str], Runs],
+    c_results: dict[tuple[str, str], Result],
+    per_call: tuple[list[Contender], Contender],
+    batch: list[Contender],
+    checked: Checked,
+    settings: Settings,
+    repeat: int,
+    cc: str,
+    flags: tuple[str, ...],
+    load: tuple[float, float],
+    quick: bool,
+) -> str:
+    today = datetime.datetime.now(datetime.UTC).date().isoformat()
+    packages = [
+        ("NumPy", "numpy"),
+        ("SymPy", "sympy"),
+        ("SymEngine", "symengine"),
+        ("CasADi", "casadi"),
+        ("Pinocchio (`pin`)", "pin"),
+        ("roboticstoolbox-python", "roboticstoolbox-python"),
+        ("SymPyBotics", "sympybotics"),
+    ]
+    versions = ", ".join(f"{label} {version(package)}" for label, package in packages)
+    c_loop_ns = c_results["puma560", "symkin"].median
+    lines = [
+        f"Measured on {today}: {cpu_model()}, {os.cpu_count()} cores; Python "
+        f"{platform.python_version()}, symkin {version('symkin')}, {versions}; C compiled by "
+        f"{compiler_version(cc)} with `{' '.join(flags)}`. Load average (1 min) at the start "
+        f"and end of the run: {load[0]:.1f} and {load[1]:.1f}."
+        + (" Quick run (`--quick`): few repeats." if quick else "")
+        + " Generated by `bench/dynamics_speed.py`.",
+        "",
+        *derivation_tables(runs, repeat),
+        "",
+        *c_loop_table(c_results, settings),
+        "",
+        *python_tables(*per_call, batch, c_loop_ns),
+        "",
+        f"The issue's per-call figures, for comparison (not measured in this run): "
+        f"{ISSUE_PER_CALL}.",
+        "",
+        *targets_table(runs, c_results),
+        "",
+        "Before timing, every implementation's torques were compared with symkin's C at "
+        f"{CHECK_STATES} random states (largest difference, N·m): "
+        + ", ".join(f"{what} {worst:.1e}" for what, worst in checked.differences.items())
+        + ". The C-loop checksums of symkin's and CasADi's code agree. "
+        + " ".join(checked.notes),
+    ]
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- main
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="fewer repeats (a few minutes)")
+    parser.add_argument(
+        "--repeat", type=int, help="fresh processes per derivation measurement (3; quick 1)"
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=600.0, help="CPU-time limit of one derivation (600 s)"
+    )
+    parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
+    parser.add_argument("--no-write", action="store_true", help="print only")
+    parser.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        _child(args.child)
+        return 0
+    settings = QUICK if args.quick else FULL
+    repeat = args.repeat or (1 if args.quick else 3)
+    if repeat < 1:
+        parser.error("--repeat must be at least 1")
+
+    missing = [m for m in ("pinocchio", "roboticstoolbox") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise SystemExit(
+            f"{' and '.join(missing)} missing: install the bench extra "
+            "(.venv/bin/pip install -e '.[test,bench]')"
+        )
+    load_start = os.getloadavg()[0]
+    runs = derivations(repeat, args.timeout)
+    cc, flags = compiler(), tuple(OPTIMISATION_FLAGS)
+    rng = np.random.default_rng(560)
+    checked = Checked()
+    with tempfile.TemporaryDirectory(prefix="symkin-dynamics-speed-") as temporary:
+        _progress("generating and building the inverse dynamics ...")
+        builds = {name: build(Path(temporary) / name, name, cc, flags) for name in ROBOTS}
+        _progress("checking every implementation against symkin's C ...")
+        check_panda(builds["panda"], rng, checked)
+        peers = prepare_puma(builds["puma560"], rng, checked)
+
+        c_results = c_loop(builds, settings)
+
+        samples = [with_addresses(tuple(state)) for state in random_states(rng, SAMPLES, 6)]
+        rows, empty = per_call_contenders()
+        time_contenders(
+            [empty, *rows],
+            samples,
+            peers,
+            settings.py_repeats,
+            settings.py_budget_s,
+            settings.py_batch_ns,
+            "inverse dynamics per call",
+        )
+        states = random_states(rng, BATCH, 6)
+        trajectory = with_addresses(tuple(states[:, k] for k in range(3)))
+        batch = batch_contenders()
+        time_contenders(
+            batch,
+            [trajectory],
+            peers,
+            settings.batch_repeats,
+            settings.batch_budget_s,
+            None,
+            "inverse dynamics batch",
+        )
+    table = render(
+        runs,
+        c_results,
+        (rows, empty),
+        batch,
+        checked,
+        settings,
+        repeat,
+        cc,
+        flags,
+        (load_start, os.getloadavg()[0]),
+        args.quick,
+    )
+    print(table)
+    if not args.no_write:
+        write_docs(table, args.docs, (BEGIN, END), "Dynamics")
+        _progress(f"wrote {args.docs}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,37 @@
+"""IK targets: a tool pose in the base frame from ``x, y, z[, rx, ry, rz]``.
+
+Convention (docs/conventions.md, docs/ik.md): the position is in metres, base frame; the
+rotation is given by Z-Y-X Euler angles in radians, ``R = Rz(rz) Ry(ry) Rx(rx)`` (yaw ``rz``
+about z, then pitch ``ry`` about the new y', then roll ``rx`` about x''; the same matrix as
+roll ``rx``, pitch ``ry``, yaw ``rz`` about the fixed axes X, Y, Z).  The values are listed in
+the order x, y, z, rx, ry, rz, i.e. the rotation angles in the order they act on fixed axes.
+
+Three values give a position-only target: its rotation is the identity and means nothing; the
+solver is told separately (``position_only=True``) to ignore it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from symkin.errors import SymkinError
+from symkin.spatial import rotation_from_euler_zyx
+
+
+def pose_from_target(values: Sequence[float]) -> np.ndarray:
+    """The 4x4 pose of ``x, y, z`` or ``x, y, z, rx, ry, rz`` (``R = Rz(rz) Ry(ry) Rx(rx)``)."""
+    values = [float(v) for v in values]
+    if len(values) not in (3, 6):
+        raise SymkinError(
+            f"a target is x,y,z or x,y,z,rx,ry,rz (Z-Y-X Euler angles), got {len(values)} values"
+        )
+    if not all(np.isfinite(values)):
+        raise SymkinError(f"a target needs finite numbers, got {values}")
+    pose = np.eye(4)
+    pose[:3, 3] = values[:3]
+    if len(values) == 6:
+        rx, ry, rz = values[3:]
+        pose[:3, :3] = rotation_from_euler_zyx(rz, ry, rx)
+    return pose
