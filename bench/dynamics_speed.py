@@ -26,7 +26,10 @@ In one run, on the same machine:
   ``<robot>_inverse_dynamics`` over 65,536 precomputed states, and the C that
   ``casadi.CodeGenerator`` writes for the generated CasADi module's
   ``inverse_dynamics_function()``; both compiled with ``gcc -O2`` (symkin's extension flags).
-  The Panda's inertial parameters are Robotics Toolbox's (``models.DH.Panda``).
+  Three generated codes (``BUILDS``): the PUMA 560 with its parameters as input ``p``, the PUMA
+  560 with numeric parameters (``Robot.with_parameter_values()``: no ``p``, base inertial
+  parameters; its torques are first checked against the code with ``p``), and the Panda, whose
+  inertial parameters are Robotics Toolbox's (``models.DH.Panda``).
 * **Inverse dynamics per call from Python** (PUMA 560): symkin's C through ctypes, the generated
   NumPy module, CasADi (``Function`` call and its C through ctypes), Pinocchio ``rnea`` on a
   model built from the same DH table and inertial data (``tests/test_dynamics_oracles.py``),
@@ -41,8 +44,8 @@ repeats.  The script prints a Markdown table and writes it into ``docs/benchmark
 
 Usage::
 
-    .venv/bin/python bench/dynamics_speed.py            # full run, about 7 minutes
-    .venv/bin/python bench/dynamics_speed.py --quick    # fewer repeats, about 3 minutes
+    .venv/bin/python bench/dynamics_speed.py            # full run, 3 to 5 minutes
+    .venv/bin/python bench/dynamics_speed.py --quick    # fewer repeats, about 1 minute
     .venv/bin/python bench/dynamics_speed.py --quick --no-write
 """
 
@@ -103,7 +106,6 @@ DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN = "<!-- dynamics:begin -->"
 END = "<!-- dynamics:end -->"
 HARNESS = Path(__file__).resolve().with_name("dynamics_speed_loop.c")
-ROBOTS = ("puma560", "panda")
 SAMPLES = 65_536  # distinct states the per-call measurements walk through
 BATCH = 10_000  # states in the batch measurements
 CHECK_STATES = 20
@@ -120,6 +122,23 @@ VARIANTS = (
     ("panda", "symbolic", "numeric"),
 )
 KERNELS = ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics")
+
+# The generated code the C loop times, {key: (its variant in VARIANTS, label)}. With numeric
+# inertia and numeric geometry the PUMA 560 is the catalogue robot's ``with_parameter_values()``
+# (``symkin derive puma560 --numeric-parameters``): no ``p`` input, the recursion on base
+# inertial parameters.
+BUILDS = {
+    "puma560": (("puma560", "numeric", "symbolic"), "PUMA 560, parameters as input `p`"),
+    "puma560-numeric": (
+        ("puma560", "numeric", "numeric"),
+        "PUMA 560, numeric parameters (base parameters)",
+    ),
+    "panda": (
+        ("panda", "symbolic", "symbolic"),
+        "Panda, parameters as input `p`, inertial data as input `pi`",
+    ),
+}
+PUMA_BUILDS = ("puma560", "puma560-numeric")
 
 # The issue's figures (SymPy 1.14, the same kind of 2-core machine, PUMA 560 with numeric
 # geometry and symbolic inertia); SymPyBotics is not on PyPI, so they are quoted, not measured.
@@ -267,6 +286,7 @@ def derivations(repeat: int, timeout: float) -> dict[tuple[str, str], Runs]:
 class Built:
     """One robot's generated code, built: the C loop for symkin and CasADi, shared libraries."""
 
+    label: str
     robot: object  # symkin.robot.Robot
     parameters: np.ndarray  # p, file order
     inertial: np.ndarray | None  # pi, when the robot file has no inertial data
@@ -301,12 +321,15 @@ def panda_inertial_parameters() -> np.ndarray:
 INERTIAL_PARAMETERS = {"panda": panda_inertial_parameters}
 
 
-def build(directory: Path, name: str, cc: str, flags: tuple[str, ...]) -> Built:
+def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
+    """The code of ``BUILDS[key]``, generated into ``directory`` and compiled."""
     import casadi
 
     from symkin.generate import files_for_robot, write_files
 
-    robot = load_catalogue_robot(name)
+    variant, label = BUILDS[key]
+    robot = robot_variant(*variant)
+    name = robot.name
     write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi")))
     numpy_module = load_module(directory / "numpy" / f"{name}_kinematics.py")
     casadi_module = load_module(directory / "casadi" / f"{name}_casadi.py")
@@ -348,6 +371,7 @@ def build(directory: Path, name: str, cc: str, flags: tuple[str, ...]) -> Built:
         cc, flags, [casadi_dir / f"casadi_{name}.c"], directory / "libcasadi.so", *shared
     )
     return Built(
+        label=label,
         robot=robot,
         parameters=np.array(list(robot.parameter_values().values()), dtype=float),
         inertial=inertial,
@@ -364,7 +388,7 @@ def build(directory: Path, name: str, cc: str, flags: tuple[str, ...]) -> Built:
 
 
 def c_loop(builds: dict[str, Built], settings: Settings) -> dict[tuple[str, str], Result]:
-    """ns per inverse-dynamics call in a C loop, ``{(robot, "symkin" | "casadi"): result}``."""
+    """ns per inverse-dynamics call in a C loop, ``{(build key, "symkin" | "casadi"): result}``."""
     results = {
         (name, impl): Result(f"{impl} {name}", ours=impl == "symkin")
         for name in builds
@@ -430,6 +454,23 @@ def symkin_c(b: Built):
     batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * (arrays + 1)
     batch.restype = None
     return single, batch
+
+
+def check_numeric_parameters(
+    b: Built, reference: Built, rng: np.random.Generator, checked: Checked
+) -> None:
+    """The code with the parameters folded in (base parameters) against the code that takes them
+    as ``p``: numeric parameters change the code, not the torques."""
+    folded, _ = symkin_c(b)
+    with_p, _ = symkin_c(reference)
+    P = reference.parameters
+    dof = b.robot.dof
+    for q, dq, ddq in random_states(rng, CHECK_STATES, dof):
+        tau, expected = np.empty(dof), np.empty(dof)
+        pointers = (q.ctypes.data, dq.ctypes.data, ddq.ctypes.data)
+        with_p(*pointers, P.ctypes.data, expected.ctypes.data)
+        folded(*pointers, None, tau.ctypes.data)  # no parameters: the header says pass NULL
+        checked.compare("puma560, numeric parameters (base parameters): symkin C", tau, expected)
 
 
 def check_panda(b: Built, rng: np.random.Generator, checked: Checked) -> None:
@@ -676,28 +717,38 @@ def derivation_tables(runs: dict[tuple[str, str], Runs], repeat: int) -> list[st
     return lines
 
 
-def c_loop_table(results: dict[tuple[str, str], Result], settings: Settings) -> list[str]:
+def c_loop_table(
+    runs: dict[tuple[str, str], Runs], results: dict[tuple[str, str], Result], settings: Settings
+) -> list[str]:
+    reference = results["puma560", "symkin"].median
     lines = [
         "### Inverse dynamics per call in a C loop",
         "",
         f"Median of {settings.c_rounds * settings.c_repeats} repeats of {settings.c_calls:,} "
         "calls over 65,536 states (ns per call, including the loop and a checksum of the "
-        "torques). The Panda's code takes its 70 inertial parameters as an input array "
-        "(Robotics Toolbox's values).",
+        "torques). symkin C is the generated `<robot>_inverse_dynamics`; CasADi C is what "
+        "`casadi.CodeGenerator` writes for the generated CasADi module's "
+        "`inverse_dynamics_function()`. *Parameters as input `p`* is the catalogue robot: its "
+        "geometric parameters are an input array (the file's values passed at run time). "
+        "*Numeric parameters* is the catalogue robot's `with_parameter_values()` (`symkin derive "
+        "puma560 --numeric-parameters`): the numbers are folded into the code, `p` is NULL, and "
+        "the recursion runs on base inertial parameters. The Panda's code also takes its 70 "
+        "inertial parameters as an input array `pi` (Robotics Toolbox's values). The last column "
+        "is symkin C's median over that of the PUMA 560 with parameters as input `p`.",
         "",
-        "| implementation | PUMA 560 [ns/call] | ratio | Panda [ns/call] | ratio |",
-        "| --- | ---: | ---: | ---: | ---: |",
+        "| generated code | tau operations | **symkin C** [ns/call] | CasADi C [ns/call] "
+        "| CasADi / symkin | symkin C / PUMA 560 with `p` |",
+        "| --- | ---: | ---: | ---: | ---: | ---: |",
     ]
-    labels = {
-        "symkin": "**symkin C** (`<robot>_inverse_dynamics`)",
-        "casadi": "CasADi-generated C (`casadi.CodeGenerator` of the generated CasADi module)",
-    }
-    for impl, label in labels.items():
-        cells = []
-        for name in ROBOTS:
-            reference = results[name, "symkin"].median
-            cells += result_cells(results[name, impl], reference)
-        lines.append(f"| {label} | {' | '.join(cells)} |")
+    for key, (variant, label) in BUILDS.items():
+        ours = results[key, "symkin"]
+        ours_ns, _ = result_cells(ours, None)
+        casadi_ns, casadi_ratio = result_cells(results[key, "casadi"], ours.median)
+        to_puma = ratio_text(ours.median, reference) if key in PUMA_BUILDS else "—"
+        operations = ops_cell(runs["full", variant_name(*variant)], "inverse_dynamics")
+        lines.append(
+            f"| {label} | {operations} | {ours_ns} | {casadi_ns} | {casadi_ratio} | {to_puma} |"
+        )
     return lines
 
 
@@ -768,24 +819,27 @@ def targets_table(
                     None if ours is None else ours <= theirs / 2,
                 )
             )
-    for geometry in ("symbolic", "numeric"):
-        ours = ops(("puma560", "numeric", geometry))
+    for key in PUMA_BUILDS:
+        variant, label = BUILDS[key]
+        ours = ops(variant)
         checks.append(
             (
-                f"puma560: tau with the catalogue's numeric inertia, {geometry} geometry, under "
+                f"{label}: tau with the catalogue's numeric inertia under "
                 f"{TARGET_NUMERIC_OPERATIONS} operations",
                 "—" if ours is None else str(ours),
                 None if ours is None else ours < TARGET_NUMERIC_OPERATIONS,
             )
         )
-    c_ns = c_results["puma560", "symkin"].median
-    checks.append(
-        (
-            f"puma560: generated C inverse dynamics under {TARGET_C_NS:g} ns per call in a C loop",
-            f"{ns_text(c_ns)} ns",
-            c_ns < TARGET_C_NS,
+    for key in PUMA_BUILDS:
+        c_ns = c_results[key, "symkin"].median
+        checks.append(
+            (
+                f"{BUILDS[key][1]}: generated C inverse dynamics under {TARGET_C_NS:g} ns per "
+                "call in a C loop",
+                f"{ns_text(c_ns)} ns",
+                c_ns < TARGET_C_NS,
+            )
         )
-    )
     lines = ["### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
     for text, measured, met in checks:
         verdict = "not measured" if met is None else ("met" if met else "**NOT met**")
@@ -828,7 +882,7 @@ def render(
         "",
         *derivation_tables(runs, repeat),
         "",
-        *c_loop_table(c_results, settings),
+        *c_loop_table(runs, c_results, settings),
         "",
         *python_tables(*per_call, batch, c_loop_ns),
         "",
@@ -883,8 +937,9 @@ def main(argv: list[str] | None = None) -> int:
     checked = Checked()
     with tempfile.TemporaryDirectory(prefix="symkin-dynamics-speed-") as temporary:
         _progress("generating and building the inverse dynamics ...")
-        builds = {name: build(Path(temporary) / name, name, cc, flags) for name in ROBOTS}
+        builds = {key: build(Path(temporary) / key, key, cc, flags) for key in BUILDS}
         _progress("checking every implementation against symkin's C ...")
+        check_numeric_parameters(builds["puma560-numeric"], builds["puma560"], rng, checked)
         check_panda(builds["panda"], rng, checked)
         peers = prepare_puma(builds["puma560"], rng, checked)
 

@@ -3,7 +3,8 @@
  * dynamics many times over a table of 65,536 states (q, dq, ddq) and reports nanoseconds per
  * call.
  *
- * The robot is chosen at compile time, and the script builds it twice per robot, against two
+ * The robot is chosen at compile time, and the script builds it twice per generated code (the
+ * PUMA 560's with p as input and with numeric parameters, the Panda's), against two
  * implementations of the same kernel:
  *   symkin:  gcc -O2 -DROBOT=puma560 -DHEADER='"puma560.h"' -DDOF=6 -DN_P=4 -DN_PI=0
  *                dynamics_speed_loop.c puma560.c -lm
@@ -12,12 +13,15 @@
  *            the code casadi.CodeGenerator writes for the generated CasADi module's
  *            inverse_dynamics_function() (C API: ROBOT_inverse_dynamics(arg, res, iw, w, mem))
  * N_P is the number of geometric parameters p, N_PI the number of inertial parameters pi
- * (0 when the robot file gives the inertial data).  The kernel is compiled in its own
+ * (0 when the robot file gives the inertial data).  Code generated for a robot without
+ * parameters (Robot.with_parameter_values(), symkin derive --numeric-parameters) keeps the p
+ * argument, and its header says to pass NULL: with -DN_P=0 the harness does (CasADi's function
+ * keeps a 0x1 input p, which it does not read).  The kernel is compiled in its own
  * translation unit (no LTO), as a user links it, so every call is a real call.  Each call's
  * torques feed a checksum that is printed at the end; the compiler cannot drop the calls, and
  * the script compares the two builds' checksums (same states, so they agree to rounding).
  *
- * Usage: dynamics_speed_loop CALLS REPEATS P_1 .. P_{N_P} PI_1 .. PI_{N_PI}
+ * Usage: dynamics_speed_loop CALLS REPEATS P_1 .. P_{N_P} PI_1 .. PI_{N_PI}   (either may be none)
  *   CALLS    calls per timed repeat
  *   REPEATS  timed repeats (one untimed warm-up repeat runs first)
  *   P, PI    the parameter values, in the generated code's order
@@ -81,7 +85,7 @@ int main(int argc, char **argv)
     for (int k = 0; k < N_PARAMETERS; ++k) {
         parameters[k] = atof(argv[3 + k]);
     }
-    const double *p = parameters;
+    const double *p = N_P ? parameters : NULL;
     const double *pi = parameters + N_P;
     double tau[DOF];
     double checksum = 0.0;

@@ -1,7 +1,7 @@
 """The examples in the documentation run and show what symkin really prints.
 
 Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md,
-docs/backends.md, docs/dynamics.md, docs/latex.md):
+docs/backends.md, docs/dynamics.md, docs/latex.md, docs/ik.md, docs/ik-generated.md):
 
 * Each file runs in a fresh temporary directory, its fenced blocks in document order.
 * A ```toml block whose first line is a comment naming a file (``# two_link.toml: ...``) is
@@ -195,6 +195,12 @@ def test_dynamics_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[s
 def test_latex_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The Python example compiles a PDF: it needs pdflatex (``scripts/install-latex.sh``)."""
     run_document(ROOT / "docs" / "latex.md", capsys)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", ["ik.md", "ik-generated.md"])
+def test_ik_examples_run(page: str, in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run_document(ROOT / "docs" / page, capsys)
 
 
 def test_doc_links_resolve() -> None:
