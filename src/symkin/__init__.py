@@ -7,6 +7,8 @@ The public API::
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
     result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
+    motion = symkin.optimal_trajectory(model, symkin.TrajectoryProblem(start=..., goal=...,
+                                       final_time=2.0))   # optimal control (CasADi + IPOPT)
 """
 
 from symkin.derive import Model, PointMotion, derive
@@ -15,9 +17,16 @@ from symkin.evaluate import KinematicState, PointState, kinematic_state, numeric
 from symkin.ik import IKResult, pose_from_target, solve_ik
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.robot import Joint, Link, Robot, joint_symbols
+from symkin.trajopt import (
+    InfeasibleTrajectoryError,
+    Trajectory,
+    TrajectoryProblem,
+    optimal_trajectory,
+)
 
 __all__ = [
     "IKResult",
+    "InfeasibleTrajectoryError",
     "Joint",
     "KinematicState",
     "Link",
@@ -27,12 +36,15 @@ __all__ = [
     "Robot",
     "RobotError",
     "SymkinError",
+    "Trajectory",
+    "TrajectoryProblem",
     "catalogue_names",
     "derive",
     "joint_symbols",
     "kinematic_state",
     "load_robot",
     "numeric_function",
+    "optimal_trajectory",
     "pose_from_target",
     "robot_from_toml",
     "solve_ik",

@@ -62,6 +62,15 @@ from symkin.ik.target import pose_from_target
 from symkin.io import catalogue_names, load_robot
 from symkin.latex_build import compile_pdf
 from symkin.robot import Robot
+from symkin.trajopt import (
+    OBJECTIVES,
+    TRANSCRIPTIONS,
+    TrajectoryProblem,
+    check_problem,
+    optimal_trajectory,
+    summary_text,
+    write_trajectory,
+)
 
 DEFAULT_ROBOT = "scara"
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
@@ -77,6 +86,8 @@ VALUE_OPTIONS = frozenset(
         "--q0",
         "--path-from",
         "--to",
+        "--from",
+        "--cartesian-goal",
     }
 )
 # Task rows written without commas: "xy", "xyz", "xywz".
@@ -170,6 +181,25 @@ def target_from_text(text: str, option: str) -> list[float]:
         if part.strip().endswith("deg"):
             raise SymkinError(f"{option}: x, y, z are lengths in metres, got {part.strip()!r}")
     return [number_from_text(part, option) for part in parts]
+
+
+def limit_values(text: str | None, option: str, robot: Robot, rates: bool) -> list[float] | None:
+    """Per-joint limits from ``"v"`` (the same for every joint) or ``"v1,v2,..."``.
+
+    Velocities (``rates``) take ``deg`` (deg/s) for revolute joints; torques and forces do not.
+    """
+    if text is None:
+        return None
+    if not rates and "deg" in text:
+        raise SymkinError(f"{option}: torques and forces are plain numbers (N m, N), got {text!r}")
+    return joint_values(text if "," in text else ",".join([text] * robot.dof), option, robot)
+
+
+def seconds_from_text(text: str, option: str) -> float:
+    """A duration in seconds: a plain number, no ``deg``."""
+    if text.strip().endswith("deg"):
+        raise SymkinError(f"{option}: a time in seconds, got {text!r}")
+    return number_from_text(text, option)
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:
@@ -796,6 +826,45 @@ def command_ik(args: argparse.Namespace) -> int:
     return 0 if result.success else 1
 
 
+def command_trajopt(args: argparse.Namespace) -> None:
+    robot = load_robot(args.robot)
+    if args.to is None and args.cartesian_goal is None:
+        raise SymkinError("give the goal: --to V1,V2,... or --cartesian-goal X,Y,Z")
+    if args.plot and args.out is None:
+        raise SymkinError("--plot needs --out DIR, the folder for trajectory.png")
+    if args.min_time and args.objective == "effort":
+        raise SymkinError("--min-time means --objective time, not effort")
+    objective = "time" if args.min_time else args.objective or "effort"
+    cartesian_goal = None
+    if args.cartesian_goal is not None:
+        cartesian_goal = target_from_text(args.cartesian_goal, "--cartesian-goal")
+        if len(cartesian_goal) != 3:
+            raise SymkinError(
+                f"--cartesian-goal: expected x,y,z (the tool position in metres), "
+                f"got {args.cartesian_goal!r}"
+            )
+    problem = TrajectoryProblem(
+        start=joint_values(args.from_, "--from", robot),
+        goal=joint_values(args.to, "--to", robot) if args.to is not None else None,
+        cartesian_goal=cartesian_goal,
+        intervals=args.intervals,
+        final_time=None if args.time is None else seconds_from_text(args.time, "--time"),
+        objective=objective,
+        method=args.method,
+        velocity_limits=limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True),
+        torque_limits=limit_values(args.torque_limit, "--torque-limit", robot, rates=False),
+        overrides=parameter_overrides(args.set),
+    )
+    model = derive(robot)
+    check_problem(model, problem)  # input mistakes before the progress line
+    progress(f"setting up and solving the {problem.method} problem with IPOPT ...")
+    trajectory = optimal_trajectory(model, problem)
+    print(summary_text(trajectory))
+    if args.out is not None:
+        paths = write_trajectory(trajectory, args.out, plot=args.plot)
+        print(f"wrote {', '.join(str(path) for path in paths)}")
+
+
 def add_set_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
@@ -975,6 +1044,59 @@ def build_parser() -> argparse.ArgumentParser:
     ik.add_argument("--json", action="store_true", help="print a JSON object")
     ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
     ik.set_defaults(run=command_ik)
+
+    trajopt = commands.add_parser(
+        "trajopt",
+        help="optimal point-to-point motion on the robot's dynamics (CasADi + IPOPT)",
+        description="Plan a rest-to-rest motion from --from to --to (or to the tool position "
+        "--cartesian-goal) on the robot's forward dynamics: minimum effort (the integral of "
+        "tau^2 over a fixed --time) or minimum time, within the joint limits of the robot file "
+        "and the velocity and torque limits given here (default: none). Joint values are "
+        "radians (or metres); append 'deg' for degrees.",
+    )
+    trajopt.add_argument("robot", metavar="ROBOT")
+    trajopt.add_argument(
+        "--from", dest="from_", required=True, metavar="V1,V2,...", help="start configuration"
+    )
+    trajopt.add_argument(
+        "--to", metavar="V1,V2,...", help="goal configuration (with --cartesian-goal: a guess)"
+    )
+    trajopt.add_argument(
+        "--cartesian-goal", metavar="X,Y,Z", help="goal tool position in metres, base frame"
+    )
+    trajopt.add_argument(
+        "--intervals", type=int, default=40, metavar="N", help="time intervals (default 40)"
+    )
+    duration = trajopt.add_mutually_exclusive_group()
+    duration.add_argument("--time", metavar="T", help="fixed final time in seconds (effort)")
+    duration.add_argument(
+        "--min-time", action="store_true", help="minimise the final time (= --objective time)"
+    )
+    trajopt.add_argument(
+        "--objective", choices=OBJECTIVES, help="effort (the default) or time (= --min-time)"
+    )
+    trajopt.add_argument(
+        "--method",
+        choices=list(TRANSCRIPTIONS),
+        default="multiple-shooting",
+        help="transcription: multiple-shooting (RK4, default) or collocation (Radau)",
+    )
+    trajopt.add_argument(
+        "--velocity-limit",
+        metavar="V[,V2,...]",
+        help="|dq| limit, one value for all joints or one per joint (rad/s or m/s; deg ok)",
+    )
+    trajopt.add_argument(
+        "--torque-limit",
+        metavar="V[,V2,...]",
+        help="|tau| limit, one value for all joints or one per joint (N m or N)",
+    )
+    add_set_option(trajopt)
+    trajopt.add_argument(
+        "--out", metavar="DIR", help="write trajectory.csv and trajectory.json to DIR"
+    )
+    trajopt.add_argument("--plot", action="store_true", help="also write DIR/trajectory.png")
+    trajopt.set_defaults(run=command_trajopt)
     return parser
 
 
