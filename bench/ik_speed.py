@@ -1,8 +1,8 @@
 """Inverse kinematics: success rate and time per solve, symkin against Robotics Toolbox.
 
-For the PUMA 560 and the Panda, ``--poses`` (default 1000) random reachable targets are drawn:
-each target is the pose of random joint values within the limits, each seed other random
-joint values within the limits.  Every solver gets the same targets and seeds, one pose at a
+For the PUMA 560, the UR5 and the Panda, ``--poses`` (default 1000) random reachable targets
+are drawn: each target is the pose of random joint values within the limits, each seed other
+random joint values within the limits.  Every solver gets the same targets and seeds, one pose at a
 time with the solvers interleaved (so machine load falls on all alike), and is judged by the
 same check: symkin's forward kinematics of the returned ``q`` must reproduce the target to
 1e-9 m and 1e-9 rad, with every joint within its limits.  The solver's own success flag is
@@ -18,6 +18,9 @@ Solvers (``SOLVERS``; add a :class:`Solver` to measure another one):
   tolerance 1e-10, up to 50 restarts), run by ``bench/ik_c_loop.c`` compiled with ``gcc -O2``
   over the same targets and seeds after the interleaved loop; its times are measured inside C
   (thread CPU time of ``C_LOOP_REPEATS`` identical solves, divided), not around a Python call;
+* symkin's generated C closed form (``c/<robot>_ik_closed.c``, all solutions, each checked by
+  the generated FK), run the same way by ``bench/ik_closed_loop.c`` on the same targets;
+  success as for ``closed_form_ik``;
 * Robotics Toolbox ``ik_LM`` (C++) with ``tol=1e-12`` (a threshold on the squared error,
   about the strictest it reaches) and with its default ``1e-6``, and ``ikine_LM`` (Python)
   with ``tol=1e-12``; their default limits of 30 iterations and 100 searches, joint limits
@@ -63,7 +66,7 @@ ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN = "<!-- ik:begin -->"
 END = "<!-- ik:end -->"
-ROBOTS = ("puma560", "panda")
+ROBOTS = ("puma560", "ur5", "panda")
 CHECK = 1e-9  # m and rad
 LOOSE = 1e-6  # a second, looser check reported beside it
 PEER_TOL = 1e-12
@@ -226,6 +229,8 @@ SOLVERS: list[Solver] = [
 C_LOOP = Path(__file__).resolve().with_name("ik_c_loop.c")
 C_LOOP_ROW = "symkin generated C `<robot>_ik` (C loop, gcc -O2)"
 C_LOOP_REPEATS = 20  # identical solves per timed block in the C loop
+C_CLOSED_LOOP = C_LOOP.with_name("ik_closed_loop.c")
+C_CLOSED_ROW = "symkin generated C `<robot>_ik_closed` (C loop, gcc -O2, all solutions)"
 
 
 def success_check(model, tolerance: float = CHECK) -> Callable[[np.ndarray, np.ndarray], bool]:
@@ -300,6 +305,7 @@ def check_same_arm(model, solver_name: str) -> float:
 
 def measure(name: str, count: int, seed: int, peers: bool) -> list[Row]:
     import symkin
+    from symkin.kernel import kinematics_kernels
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the PUMA file's lumped-inertia warning
@@ -327,47 +333,60 @@ def measure(name: str, count: int, seed: int, peers: bool) -> list[Row]:
             row.own_flag += flag
         if (k + 1) % 100 == 0:
             print(f"  {name}: {k + 1}/{count} poses", file=sys.stderr, flush=True)
-    return [row for row, _ in prepared] + [c_loop_row(model, pairs, check, loose)]
+    kernels = kinematics_kernels(model)
+    rows = [row for row, _ in prepared] + [c_loop_row(model, kernels, pairs, check, loose)]
+    closed = c_closed_loop_row(model, kernels, pairs, check, loose)
+    return rows + ([closed] if closed is not None else [])
 
 
-def c_loop_row(
-    model,
-    pairs: list[tuple[np.ndarray, np.ndarray]],
-    check: Callable[..., bool],
-    loose: Callable[..., bool],
-) -> Row:
-    """The generated C solver over ``pairs`` in ``bench/ik_c_loop.c``: the robot's C kernels
-    and IK emitted into a temporary directory, compiled with ``gcc -O2`` (each file its own
-    translation unit), fed the targets and seeds on stdin."""
+def run_c_loop(
+    robot, files: dict[str, str], driver: Path, header: tuple[str, str], problems: list[str]
+) -> str:
+    """Stdout of ``driver`` run on ``problems``: the generated ``files`` written into a
+    temporary directory, compiled with ``gcc -O2`` (each file its own translation unit) with
+    the solver named by ``header`` (macro, file stem), fed the problems on stdin."""
     import subprocess
     import tempfile
 
-    from symkin.emit.c import emit_c
-    from symkin.emit.ik_c import emit_ik_c
-    from symkin.kernel import kinematics_kernels
-
-    robot = model.robot
-    kernels = kinematics_kernels(model)
-    problems = [f"{len(pairs)} {robot.dof}"]
-    problems += [" ".join(map(repr, [*t.ravel().tolist(), *s.tolist()])) for t, s in pairs]
+    macro, solver = header
     with tempfile.TemporaryDirectory() as directory:
         root = Path(directory)
-        for relative, text in {**emit_c(robot, kernels), **emit_ik_c(robot, kernels)}.items():
+        for relative, text in files.items():
             (root / Path(relative).name).write_text(text)
         command = [
             "gcc", "-std=c99", "-O2", f"-DROBOT={robot.name}",
-            f"-DROBOT_MACRO={robot.name.upper()}", f'-DROBOT_IK_HEADER="{robot.name}_ik.h"',
-            f"-I{root}", "-o", str(root / "loop"), str(C_LOOP),
-            str(root / f"{robot.name}_ik.c"), str(root / f"{robot.name}.c"), "-lm",
+            f"-DROBOT_MACRO={robot.name.upper()}", f'-D{macro}="{solver}.h"',
+            f"-I{root}", "-o", str(root / "loop"), str(driver),
+            str(root / f"{solver}.c"), str(root / f"{robot.name}.c"), "-lm",
         ]  # fmt: skip
         subprocess.run(command, check=True)
-        output = subprocess.run(
+        return subprocess.run(
             [str(root / "loop"), str(C_LOOP_REPEATS)],
             input="\n".join(problems) + "\n",
             capture_output=True,
             text=True,
             check=True,
         ).stdout
+
+
+def c_loop_row(
+    model,
+    kernels: tuple,
+    pairs: list[tuple[np.ndarray, np.ndarray]],
+    check: Callable[..., bool],
+    loose: Callable[..., bool],
+) -> Row:
+    """The generated C solver over ``pairs`` in ``bench/ik_c_loop.c``, on the robot's C
+    kinematics ``kernels``."""
+    from symkin.emit.c import emit_c
+    from symkin.emit.ik_c import emit_ik_c
+
+    robot = model.robot
+    problems = [f"{len(pairs)} {robot.dof}"]
+    problems += [" ".join(map(repr, [*t.ravel().tolist(), *s.tolist()])) for t, s in pairs]
+    files = {**emit_c(robot, kernels), **emit_ik_c(robot, kernels)}
+    header = ("ROBOT_IK_HEADER", f"{robot.name}_ik")
+    output = run_c_loop(robot, files, C_LOOP, header, problems)
     row = Row(C_LOOP_ROW.replace("<robot>", robot.name))
     for line, (target, _) in zip(output.splitlines(), pairs, strict=True):
         status, _, _, ns, *q = line.split()
@@ -379,7 +398,44 @@ def c_loop_row(
     return row
 
 
+def c_closed_loop_row(
+    model,
+    kernels: tuple,
+    pairs: list[tuple[np.ndarray, np.ndarray]],
+    check: Callable[..., bool],
+    loose: Callable[..., bool],
+) -> Row | None:
+    """The generated closed form over the targets of ``pairs`` in ``bench/ik_closed_loop.c``,
+    or None without one.  Success as for ``closed_form_ik``: the first solution within the
+    limits that meets the check."""
+    from symkin.emit.c import emit_c
+    from symkin.emit.ik_closed_c import emit_ik_closed_c
+
+    robot = model.robot
+    closed = emit_ik_closed_c(robot, kernels)
+    if not closed:
+        return None
+    problems = [f"{len(pairs)} {robot.dof}"]
+    problems += [" ".join(map(repr, t.ravel().tolist())) for t, _ in pairs]
+    header = ("ROBOT_IK_CLOSED_HEADER", f"{robot.name}_ik_closed")
+    output = run_c_loop(
+        robot, {**emit_c(robot, kernels), **closed}, C_CLOSED_LOOP, header, problems
+    )
+    row = Row(C_CLOSED_ROW.replace("<robot>", robot.name))
+    for line, (target, _) in zip(output.splitlines(), pairs, strict=True):
+        count, ns, *values = line.split()
+        row.times_ns.append(round(float(ns)))
+        solutions = np.array([float(v) for v in values]).reshape(int(count), robot.dof + 2)
+        good = [s[2:] for s in solutions if s[1] == 1 and check(s[2:], target)]
+        row.ok += bool(good)
+        row.loose += bool(good) and loose(good[0], target)
+        row.own_flag += int(count) > 0
+    return row
+
+
 def time_text(ns: float) -> str:
+    if ns < 1e4:  # the C rows: a few microseconds
+        return f"{ns / 1e3:.1f} us"
     return f"{ns / 1e3:,.0f} us" if ns < 1e7 else f"{ns / 1e6:,.1f} ms"
 
 

@@ -212,6 +212,8 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
         "c/scara.h",
         "c/scara_ik.c",
         "c/scara_ik.h",
+        "c/scara_ik_closed.c",
+        "c/scara_ik_closed.h",
     ]
     source = (out / "c" / "scara.c").read_text(encoding="utf-8")
     header = (out / "c" / "scara.h").read_text(encoding="utf-8")
@@ -222,7 +224,7 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
     assert not re.search(r"\bdouble\b", source)
     assert "{ 0.325F, 0.225F }" in header
     stdout = capsys.readouterr().out
-    assert f"wrote 6 files to {out}/" in stdout
+    assert f"wrote 8 files to {out}/" in stdout
 
 
 def test_derive_default_precision_is_double_and_matches_generated(tmp_path):

@@ -15,6 +15,7 @@ from symkin.derive import Model, derive
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
 from symkin.emit.ik_c import emit_ik_c
+from symkin.emit.ik_closed_c import emit_ik_closed_c
 from symkin.emit.latex import latex_files
 from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
@@ -64,6 +65,7 @@ def files_for_robot(
         "c": lambda: {
             **emit_c(robot, kernels(), precision),
             **emit_ik_c(robot, kernels(), precision),
+            **emit_ik_closed_c(robot, kernels(), precision),
         },
         "python": lambda: {
             **emit_c(robot, kernels(), precision),

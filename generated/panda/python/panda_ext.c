@@ -8,11 +8,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1455 ops (596 additions, 847 multiplications, 12 trig)
- *   gravity: 227 ops (81 additions, 134 multiplications, 12 trig)
- *   coriolis: 851 ops (353 additions, 476 multiplications, 12 trig, 10 powers)
- *   coriolis_matrix: 6293 ops (2673 additions, 3600 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 891 ops (375 additions, 494 multiplications, 12 trig, 10 powers)
+ *   mass_matrix: 1429 ops (593 additions, 824 multiplications, 12 trig)
+ *   gravity: 220 ops (79 additions, 129 multiplications, 12 trig)
+ *   coriolis: 835 ops (351 additions, 462 multiplications, 12 trig, 10 powers)
+ *   coriolis_matrix: 5927 ops (2570 additions, 3337 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 877 ops (373 additions, 482 multiplications, 12 trig, 10 powers)
  *
  * CPython extension 'panda_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (7,) or (N, 7) and

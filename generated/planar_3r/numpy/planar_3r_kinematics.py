@@ -10,11 +10,11 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+  mass_matrix: 94 ops (43 additions, 47 multiplications, 4 trig)
   gravity: 0 ops (none)
-  coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
-  coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
-  inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
+  coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
+  coriolis_matrix: 146 ops (58 additions, 78 multiplications, 6 divisions, 4 trig)
+  inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -51,7 +51,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t2
     T[..., 0, 1] = -t3
-    T[..., 0, 3] = -L1*numpy.sin(q1) + L2*numpy.cos(t0) + L3*t2
+    T[..., 0, 3] = L2*numpy.cos(t0) + L3*t2 - L1*numpy.sin(q1)
     T[..., 1, 0] = t3
     T[..., 1, 1] = t2
     T[..., 1, 3] = L1*numpy.cos(q1) + L2*numpy.sin(t0) + L3*t3
@@ -79,7 +79,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     t0 = q1 + q2
     t1 = q3 + t0
     p_tool = numpy.zeros(batch + (3,))
-    p_tool[..., 0] = -L1*numpy.sin(q1) + L2*numpy.cos(t0) + L3*numpy.cos(t1)
+    p_tool[..., 0] = L2*numpy.cos(t0) + L3*numpy.cos(t1) - L1*numpy.sin(q1)
     p_tool[..., 1] = L1*numpy.cos(q1) + L2*numpy.sin(t0) + L3*numpy.sin(t1)
     return p_tool
 
@@ -103,14 +103,14 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t0 = q1 + q2
     t1 = q3 + t0
     t2 = L3*numpy.sin(t1)
-    t3 = L2*numpy.sin(t0) + t2
+    t3 = t2 + L2*numpy.sin(t0)
     t4 = L3*numpy.cos(t1)
-    t5 = L2*numpy.cos(t0) + t4
+    t5 = t4 + L2*numpy.cos(t0)
     J = numpy.zeros(batch + (6, 3))
-    J[..., 0, 0] = -L1*numpy.cos(q1) - t3
+    J[..., 0, 0] = -t3 - L1*numpy.cos(q1)
     J[..., 0, 1] = -t3
     J[..., 0, 2] = -t2
-    J[..., 1, 0] = -L1*numpy.sin(q1) + t5
+    J[..., 1, 0] = t5 - L1*numpy.sin(q1)
     J[..., 1, 1] = t5
     J[..., 1, 2] = t4
     J[..., 5, 0] = 1
@@ -138,14 +138,14 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     t0 = q1 + q2
     t1 = q3 + t0
     t2 = L3*numpy.sin(t1)
-    t3 = L2*numpy.sin(t0) + t2
+    t3 = t2 + L2*numpy.sin(t0)
     t4 = L3*numpy.cos(t1)
-    t5 = L2*numpy.cos(t0) + t4
+    t5 = t4 + L2*numpy.cos(t0)
     Jp = numpy.zeros(batch + (3, 3))
-    Jp[..., 0, 0] = -L1*numpy.cos(q1) - t3
+    Jp[..., 0, 0] = -t3 - L1*numpy.cos(q1)
     Jp[..., 0, 1] = -t3
     Jp[..., 0, 2] = -t2
-    Jp[..., 1, 0] = -L1*numpy.sin(q1) + t5
+    Jp[..., 1, 0] = t5 - L1*numpy.sin(q1)
     Jp[..., 1, 1] = t5
     Jp[..., 1, 2] = t4
     return Jp
@@ -173,11 +173,11 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t2 = numpy.cos(t1)
     t3 = numpy.sin(t1)
     t4 = L3*t2
-    t5 = L2*numpy.cos(t0) + t4
-    t6 = -L1*numpy.sin(q1) + t5
+    t5 = t4 + L2*numpy.cos(t0)
+    t6 = t5 - L1*numpy.sin(q1)
     t7 = L3*t3
-    t8 = L2*numpy.sin(t0) + t7
-    t9 = L1*numpy.cos(q1) + t8
+    t8 = t7 + L2*numpy.sin(t0)
+    t9 = t8 + L1*numpy.cos(q1)
     T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t2
     T[..., 0, 1] = -t3
@@ -237,7 +237,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 121 operations.
+    """Mass matrix: 94 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2, L3), 3 values.
@@ -270,57 +270,48 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     t0 = numpy.cos(q2)
     t1 = -L1*t0
     t2 = numpy.sin(q2)
-    t3 = L1*t2 + L2
+    t3 = L2 + L1*t2
     t4 = numpy.cos(q3)
     t5 = numpy.sin(q3)
     t6 = t1*t4 + t3*t5
-    t7 = L3 - t1*t5 + t3*t4
-    t8 = m3*(-cy3 + t6)
+    t7 = L3 + t3*t4 - t1*t5
+    t8 = m3*(t6 - cy3)
     t9 = m3*(cx3 + t7)
-    t10 = cx3*t9 - cy3*t8 + izz3
-    t11 = L3*t9 + t10
-    t12 = m2*(-cy2 + t1)
+    t10 = L3 + cx3
+    t11 = izz3 + t10*t9 - cy3*t8
+    t12 = m2*(t1 - cy2)
     t13 = m2*(cx2 + t3)
-    t14 = t4*t8 - t5*t9
-    t15 = t12 + t14
-    t16 = t4*t9 + t5*t8
-    t17 = t13 + t16
-    t18 = L3*t4
-    t19 = L3*t5
-    t20 = cx2*t13 - cy2*t12 + izz2 + t10 - t14*t19 + t16*t18
-    t21 = L2*t17 + t20
-    t22 = -cy1*m1
-    t23 = m1*(L1 + cx1)
-    t24 = t0*t15
-    t25 = t17*t2 + t23 - t24
-    t26 = L2*t0*(t0*t17 + t15*t2) + L2*t2*(t17*t2 - t24) + cx1*t23 - cy1*t22 + izz1 + t20
-    t27 = L1*t25 + t26
-    t28 = L2*t5
-    t29 = L2*t4 + L3
-    t30 = m3*(-cy3 + t28)
-    t31 = m3*(cx3 + t29)
-    t32 = cx3*t31 - cy3*t30 + izz3
-    t33 = L3*t31 + t32
-    t34 = -cy2*m2
-    t35 = m2*(L2 + cx2)
-    t36 = t30*t5 + t31*t4
-    t37 = t35 + t36
-    t38 = cx2*t35 - cy2*t34 + izz2 + t18*t36 - t19*(t30*t4 - t31*t5) + t32
-    t39 = L2*t37 + t38
-    t40 = -cy3*m3
-    t41 = m3*(L3 + cx3)
-    t42 = cx3*t41 - cy3*t40 + izz3
-    t43 = L3*t41 + t42
+    t14 = t12 + t4*t8 - t5*t9
+    t15 = t13 + t4*t9 + t5*t8
+    t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
+    t17 = -cy1*m1
+    t18 = m1*(L1 + cx1)
+    t19 = t18 + t15*t2 - t0*t14
+    t20 = t16 + izz1 + L1*t19 + cx1*t18 - cy1*t17
+    t21 = L2*t5
+    t22 = L3 + L2*t4
+    t23 = m3*(t21 - cy3)
+    t24 = m3*(cx3 + t22)
+    t25 = L3 + cx3
+    t26 = izz3 + t24*t25 - cy3*t23
+    t27 = -cy2*m2
+    t28 = m2*(L2 + cx2)
+    t29 = t28 + t23*t5 + t24*t4
+    t30 = t26 + izz2 + L2*t29 + cx2*t28 - cy2*t27
+    t31 = -cy3*m3
+    t32 = m3*(L3 + cx3)
+    t33 = L3 + cx3
+    t34 = izz3 + t32*t33 - cy3*t31
     M = numpy.zeros(batch + (3, 3))
-    M[..., 0, 0] = t27
-    M[..., 0, 1] = t21
+    M[..., 0, 0] = t20
+    M[..., 0, 1] = t16
     M[..., 0, 2] = t11
-    M[..., 1, 0] = t21
-    M[..., 1, 1] = t39
-    M[..., 1, 2] = t33
+    M[..., 1, 0] = t16
+    M[..., 1, 1] = t30
+    M[..., 1, 2] = t26
     M[..., 2, 0] = t11
-    M[..., 2, 1] = t33
-    M[..., 2, 2] = t43
+    M[..., 2, 1] = t26
+    M[..., 2, 2] = t34
     return M
 
 
@@ -343,7 +334,7 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis and centrifugal torques: 87 operations.
+    """Coriolis and centrifugal torques: 69 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -380,42 +371,37 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t2 = dq1 + dq2
     t3 = t2**2
     t4 = numpy.sin(q2)
-    t5 = -L2*t3 + t1*t4
+    t5 = t1*t4 - L2*t3
     t6 = numpy.cos(q2)
     t7 = t1*t6
     t8 = dq3 + t2
     t9 = numpy.cos(q3)
     t10 = numpy.sin(q3)
     t11 = t8**2
-    t12 = -L3*t11 + t10*t7 + t5*t9
-    t13 = -t10*t5 + t7*t9
-    t14 = m3*(-cx3*t11 + t12)
-    t15 = m3*(-cy3*t11 + t13)
-    t16 = cx3*t15 - cy3*t14
-    t17 = L3*t15 + t16
-    t18 = m2*(-cx2*t3 + t5)
-    t19 = m2*(-cy2*t3 + t7)
-    t20 = -t10*t15 + t14*t9
-    t21 = t18 + t20
-    t22 = t10*t14 + t15*t9
-    t23 = t19 + t22
-    t24 = -L3*t10*t20 + L3*t22*t9 + cx2*t19 - cy2*t18 + t16
-    t25 = L2*t23 + t24
-    t26 = m1*(-cx1*t0 + t1)
-    t27 = -cy1*m1*t0
-    t28 = t21*t6
-    t29 = t23*t4 + t27 - t28
-    t30 = L2*t4*(t23*t4 - t28) + L2*t6*(t21*t4 + t23*t6) + cx1*t27 - cy1*t26 + t24
-    t31 = L1*t29 + t30
+    t12 = t10*t7 + t5*t9 - L3*t11
+    t13 = t7*t9 - t10*t5
+    t14 = m3*(t12 - cx3*t11)
+    t15 = m3*(t13 - cy3*t11)
+    t16 = L3 + cx3
+    t17 = t15*t16 - cy3*t14
+    t18 = m2*(t5 - cx2*t3)
+    t19 = m2*(t7 - cy2*t3)
+    t20 = t18 + t14*t9 - t10*t15
+    t21 = t19 + t10*t14 + t15*t9
+    t22 = t17 + L2*t21 + cx2*t19 - cy2*t18
+    t23 = m1*(t1 - cx1*t0)
+    t24 = -cy1*t0*m1
+    t25 = t24 + t21*t4 - t20*t6
+    t26 = t22 + L1*t25 + cx1*t24 - cy1*t23
     c = numpy.zeros(batch + (3,))
-    c[..., 0] = t31
-    c[..., 1] = t25
+    c[..., 0] = t26
+    c[..., 1] = t22
     c[..., 2] = t17
     return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 172 operations.
+    """Coriolis matrix (christoffel symbols): 146 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -446,90 +432,81 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     cy3 = pi[..., 22]
     t0 = numpy.cos(q2)
     t1 = L1*t0
-    t2 = -t1
-    t3 = numpy.sin(q2)
-    t4 = L1*t3
-    t5 = L2 + t4
-    t6 = numpy.cos(q3)
-    t7 = numpy.sin(q3)
-    t8 = t2*t6 + t5*t7
-    t9 = t2*t7
-    t10 = L3 + t5*t6 - t9
-    t11 = m3*(-cy3 + t8)
-    t12 = m3*(cx3 + t10)
-    t13 = m2*(-cy2 + t2)
-    t14 = m2*(cx2 + t5)
-    t15 = t11*t6 - t12*t7
-    t16 = t13 + t15
-    t17 = t11*t7 + t12*t6
-    t18 = t14 + t17
-    t19 = L2*t7
-    t20 = L2*t6
-    t21 = L3 + t20
-    t22 = m3*(-cy3 + t19)
-    t23 = m3*(cx3 + t21)
-    t24 = t1*t7 + t4*t6
-    t25 = m3*t24
-    t26 = t1*t6 - t4*t7
-    t27 = m3*t26
-    t28 = m2*t4
-    t29 = t25*t6 - t27*t7 + t28
-    t30 = m2*t1
-    t31 = t25*t7 + t27*t6 + t30
-    t32 = t0*t18 - t0*t29 + t16*t3 + t3*t31
-    t33 = cx3*t27 - cy3*t25
-    t34 = L3*t6**2 + L3*t7**2
-    t35 = cx2*t30 - cy2*t28 + t27*t34 + t33
-    t36 = L2*t0**2 + L2*t3**2
-    t37 = t31*t36 + t35
-    t38 = L1*t32 + t37
-    t39 = t5*t6 - t9
-    t40 = m3*t39
-    t41 = -t8
-    t42 = m3*t41
-    t43 = -t17 + t40*t6 - t42*t7
-    t44 = t15 + t40*t7 + t42*t6
-    t45 = -t0*t43 + t3*t44
-    t46 = cx3*t42 - cy3*t40
-    t47 = t34*t42 + t46
-    t48 = t36*t44 + t47
-    t49 = L1*t45 + t48
-    t50 = L2*t31 + t35
-    t51 = L2*t44 + t47
-    t52 = L3*t27 + t33
-    t53 = L3*t42 + t46
-    t54 = m3*t20
-    t55 = -t19
-    t56 = m3*t55
-    t57 = t22*t6 - t23*t7 + t54*t7 + t56*t6
-    t58 = cx3*t56 - cy3*t54
-    t59 = t34*t56 + t58
-    t60 = L2*t57 + t59
-    t61 = L3*t56 + t58
-    t62 = (1/2)*t38
-    t63 = (1/2)*dq3
-    t64 = dq1*t62
-    t65 = t51 + t52
-    t66 = (1/2)*dq1
-    t67 = t49*t66
-    t68 = (1/2)*dq2
-    t69 = t51 - t52
-    t70 = t60*t68
-    t71 = -t69
+    t2 = numpy.sin(q2)
+    t3 = L1*t2
+    t4 = L2 + t3
+    t5 = numpy.cos(q3)
+    t6 = numpy.sin(q3)
+    t7 = t4*t6 - t1*t5
+    t8 = -t1*t6
+    t9 = L3 - t8 + t4*t5
+    t10 = m3*(t7 - cy3)
+    t11 = m3*(cx3 + t9)
+    t12 = t10*t5 - t11*t6
+    t13 = t12 + m2*(-cy2 - t1)
+    t14 = t10*t6 + t11*t5
+    t15 = t14 + m2*(cx2 + t4)
+    t16 = L2*t6
+    t17 = L2*t5
+    t18 = L3 + t17
+    t19 = m3*(t16 - cy3)
+    t20 = m3*(cx3 + t18)
+    t21 = t1*t5 - t3*t6
+    t22 = t21*m3
+    t23 = t1*t6 + t3*t5
+    t24 = t23*m3
+    t25 = L3 + cx3
+    t26 = t22*t25 - cy3*t24
+    t27 = t1*m2
+    t28 = t27 + t22*t5 + t24*t6
+    t29 = t3*m2
+    t30 = t26 + L2*t28 + cx2*t27 - cy2*t29
+    t31 = t29 + t24*t5 - t22*t6
+    t32 = t13 + t28
+    t33 = t15 - t31
+    t34 = t0*t33 + t2*t32
+    t35 = t30 + L1*t34
+    t36 = -t7*m3
+    t37 = -t8 + t4*t5
+    t38 = t37*m3
+    t39 = L3 + cx3
+    t40 = t36*t39 - cy3*t38
+    t41 = t12 + t36*t5 + t38*t6
+    t42 = t40 + L2*t41
+    t43 = -t14 + t38*t5 - t36*t6
+    t44 = t2*t41 - t0*t43
+    t45 = t42 + L1*t44
+    t46 = -t16*m3
+    t47 = t17*m3
+    t48 = L3 + cx3
+    t49 = t46*t48 - cy3*t47
+    t50 = t47 - t20
+    t51 = t19 + t46
+    t52 = t5*t51 + t50*t6
+    t53 = t49 + L2*t52
+    t54 = (1/2)*t35
+    t55 = (1/2)*dq3
+    t56 = dq1*t54
+    t57 = t26 + t42
+    t58 = (1/2)*dq1
+    t59 = t45*t58
+    t60 = (1/2)*dq2
+    t61 = t26 - t42
+    t62 = t53*t60
     C = numpy.zeros(batch + (3, 3))
-    C[..., 0, 0] = dq2*t62 + t49*t63
-    C[..., 0, 1] = dq2*t50 + t63*t65 + t64
-    C[..., 0, 2] = dq3*t53 + t65*t68 + t67
-    C[..., 1, 0] = (1/2)*dq3*t69 - t64
-    C[..., 1, 1] = t60*t63
-    C[..., 1, 2] = dq3*t61 + t66*t69 + t70
-    C[..., 2, 0] = (1/2)*dq2*t71 - t67
-    C[..., 2, 1] = t66*t71 - t70
+    C[..., 0, 0] = dq2*t54 + t45*t55
+    C[..., 0, 1] = t56 + dq2*t30 + t55*t57
+    C[..., 0, 2] = t59 + dq3*t40 + t57*t60
+    C[..., 1, 0] = -t56 - 1/2*dq3*t61
+    C[..., 1, 1] = t53*t55
+    C[..., 1, 2] = t62 + dq3*t49 - t58*t61
+    C[..., 2, 0] = -t59 + (1/2)*dq2*t61
+    C[..., 2, 1] = -t62 + t58*t61
     return C
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
-    """Inverse dynamics: 116 operations.
+    """Inverse dynamics: 98 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -577,36 +554,31 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     t5 = numpy.cos(q2)
     t6 = t3**2
     t7 = numpy.sin(q2)
-    t8 = -L2*t6 + t1*t7 - t2*t5
+    t8 = t1*t7 - L2*t6 - t2*t5
     t9 = L2*t4 + t1*t5 + t2*t7
     t10 = dq3 + t3
     t11 = ddq3 + t4
     t12 = numpy.cos(q3)
     t13 = numpy.sin(q3)
     t14 = t10**2
-    t15 = -L3*t14 + t12*t8 + t13*t9
+    t15 = t12*t8 + t13*t9 - L3*t14
     t16 = L3*t11 + t12*t9 - t13*t8
-    t17 = m3*(-cx3*t14 - cy3*t11 + t15)
-    t18 = m3*(cx3*t11 - cy3*t14 + t16)
-    t19 = cx3*t18 - cy3*t17 + izz3*t11
-    t20 = L3*t18 + t19
-    t21 = m2*(-cx2*t6 - cy2*t4 + t8)
-    t22 = m2*(cx2*t4 - cy2*t6 + t9)
-    t23 = t12*t17 - t13*t18
-    t24 = t21 + t23
-    t25 = t12*t18 + t13*t17
-    t26 = t22 + t25
-    t27 = L3*t12*t25 - L3*t13*t23 + cx2*t22 - cy2*t21 + izz2*t4 + t19
-    t28 = L2*t26 + t27
-    t29 = m1*(-cx1*t0 - cy1*ddq1 + t1)
-    t30 = m1*(cx1*ddq1 - cy1*t0 + t2)
-    t31 = t24*t5
-    t32 = t26*t7 + t30 - t31
-    t33 = L2*t5*(t24*t7 + t26*t5) + L2*t7*(t26*t7 - t31) + cx1*t30 - cy1*t29 + ddq1*izz1 + t27
-    t34 = L1*t32 + t33
+    t17 = m3*(t15 - cx3*t14 - cy3*t11)
+    t18 = m3*(t16 + cx3*t11 - cy3*t14)
+    t19 = L3 + cx3
+    t20 = t11*izz3 + t18*t19 - cy3*t17
+    t21 = m2*(t8 - cx2*t6 - cy2*t4)
+    t22 = m2*(t9 + cx2*t4 - cy2*t6)
+    t23 = t21 + t12*t17 - t13*t18
+    t24 = t22 + t12*t18 + t13*t17
+    t25 = t20 + L2*t24 + cx2*t22 + t4*izz2 - cy2*t21
+    t26 = m1*(t1 - cx1*t0 - cy1*ddq1)
+    t27 = m1*(t2 + cx1*ddq1 - cy1*t0)
+    t28 = t27 + t24*t7 - t23*t5
+    t29 = t25 + L1*t28 + cx1*t27 + ddq1*izz1 - cy1*t26
     tau = numpy.zeros(batch + (3,))
-    tau[..., 0] = t34
-    tau[..., 1] = t28
+    tau[..., 0] = t29
+    tau[..., 1] = t25
     tau[..., 2] = t20
     return tau
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 121 ops (52 additions, 65 multiplications, 4 trig)
+ *   mass_matrix: 94 ops (43 additions, 47 multiplications, 4 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 87 ops (31 additions, 49 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 172 ops (65 additions, 93 multiplications, 6 divisions, 4 trig, 4 powers)
- *   inverse_dynamics: 116 ops (47 additions, 62 multiplications, 4 trig, 3 powers)
+ *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 146 ops (58 additions, 78 multiplications, 6 divisions, 4 trig)
+ *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
  *
  * CPython extension 'planar_3r_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (3,) or (N, 3) and

@@ -11,11 +11,11 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+ *   mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
- *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
- *   inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
+ *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
  */
 #include <stdio.h>
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+ *   mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
- *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
- *   inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
+ *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -87,10 +87,10 @@ void scara_jacobian(const double q[3], const double *p, double J[18])
     const double t0 = q1 + q2;
     const double t1 = L2*sin(t0);
     const double t2 = L2*cos(t0);
-    J[0] = -L1*sin(q1) - t1;
+    J[0] = -t1 - L1*sin(q1);
     J[1] = -t1;
     J[2] = 0;
-    J[3] = L1*cos(q1) + t2;
+    J[3] = t2 + L1*cos(q1);
     J[4] = t2;
     J[5] = 0;
     J[6] = 0;
@@ -124,10 +124,10 @@ void scara_position_jacobian(const double q[3], const double *p, double Jp[9])
     const double t0 = q1 + q2;
     const double t1 = L2*sin(t0);
     const double t2 = L2*cos(t0);
-    Jp[0] = -L1*sin(q1) - t1;
+    Jp[0] = -t1 - L1*sin(q1);
     Jp[1] = -t1;
     Jp[2] = 0;
-    Jp[3] = L1*cos(q1) + t2;
+    Jp[3] = t2 + L1*cos(q1);
     Jp[4] = t2;
     Jp[5] = 0;
     Jp[6] = 0;
@@ -154,9 +154,9 @@ void scara_fk_jacobian(const double q[3], const double *p, double T[16], double 
     const double t1 = cos(t0);
     const double t2 = sin(t0);
     const double t3 = L2*t1;
-    const double t4 = L1*cos(q1) + t3;
+    const double t4 = t3 + L1*cos(q1);
     const double t5 = L2*t2;
-    const double t6 = L1*sin(q1) + t5;
+    const double t6 = t5 + L1*sin(q1);
     T[0] = t1;
     T[1] = -t2;
     T[2] = 0;
@@ -253,36 +253,29 @@ void scara_mass_matrix(const double q[3], const double *p, const double *pi, dou
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
-    const double t3 = L1*t2 + L2;
-    const double t4 = -t1;
-    const double t5 = m3*(-cy3 - t4);
-    const double t6 = m3*(cx3 + t3);
-    const double t7 = cx3*t6 - cy3*t5 + izz3;
-    const double t8 = m2*(-cy2 - t4);
-    const double t9 = m2*(cx2 + t3);
-    const double t10 = t5 + t8;
-    const double t11 = t6 + t9;
-    const double t12 = cx2*t9 - cy2*t8 + izz2 + t7;
-    const double t13 = L2*t11 + t12;
-    const double t14 = -cy1*m1;
-    const double t15 = m1*(L1 + cx1);
-    const double t16 = t0*t10 + t11*t2;
-    const double t17 = t15 + t16;
-    const double t18 = -L2*t0*(-t0*t11 + t10*t2) + L2*t16*t2 + cx1*t15 - cy1*t14 + izz1 + t12;
-    const double t19 = L1*t17 + t18;
-    const double t20 = -cy3*m3;
-    const double t21 = m3*(L2 + cx3);
-    const double t22 = cx3*t21 - cy3*t20 + izz3;
-    const double t23 = -cy2*m2;
-    const double t24 = m2*(L2 + cx2);
-    const double t25 = t21 + t24;
-    const double t26 = cx2*t24 - cy2*t23 + izz2 + t22;
-    const double t27 = L2*t25 + t26;
-    M[0] = t19;
-    M[1] = t13;
+    const double t3 = L2 + L1*t2;
+    const double t4 = m3*(t1 - cy3);
+    const double t5 = m3*(cx3 + t3);
+    const double t6 = m2*(t1 - cy2);
+    const double t7 = m2*(cx2 + t3);
+    const double t8 = t4 + t6;
+    const double t9 = t5 + t7;
+    const double t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4;
+    const double t11 = -cy1*m1;
+    const double t12 = m1*(L1 + cx1);
+    const double t13 = t12 + t0*t8 + t2*t9;
+    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 - cy1*t11;
+    const double t15 = -cy3*m3;
+    const double t16 = m3*(L2 + cx3);
+    const double t17 = -cy2*m2;
+    const double t18 = m2*(L2 + cx2);
+    const double t19 = t16 + t18;
+    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 - cy2*t17 - cy3*t15;
+    M[0] = t14;
+    M[1] = t10;
     M[2] = 0;
-    M[3] = t13;
-    M[4] = t27;
+    M[3] = t10;
+    M[4] = t20;
     M[5] = 0;
     M[6] = 0;
     M[7] = 0;
@@ -337,28 +330,22 @@ void scara_coriolis(const double q[3], const double dq[3], const double *p, cons
     const double t2 = dq1 + dq2;
     const double t3 = t2*t2;
     const double t4 = cos(q2);
-    const double t5 = -L2*t3 + t1*t4;
+    const double t5 = t1*t4 - L2*t3;
     const double t6 = sin(q2);
     const double t7 = -t1*t6;
-    const double t8 = -t5;
-    const double t9 = m3*(-cx3*t3 - t8);
-    const double t10 = -t7;
-    const double t11 = m3*(-cy3*t3 - t10);
-    const double t12 = cx3*t11 - cy3*t9;
-    const double t13 = m2*(-cx2*t3 - t8);
-    const double t14 = m2*(-cy2*t3 - t10);
-    const double t15 = t13 + t9;
-    const double t16 = t11 + t14;
-    const double t17 = cx2*t14 - cy2*t13 + t12;
-    const double t18 = L2*t16 + t17;
-    const double t19 = m1*(-cx1*t0 + t1);
-    const double t20 = -cy1*m1*t0;
-    const double t21 = t15*t6 + t16*t4;
-    const double t22 = t20 + t21;
-    const double t23 = L2*t21*t4 - L2*t6*(t15*t4 - t16*t6) + cx1*t20 - cy1*t19 + t17;
-    const double t24 = L1*t22 + t23;
-    c[0] = t24;
-    c[1] = t18;
+    const double t8 = m3*(t5 - cx3*t3);
+    const double t9 = m3*(t7 - cy3*t3);
+    const double t10 = m2*(t5 - cx2*t3);
+    const double t11 = m2*(t7 - cy2*t3);
+    const double t12 = t10 + t8;
+    const double t13 = t11 + t9;
+    const double t14 = L2*t13 + cx2*t11 + cx3*t9 - cy2*t10 - cy3*t8;
+    const double t15 = m1*(t1 - cx1*t0);
+    const double t16 = -cy1*t0*m1;
+    const double t17 = t16 + t12*t6 + t13*t4;
+    const double t18 = t14 + L1*t17 + cx1*t16 - cy1*t15;
+    c[0] = t18;
+    c[1] = t14;
     c[2] = 0;
 }
 
@@ -388,32 +375,25 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
     const double t2 = cos(q2);
     const double t3 = L1*t2;
     const double t4 = L2 + t3;
-    const double t5 = -t1;
-    const double t6 = m3*(-cy3 - t5);
-    const double t7 = m3*(cx3 + t4);
-    const double t8 = m2*(-cy2 - t5);
-    const double t9 = m2*(cx2 + t4);
-    const double t10 = t6 + t8;
-    const double t11 = t7 + t9;
-    const double t12 = m3*t3;
-    const double t13 = m2*t3;
-    const double t14 = t12 + t13;
-    const double t15 = -t1;
-    const double t16 = m3*t15;
-    const double t17 = m2*t15;
-    const double t18 = t16 + t17;
-    const double t19 = -t0*t11 + t0*t14 + t10*t2 + t18*t2;
-    const double t20 = cx3*t16 - cy3*t12;
-    const double t21 = cx2*t17 - cy2*t13 + t20;
-    const double t22 = t18*(L2*t0*t0 + L2*t2*t2) + t21;
-    const double t23 = L1*t19 + t22;
-    const double t24 = L2*t18 + t21;
-    const double t25 = (1.0/2.0)*t23;
-    const double t26 = dq1*t25;
-    C[0] = dq2*t25;
-    C[1] = dq2*t24 + t26;
+    const double t5 = m2*(t1 - cy2) + m3*(t1 - cy3);
+    const double t6 = m2*(cx2 + t4) + m3*(cx3 + t4);
+    const double t7 = -t1*m3;
+    const double t8 = t3*m3;
+    const double t9 = -t1*m2;
+    const double t10 = t7 + t9;
+    const double t11 = t3*m2;
+    const double t12 = L2*t10 + cx2*t9 + cx3*t7 - cy2*t11 - cy3*t8;
+    const double t13 = t11 + t8;
+    const double t14 = t10 + t5;
+    const double t15 = t13 - t6;
+    const double t16 = t0*t15 + t14*t2;
+    const double t17 = t12 + L1*t16;
+    const double t18 = (1.0/2.0)*t17;
+    const double t19 = dq1*t18;
+    C[0] = dq2*t18;
+    C[1] = t19 + dq2*t12;
     C[2] = 0;
-    C[3] = -t26;
+    C[3] = -t19;
     C[4] = 0;
     C[5] = 0;
     C[6] = 0;
@@ -459,29 +439,25 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
     const double t5 = cos(q2);
     const double t6 = sin(q2);
     const double t7 = t3*t3;
-    const double t8 = -L2*t7 + t1*t5 + t2*t6;
-    const double t9 = L2*t4 - t1*t6 + t2*t5;
-    const double t10 = ddq3 + 9.8100000000000005;
-    const double t11 = -t8;
-    const double t12 = m3*(-cx3*t7 - cy3*t4 - t11);
-    const double t13 = m3*(cx3*t4 - cy3*t7 + t9);
-    const double t14 = m3*t10;
-    const double t15 = cx3*t13 - cy3*t12 + izz3*t4;
-    const double t16 = m2*(-cx2*t7 - cy2*t4 - t11);
-    const double t17 = m2*(cx2*t4 - cy2*t7 + t9);
-    const double t18 = t12 + t16;
-    const double t19 = t13 + t17;
-    const double t20 = cx2*t17 - cy2*t16 + izz2*t4 + t15;
-    const double t21 = L2*t19 + t20;
-    const double t22 = m1*(-cx1*t0 - cy1*ddq1 + t1);
-    const double t23 = m1*(cx1*ddq1 - cy1*t0 + t2);
-    const double t24 = t18*t6 + t19*t5;
-    const double t25 = t23 + t24;
-    const double t26 = L2*t24*t5 - L2*t6*(t18*t5 - t19*t6) + cx1*t23 - cy1*t22 + ddq1*izz1 + t20;
-    const double t27 = L1*t25 + t26;
-    tau[0] = t27;
-    tau[1] = t21;
-    tau[2] = t14;
+    const double t8 = t1*t5 + t2*t6 - L2*t7;
+    const double t9 = L2*t4 + t2*t5 - t1*t6;
+    const double t10 = 9.8100000000000005 + ddq3;
+    const double t11 = m3*(t8 - cx3*t7 - cy3*t4);
+    const double t12 = m3*(t9 + cx3*t4 - cy3*t7);
+    const double t13 = t10*m3;
+    const double t14 = m2*(t8 - cx2*t7 - cy2*t4);
+    const double t15 = m2*(t9 + cx2*t4 - cy2*t7);
+    const double t16 = t11 + t14;
+    const double t17 = t12 + t15;
+    const double t18 = izz2 + izz3;
+    const double t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11;
+    const double t20 = m1*(t1 - cx1*t0 - cy1*ddq1);
+    const double t21 = m1*(t2 + cx1*ddq1 - cy1*t0);
+    const double t22 = t21 + t16*t6 + t17*t5;
+    const double t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20;
+    tau[0] = t23;
+    tau[1] = t19;
+    tau[2] = t13;
 }
 
 void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)

@@ -10,11 +10,11 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+ *   mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
- *   coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
- *   inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
+ *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void scara_manipulability(const double q[3], const double *p, double mu[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (73 operations).
+/* Mass matrix (61 operations).
  * M[9]: M(q) (3x3)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2)
@@ -116,7 +116,7 @@ void scara_gravity(const double q[3], const double *p, const double *pi, double 
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (66 operations).
+/* Coriolis and centrifugal torques (51 operations).
  * c[3]: c = C(q, dq) dq (3x1)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void scara_coriolis(const double q[3], const double dq[3], const double *p, cons
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (56 operations).
+/* Coriolis matrix (christoffel symbols) (45 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -138,7 +138,7 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (90 operations).
+/* Inverse dynamics (77 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)

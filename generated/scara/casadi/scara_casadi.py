@@ -10,11 +10,11 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 73 ops (32 additions, 39 multiplications, 2 trig)
+  mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
   gravity: 1 ops (1 multiplications)
-  coriolis: 66 ops (21 additions, 41 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 56 ops (20 additions, 31 multiplications, 1 divisions, 2 trig, 2 powers)
-  inverse_dynamics: 90 ops (36 additions, 50 multiplications, 2 trig, 2 powers)
+  coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+  inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -103,9 +103,9 @@ def jacobian_function(symbol_type=casadi.SX):
     t1 = L2*casadi.sin(t0)
     t2 = L2*casadi.cos(t0)
     J = symbol_type.zeros(6, 3)
-    J[0, 0] = -L1*casadi.sin(q1) - t1
+    J[0, 0] = -t1 - L1*casadi.sin(q1)
     J[0, 1] = -t1
-    J[1, 0] = L1*casadi.cos(q1) + t2
+    J[1, 0] = t2 + L1*casadi.cos(q1)
     J[1, 1] = t2
     J[2, 2] = 1
     J[5, 0] = 1
@@ -134,9 +134,9 @@ def position_jacobian_function(symbol_type=casadi.SX):
     t1 = L2*casadi.sin(t0)
     t2 = L2*casadi.cos(t0)
     Jp = symbol_type.zeros(3, 3)
-    Jp[0, 0] = -L1*casadi.sin(q1) - t1
+    Jp[0, 0] = -t1 - L1*casadi.sin(q1)
     Jp[0, 1] = -t1
-    Jp[1, 0] = L1*casadi.cos(q1) + t2
+    Jp[1, 0] = t2 + L1*casadi.cos(q1)
     Jp[1, 1] = t2
     Jp[2, 2] = 1
     return casadi.Function(
@@ -165,9 +165,9 @@ def fk_jacobian_function(symbol_type=casadi.SX):
     t1 = casadi.cos(t0)
     t2 = casadi.sin(t0)
     t3 = L2*t1
-    t4 = L1*casadi.cos(q1) + t3
+    t4 = t3 + L1*casadi.cos(q1)
     t5 = L2*t2
-    t6 = L1*casadi.sin(q1) + t5
+    t6 = t5 + L1*casadi.sin(q1)
     T = symbol_type.zeros(4, 4)
     T[0, 0] = t1
     T[0, 1] = -t2
@@ -238,7 +238,7 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (73 operations) as a casadi.Function.
+    """Mass matrix (61 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     """
@@ -263,36 +263,29 @@ def mass_matrix_function(symbol_type=casadi.SX):
     t0 = casadi.sin(q2)
     t1 = L1*t0
     t2 = casadi.cos(q2)
-    t3 = L1*t2 + L2
-    t4 = -t1
-    t5 = m3*(-cy3 - t4)
-    t6 = m3*(cx3 + t3)
-    t7 = cx3*t6 - cy3*t5 + izz3
-    t8 = m2*(-cy2 - t4)
-    t9 = m2*(cx2 + t3)
-    t10 = t5 + t8
-    t11 = t6 + t9
-    t12 = cx2*t9 - cy2*t8 + izz2 + t7
-    t13 = L2*t11 + t12
-    t14 = -cy1*m1
-    t15 = m1*(L1 + cx1)
-    t16 = t0*t10 + t11*t2
-    t17 = t15 + t16
-    t18 = -L2*t0*(-t0*t11 + t10*t2) + L2*t16*t2 + cx1*t15 - cy1*t14 + izz1 + t12
-    t19 = L1*t17 + t18
-    t20 = -cy3*m3
-    t21 = m3*(L2 + cx3)
-    t22 = cx3*t21 - cy3*t20 + izz3
-    t23 = -cy2*m2
-    t24 = m2*(L2 + cx2)
-    t25 = t21 + t24
-    t26 = cx2*t24 - cy2*t23 + izz2 + t22
-    t27 = L2*t25 + t26
+    t3 = L2 + L1*t2
+    t4 = m3*(t1 - cy3)
+    t5 = m3*(cx3 + t3)
+    t6 = m2*(t1 - cy2)
+    t7 = m2*(cx2 + t3)
+    t8 = t4 + t6
+    t9 = t5 + t7
+    t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
+    t11 = -cy1*m1
+    t12 = m1*(L1 + cx1)
+    t13 = t12 + t0*t8 + t2*t9
+    t14 = t10 + izz1 + L1*t13 + cx1*t12 - cy1*t11
+    t15 = -cy3*m3
+    t16 = m3*(L2 + cx3)
+    t17 = -cy2*m2
+    t18 = m2*(L2 + cx2)
+    t19 = t16 + t18
+    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 - cy2*t17 - cy3*t15
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t19
-    M[0, 1] = t13
-    M[1, 0] = t13
-    M[1, 1] = t27
+    M[0, 0] = t14
+    M[0, 1] = t10
+    M[1, 0] = t10
+    M[1, 1] = t20
     M[2, 2] = m3
     return casadi.Function(
         "scara_mass_matrix",
@@ -325,7 +318,7 @@ def gravity_function(symbol_type=casadi.SX):
 
 
 def coriolis_function(symbol_type=casadi.SX):
-    """Coriolis and centrifugal torques (66 operations) as a casadi.Function.
+    """Coriolis and centrifugal torques (51 operations) as a casadi.Function.
 
     Output c: c = C(q, dq) dq (3x1).
     """
@@ -352,29 +345,23 @@ def coriolis_function(symbol_type=casadi.SX):
     t2 = dq1 + dq2
     t3 = t2**2
     t4 = casadi.cos(q2)
-    t5 = -L2*t3 + t1*t4
+    t5 = t1*t4 - L2*t3
     t6 = casadi.sin(q2)
     t7 = -t1*t6
-    t8 = -t5
-    t9 = m3*(-cx3*t3 - t8)
-    t10 = -t7
-    t11 = m3*(-cy3*t3 - t10)
-    t12 = cx3*t11 - cy3*t9
-    t13 = m2*(-cx2*t3 - t8)
-    t14 = m2*(-cy2*t3 - t10)
-    t15 = t13 + t9
-    t16 = t11 + t14
-    t17 = cx2*t14 - cy2*t13 + t12
-    t18 = L2*t16 + t17
-    t19 = m1*(-cx1*t0 + t1)
-    t20 = -cy1*m1*t0
-    t21 = t15*t6 + t16*t4
-    t22 = t20 + t21
-    t23 = L2*t21*t4 - L2*t6*(t15*t4 - t16*t6) + cx1*t20 - cy1*t19 + t17
-    t24 = L1*t22 + t23
+    t8 = m3*(t5 - cx3*t3)
+    t9 = m3*(t7 - cy3*t3)
+    t10 = m2*(t5 - cx2*t3)
+    t11 = m2*(t7 - cy2*t3)
+    t12 = t10 + t8
+    t13 = t11 + t9
+    t14 = L2*t13 + cx2*t11 + cx3*t9 - cy2*t10 - cy3*t8
+    t15 = m1*(t1 - cx1*t0)
+    t16 = -cy1*t0*m1
+    t17 = t16 + t12*t6 + t13*t4
+    t18 = t14 + L1*t17 + cx1*t16 - cy1*t15
     c = symbol_type.zeros(3, 1)
-    c[0, 0] = t24
-    c[1, 0] = t18
+    c[0, 0] = t18
+    c[1, 0] = t14
     return casadi.Function(
         "scara_coriolis",
         [q, dq, p, pi],
@@ -385,7 +372,7 @@ def coriolis_function(symbol_type=casadi.SX):
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (56 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (45 operations) as a casadi.Function.
 
     Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
     """
@@ -409,32 +396,25 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     t2 = casadi.cos(q2)
     t3 = L1*t2
     t4 = L2 + t3
-    t5 = -t1
-    t6 = m3*(-cy3 - t5)
-    t7 = m3*(cx3 + t4)
-    t8 = m2*(-cy2 - t5)
-    t9 = m2*(cx2 + t4)
-    t10 = t6 + t8
-    t11 = t7 + t9
-    t12 = m3*t3
-    t13 = m2*t3
-    t14 = t12 + t13
-    t15 = -t1
-    t16 = m3*t15
-    t17 = m2*t15
-    t18 = t16 + t17
-    t19 = -t0*t11 + t0*t14 + t10*t2 + t18*t2
-    t20 = cx3*t16 - cy3*t12
-    t21 = cx2*t17 - cy2*t13 + t20
-    t22 = t18*(L2*t0**2 + L2*t2**2) + t21
-    t23 = L1*t19 + t22
-    t24 = L2*t18 + t21
-    t25 = (1/2)*t23
-    t26 = dq1*t25
+    t5 = m2*(t1 - cy2) + m3*(t1 - cy3)
+    t6 = m2*(cx2 + t4) + m3*(cx3 + t4)
+    t7 = -t1*m3
+    t8 = t3*m3
+    t9 = -t1*m2
+    t10 = t7 + t9
+    t11 = t3*m2
+    t12 = L2*t10 + cx2*t9 + cx3*t7 - cy2*t11 - cy3*t8
+    t13 = t11 + t8
+    t14 = t10 + t5
+    t15 = t13 - t6
+    t16 = t0*t15 + t14*t2
+    t17 = t12 + L1*t16
+    t18 = (1/2)*t17
+    t19 = dq1*t18
     C = symbol_type.zeros(3, 3)
-    C[0, 0] = dq2*t25
-    C[0, 1] = dq2*t24 + t26
-    C[1, 0] = -t26
+    C[0, 0] = dq2*t18
+    C[0, 1] = t19 + dq2*t12
+    C[1, 0] = -t19
     return casadi.Function(
         "scara_coriolis_matrix",
         [q, dq, p, pi],
@@ -445,7 +425,7 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
 
 
 def inverse_dynamics_function(symbol_type=casadi.SX):
-    """Inverse dynamics (90 operations) as a casadi.Function.
+    """Inverse dynamics (77 operations) as a casadi.Function.
 
     Output tau: tau = M ddq + C dq + G + F (3x1).
     """
@@ -482,30 +462,26 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     t5 = casadi.cos(q2)
     t6 = casadi.sin(q2)
     t7 = t3**2
-    t8 = -L2*t7 + t1*t5 + t2*t6
-    t9 = L2*t4 - t1*t6 + t2*t5
-    t10 = ddq3 + 9.81
-    t11 = -t8
-    t12 = m3*(-cx3*t7 - cy3*t4 - t11)
-    t13 = m3*(cx3*t4 - cy3*t7 + t9)
-    t14 = m3*t10
-    t15 = cx3*t13 - cy3*t12 + izz3*t4
-    t16 = m2*(-cx2*t7 - cy2*t4 - t11)
-    t17 = m2*(cx2*t4 - cy2*t7 + t9)
-    t18 = t12 + t16
-    t19 = t13 + t17
-    t20 = cx2*t17 - cy2*t16 + izz2*t4 + t15
-    t21 = L2*t19 + t20
-    t22 = m1*(-cx1*t0 - cy1*ddq1 + t1)
-    t23 = m1*(cx1*ddq1 - cy1*t0 + t2)
-    t24 = t18*t6 + t19*t5
-    t25 = t23 + t24
-    t26 = L2*t24*t5 - L2*t6*(t18*t5 - t19*t6) + cx1*t23 - cy1*t22 + ddq1*izz1 + t20
-    t27 = L1*t25 + t26
+    t8 = t1*t5 + t2*t6 - L2*t7
+    t9 = L2*t4 + t2*t5 - t1*t6
+    t10 = 9.81 + ddq3
+    t11 = m3*(t8 - cx3*t7 - cy3*t4)
+    t12 = m3*(t9 + cx3*t4 - cy3*t7)
+    t13 = t10*m3
+    t14 = m2*(t8 - cx2*t7 - cy2*t4)
+    t15 = m2*(t9 + cx2*t4 - cy2*t7)
+    t16 = t11 + t14
+    t17 = t12 + t15
+    t18 = izz2 + izz3
+    t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11
+    t20 = m1*(t1 - cx1*t0 - cy1*ddq1)
+    t21 = m1*(t2 + cx1*ddq1 - cy1*t0)
+    t22 = t21 + t16*t6 + t17*t5
+    t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20
     tau = symbol_type.zeros(3, 1)
-    tau[0, 0] = t27
-    tau[1, 0] = t21
-    tau[2, 0] = t14
+    tau[0, 0] = t23
+    tau[1, 0] = t19
+    tau[2, 0] = t13
     return casadi.Function(
         "scara_inverse_dynamics",
         [q, dq, ddq, p, pi],

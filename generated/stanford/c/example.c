@@ -11,11 +11,11 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 751 ops (303 additions, 440 multiplications, 8 trig)
- *   gravity: 154 ops (56 additions, 90 multiplications, 8 trig)
- *   coriolis: 644 ops (270 additions, 360 multiplications, 8 trig, 6 powers)
- *   coriolis_matrix: 2698 ops (1138 additions, 1545 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 688 ops (294 additions, 380 multiplications, 8 trig, 6 powers)
+ *   mass_matrix: 722 ops (294 additions, 420 multiplications, 8 trig)
+ *   gravity: 152 ops (55 additions, 89 multiplications, 8 trig)
+ *   coriolis: 631 ops (268 additions, 349 multiplications, 8 trig, 6 powers)
+ *   coriolis_matrix: 2502 ops (1079 additions, 1408 multiplications, 7 divisions, 8 trig)
+ *   inverse_dynamics: 670 ops (292 additions, 364 multiplications, 8 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 873 ops (359 additions, 504 multiplications, 10 trig)
- *   gravity: 183 ops (65 additions, 108 multiplications, 10 trig)
- *   coriolis: 710 ops (294 additions, 395 multiplications, 10 trig, 11 powers)
- *   coriolis_matrix: 3270 ops (1387 additions, 1864 multiplications, 7 divisions, 10 trig, 2 powers)
- *   inverse_dynamics: 763 ops (324 additions, 418 multiplications, 10 trig, 11 powers)
+ *   mass_matrix: 841 ops (346 additions, 485 multiplications, 10 trig)
+ *   gravity: 169 ops (60 additions, 99 multiplications, 10 trig)
+ *   coriolis: 693 ops (289 additions, 383 multiplications, 10 trig, 11 powers)
+ *   coriolis_matrix: 2979 ops (1287 additions, 1675 multiplications, 7 divisions, 10 trig)
+ *   inverse_dynamics: 747 ops (319 additions, 407 multiplications, 10 trig, 11 powers)
  *
  * CPython extension 'ur5_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (6,) or (N, 6) and

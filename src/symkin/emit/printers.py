@@ -23,7 +23,10 @@ class EmbeddedCPrinter(C99CodePrinter):
     """C99 for ``-std=c99 -pedantic``: no ``M_PI``, small integer powers as products."""
 
     def __init__(self, precision: str = "double") -> None:
-        super().__init__({"type_aliases": {real: C_TYPES[precision]}, **SETTINGS})
+        # No math_macros: M_SQRT2, M_PI_2 and friends are POSIX, not C99.
+        super().__init__(
+            {"type_aliases": {real: C_TYPES[precision]}, "math_macros": {}, **SETTINGS}
+        )
         self.precision = precision
 
     def _print_NumberSymbol(self, expr: sp.Expr) -> str:

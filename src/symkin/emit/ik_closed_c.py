@@ -1,0 +1,147 @@
+"""Generated closed-form IK in C: ``c/<robot>_ik_closed.h`` and ``c/<robot>_ik_closed.c``.
+
+Only for robots with a closed form (``symkin.ik.closed_form.has_closed_form``).  One template
+per family (``templates/c/ik_closed_{planar,wrist,parallel}.c.j2``) holds the per-pose formulas
+of the Python solver; the constants those formulas need come from ``p`` through the
+``closed_form_constants`` kernel (:mod:`symkin.emit.ik_closed_constants`).  Every candidate is
+checked by the generated ``<robot>_fk``, as ``closed_form_ik`` checks it in Python.
+"""
+
+from __future__ import annotations
+
+import math
+
+from symkin.emit.c import c_literal
+from symkin.emit.ik_c import _limit_literals
+from symkin.emit.ik_closed_constants import ClosedFormPlan, closed_form_plan
+from symkin.emit.layout import kernel_layout
+from symkin.emit.printers import c_code
+from symkin.emit.render import preamble_lines, render
+from symkin.ik.closed_form import DUPLICATE_TOL, RIGID_TOL, VERIFY_TOL
+from symkin.ik.closed_form_planar import REACH_TOL
+from symkin.ik.closed_form_wrist import WRIST_SINGULAR
+from symkin.kernel import Kernel
+from symkin.robot import Robot
+
+#: ``branch`` bit of each flag value (the same on every robot) and its meaning.
+BRANCH_BITS: dict[tuple[str, str], tuple[int, str]] = {
+    ("shoulder", "right"): (0x001, "shoulder offset right of the reach direction, seen from above"),
+    ("shoulder", "left"): (0x002, "shoulder offset left of the reach direction"),
+    ("elbow", "up"): (0x004, "elbow above the line shoulder-wrist (planar: counterclockwise)"),
+    ("elbow", "down"): (0x008, "elbow below that line (planar: clockwise)"),
+    ("extension", "forward"): (0x010, "positive root of the prismatic reach"),
+    ("extension", "backward"): (0x020, "negative root of the prismatic reach"),
+    ("wrist", "no_flip"): (0x040, "sin(alpha_4) sin(theta_5) < 0"),
+    ("wrist", "flip"): (0x080, "the other wrist branch"),
+    ("wrist", "singular"): (0x100, "sin(theta_5) = 0: one solution, with {free} = 0"),
+}
+
+#: Tolerances of the checks.  ``double``: those of ``symkin.ik.closed_form``; ``float`` rounds a
+#: 1 m arm's pose to about 1e-7, a stretched elbow's cosine to about 1e-6.
+TOLERANCES = {
+    "double": {
+        "verify": VERIFY_TOL,
+        "joint": DUPLICATE_TOL,
+        "reach": REACH_TOL,
+        "rigid": RIGID_TOL,
+        "wrist_singular": WRIST_SINGULAR,
+    },
+    "float": {
+        "verify": 1e-4,
+        "joint": 1e-5,
+        "reach": 1e-5,
+        "rigid": 1e-4,
+        "wrist_singular": WRIST_SINGULAR,
+    },
+}
+
+#: What the target components mean for each family (header comment).
+TASK_TEXT = {
+    "pose": "the whole pose",
+    "xy": "x, y of the tool point in the frame after the base transform",
+    "xyz": "x, y, z of the tool point in the frame after the base transform",
+    "xy+heading": "x, y of the tool point and the heading atan2(r21, r11) of the last joint "
+    "frame, in the frame after the base transform",
+    "xyz+heading": "x, y, z of the tool point and the heading atan2(r21, r11) of the last joint "
+    "frame, in the frame after the base transform",
+}
+
+
+def _flags(plan: ClosedFormPlan, macro: str) -> list[tuple[str, str, str]]:
+    """``(macro name, hex value, meaning)`` of every flag value the robot's family sets."""
+    return [
+        (
+            f"{macro}_IK_CLOSED_{flag.upper()}_{value.upper()}",
+            f"0x{bit:03x}",
+            meaning.format(free="q6" if plan.family == "parallel" else "q4"),
+        )
+        for (flag, value), (bit, meaning) in BRANCH_BITS.items()
+        if flag in plan.flags
+    ]
+
+
+def _shifts(robot: Robot) -> list[int]:
+    """1 for a revolute joint whose limits do not hold all of ``(-pi, pi]``: a wrapped value
+    outside them is moved by whole turns (``closed_form._joint_values``)."""
+    return [
+        int(
+            j.type == "revolute"
+            and j.limits is not None
+            and not j.limits[0] <= -math.pi < math.pi <= j.limits[1]
+        )
+        for j in robot.joints
+    ]
+
+
+def emit_ik_closed_c(
+    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double"
+) -> dict[str, str]:
+    """``c/<robot>_ik_closed.h`` and ``.c``, which call ``<robot>_fk``; ``{}`` for a robot
+    without a closed form."""
+    plan = closed_form_plan(robot)
+    if plan is None:
+        return {}
+    (fk,) = [k for k in kernels if k.name == "fk"]
+    macro = robot.name.upper()
+    header = f"{robot.name}_ik_closed.h"
+    lower, upper = _limit_literals(robot, precision)
+    literal = {
+        **{name: c_literal(value, precision) for name, value in TOLERANCES[precision].items()},
+        "pi": c_literal(math.pi, precision),
+        "two_pi": c_literal(2 * math.pi, precision),
+    }
+    solver = plan.solver
+    context = {
+        "prefix": robot.name,
+        "macro": macro,
+        "flag": f"{macro}_IK_CLOSED_",
+        "guard": f"{macro}_IK_CLOSED_H",
+        "real": precision,
+        "f": "f" if precision == "float" else "",
+        "dof": robot.dof,
+        "parameters": len(robot.parameters),
+        "header": f"{robot.name}.h",
+        "closed_header": header,
+        "family": plan.family,
+        "family_name": solver.family,
+        "arm": plan.arm,
+        "structure": plan.structure,
+        "task": solver.task,
+        "task_text": TASK_TEXT[solver.task],
+        "max_solutions": plan.max_solutions,
+        "flags": _flags(plan, macro),
+        "constants": kernel_layout(plan.constants, lambda e: c_code(e, precision)),
+        "head": plan.has("head_inverse"),
+        "tail": plan.has("tail_inverse"),
+        "literal": literal,
+        "text": {name: f"{value:g}" for name, value in TOLERANCES[precision].items()},
+        "revolute": [int(j.type == "revolute") for j in robot.joints],
+        "shift": _shifts(robot),
+        "lower": lower,
+        "upper": upper,
+        "preamble": preamble_lines(robot, (fk, plan.constants), f"C closed-form IK ({precision})"),
+    }
+    return {
+        f"c/{header}": render("c/ik_closed.h.j2", **context),
+        f"c/{robot.name}_ik_closed.c": render("c/ik_closed.c.j2", **context),
+    }
