@@ -61,9 +61,6 @@ CATALOGUE = (
     "ur5",
 )
 ROBOTS = (*CATALOGUE, *HAND)
-# symkin's C printer writes sqrt(2) as the POSIX macro M_SQRT2 in these robots' FK kernels (45
-# degree angles; a printer bug outside this test): their kernel file needs the POSIX names.
-POSIX_KERNELS = ("ur_modified", "planar_mixed")
 TOLERANCE = 1e-9  # double: FK of a solution vs. the target (m over size, rotation entries, rad)
 FLOAT_TOLERANCE = 1e-4
 SAME_Q = 1e-8  # double: C and Python give the same joint values (angles modulo 2 pi)
@@ -163,9 +160,8 @@ def built(tmp_path_factory) -> Built:
             }
             c = root / f"{name}_{precision}" / "c"
             write_tree(c.parent, files[name, precision])
-            posix = ["-D_DEFAULT_SOURCE"] if name in POSIX_KERNELS else []
             commands[name, precision] = [
-                CC, *STRICT, "-Wvla", *posix, *SHARED, "-o", str(c / "libclosed.so"),
+                CC, *STRICT, "-Wvla", *SHARED, "-o", str(c / "libclosed.so"),
                 str(c / f"{name}_ik_closed.c"), str(c / f"{name}.c"), "-lm",
             ]  # fmt: skip
     for name in SANITIZED:

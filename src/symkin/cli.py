@@ -752,6 +752,8 @@ def command_ik(args: argparse.Namespace) -> int:
     overrides = parameter_overrides(args.set)
     robot.parameter_values(overrides)  # reject unknown names and missing values first
     q0 = joint_values(args.q0, "--q0", robot) if args.q0 else None
+    if args.restarts is not None and args.restarts < 0:
+        raise SymkinError(f"--restarts: expected a count >= 0, got {args.restarts}")
     if (args.target is None) == (args.path_from is None):
         raise SymkinError("give either --target or --path-from (with --to and --steps)")
     if args.path_from is not None:
@@ -760,6 +762,12 @@ def command_ik(args: argparse.Namespace) -> int:
         raise SymkinError("--to, --steps and --table go with --path-from, not --target")
     values = target_from_text(args.target, "--target")
     pose, position_only, task = ik_problem(values, args.task)
+    rows = task or model.task_rows
+    if len(values) == 6 and any(values[3:]) and not {"wx", "wy", "wz"} & set(rows):
+        warnings.warn(
+            f"the target's rotation is not matched: the task rows are {', '.join(rows)}",
+            stacklevel=1,
+        )
     options = {"position_only": position_only, "task": task, "tolerance": args.tolerance}
     if args.all:
         found = all_solutions(model, pose, q0, seed=args.seed, overrides=overrides, **options)

@@ -196,17 +196,29 @@ def dynamic_state(
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and loaded in
     memory, once per model: the fast numeric path for solvers (IK, simulation, trajectories).
+    The generated code is checked against the symbolic model in the test suite."""
+    return _generated_module(model, "numpy", kind)
 
-    Imported here, not at the top: ``import symkin`` should not load the code generators.
-    The generated code is checked against the symbolic model in the test suite.
-    """
+
+@lru_cache(maxsize=16)
+def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
+    """The CasADi backend's ``kind`` kernels, loaded the same way: ``fk_function``,
+    ``forward_dynamics_function`` and the others build ``casadi.Function`` objects for
+    optimisation (trajectories, IK through IPOPT)."""
+    return _generated_module(model, "casadi", kind)
+
+
+def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
+    # Imported here, not at the top: ``import symkin`` should not load the code generators.
+    from symkin.emit.casadi import emit_casadi
     from symkin.emit.numpy import emit_numpy
     from symkin.kernel import dynamics_kernels, kinematics_kernels
 
     kernels = {"kinematics": kinematics_kernels, "dynamics": dynamics_kernels}
     if kind not in kernels:
         raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(kernels)}")
-    (source,) = emit_numpy(model.robot, kernels[kind](model)).values()
-    module = ModuleType(f"{model.robot.name}_{kind}")
+    emit = {"numpy": emit_numpy, "casadi": emit_casadi}[backend]
+    (source,) = emit(model.robot, kernels[kind](model)).values()
+    module = ModuleType(f"{model.robot.name}_{backend}_{kind}")
     exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
     return module

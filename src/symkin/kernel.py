@@ -15,6 +15,7 @@ import sympy as sp
 
 from symkin.derive import Model
 from symkin.derive.dynamics import link_inertial_data
+from symkin.robot import unused_prefix
 
 # Kinds reported in operation counts, from SymPy's count_ops(visual=True) names.
 OPERATION_KINDS: Mapping[str, tuple[str, ...]] = {
@@ -101,11 +102,7 @@ def count_operations(expressions: Sequence[sp.Expr]) -> dict[str, int]:
 
 def _intermediate_prefix(expressions: Sequence[sp.Expr]) -> str:
     """``t`` for intermediates ``t0, t1, ...``, unless an input is already named ``t<k>``."""
-    names = {s.name for e in expressions for s in e.free_symbols}
-    prefix = "t"
-    while any(n.startswith(prefix) and n[len(prefix) :].isdigit() for n in names):
-        prefix += "_"
-    return prefix
+    return unused_prefix("t", (s.name for e in expressions for s in e.free_symbols))
 
 
 def kernel_from_outputs(

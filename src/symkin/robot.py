@@ -17,7 +17,7 @@ Conventions (docs/conventions.md):
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Literal
 
@@ -185,3 +185,12 @@ class Robot:
 def joint_symbols(n: int, prefix: str = "q") -> tuple[sp.Symbol, ...]:
     """Joint variables ``q1..qn`` (or ``dq1..``, ``ddq1..`` with another prefix), real."""
     return tuple(sp.Symbol(f"{prefix}{i}", real=True) for i in range(1, n + 1))
+
+
+def unused_prefix(prefix: str, names: Iterable[str]) -> str:
+    """``prefix``, with ``_`` appended until no name is ``<prefix><digits>``: a safe prefix
+    for numbered intermediates next to the robot's own symbols."""
+    names = set(names)
+    while any(n.startswith(prefix) and n[len(prefix) :].isdigit() for n in names):
+        prefix += "_"
+    return prefix

@@ -26,7 +26,6 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass
 from functools import lru_cache
 from pathlib import Path
-from types import ModuleType
 from typing import Any, Literal
 
 import numpy as np
@@ -34,7 +33,12 @@ import sympy as sp
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
-from symkin.evaluate import dynamic_state, generated_numpy_module, parameter_substitution
+from symkin.evaluate import (
+    dynamic_state,
+    generated_casadi_module,
+    generated_numpy_module,
+    parameter_substitution,
+)
 from symkin.kernel import inertial_symbols
 from symkin.robot import Joint, Robot
 
@@ -162,22 +166,6 @@ def units(joint: Joint) -> tuple[str, str, str]:
 
 
 @lru_cache(maxsize=16)
-def generated_casadi_module(model: Model, with_position: bool = False) -> ModuleType:
-    """The CasADi backend's dynamics kernels (and the ``position`` kernel) rendered and
-    loaded in memory, once per model, as :func:`symkin.evaluate.generated_numpy_module` does
-    for NumPy.  Its ``forward_dynamics_function`` is the dynamics the problem is built on."""
-    from symkin.emit.casadi import emit_casadi
-    from symkin.kernel import dynamics_kernels, kinematics_kernels
-
-    kernels = dynamics_kernels(model)
-    if with_position:
-        kernels += tuple(k for k in kinematics_kernels(model) if k.name == "position")
-    (source,) = emit_casadi(model.robot, kernels).values()
-    module = ModuleType(f"{model.robot.name}_casadi")
-    exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
-    return module
-
-
 def dynamics_arguments(model: Model, overrides: Mapping[str, float]) -> dict[str, np.ndarray]:
     """``{"p": ..., "pi": ...}``: the parameter vector and, when the robot file leaves inertial
     data out, the inertial values, both in the order of the generated functions' inputs."""
@@ -562,7 +550,7 @@ def optimal_trajectory(model: Model, problem: TrajectoryProblem) -> Trajectory:
     check_problem(model, problem)
     n, N = model.robot.dof, problem.intervals
     args = dynamics_arguments(model, dict(problem.overrides))
-    module = generated_casadi_module(model, with_position=problem.cartesian_goal is not None)
+    module = generated_casadi_module(model)
     forward = module.forward_dynamics_function(casadi.SX)
     constants = [casadi.DM(value) for value in args.values()]  # p, then pi, as the inputs
 
@@ -570,7 +558,8 @@ def optimal_trajectory(model: Model, problem: TrajectoryProblem) -> Trajectory:
         return casadi.vertcat(x[n:], forward(x[:n], x[n:], tau, *constants))
 
     def tool_position(q):
-        return module.position_function(casadi.SX)(q, constants[0])
+        kinematics = generated_casadi_module(model, "kinematics")
+        return kinematics.position_function(casadi.SX)(q, constants[0])
 
     start = np.array(problem.start)
     goal = np.array(problem.goal if problem.goal is not None else problem.start)

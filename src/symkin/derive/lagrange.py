@@ -27,7 +27,7 @@ from symkin.derive.dynamics import (
 )
 from symkin.derive.kinematics import Kinematics
 from symkin.derive.simplify import reduce_trig
-from symkin.robot import Robot
+from symkin.robot import Robot, unused_prefix
 
 # Up to this many joints the results are expanded and contracted into readable sums.
 READABLE_DOF = 3
@@ -114,7 +114,8 @@ def _readable(
 def _shared(
     matrices: dict[str, se.DenseMatrix], restore: dict
 ) -> tuple[dict[str, sp.ImmutableMatrix], tuple[tuple[sp.Symbol, sp.Expr], ...]]:
-    """Common subexpressions named ``l0, l1, ...`` (SymEngine's CSE), then converted.
+    """Common subexpressions named ``l0, l1, ...`` (SymEngine's CSE; ``l_0, ...`` if the robot
+    has a symbol ``l<k>``), then converted.
 
     Expanding a 6-DOF Coriolis matrix gives ~10^5 terms, and converting SymEngine's shared
     trees to SymPy term by term copies every shared subtree: minutes for the Panda.  Naming
@@ -122,10 +123,11 @@ def _shared(
     """
     entries = [e for matrix in matrices.values() for e in matrix]
     found, reduced = se.cse(entries)
+    prefix = unused_prefix("l", (symbol.name for symbol in restore.values()))
     names = {}
     assignments = []
     for k, (symbol, expr) in enumerate(found):
-        names[sp.sympify(symbol)] = name = sp.Symbol(f"lagrange_{k}", real=True)
+        names[sp.sympify(symbol)] = name = sp.Symbol(f"{prefix}{k}", real=True)
         assignments.append((name, sp.sympify(expr).xreplace(restore).xreplace(names)))
     values = iter(sp.sympify(e).xreplace(restore).xreplace(names) for e in reduced)
     converted = {

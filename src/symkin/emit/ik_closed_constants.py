@@ -281,8 +281,8 @@ class ClosedFormPlan:
 
 
 def _literal_numbers(expr: sp.Expr) -> sp.Expr:
-    """Irrational numbers (``pi/2``, ``sqrt(2)/2``) as floats: the C printer would print
-    them as POSIX macros (``M_PI_2``); rationals, exponents included, stay exact."""
+    """Irrational numbers (``pi/2``, ``sqrt(2)/2``) as floats, computed once here rather than
+    at run time; rationals, exponents included, stay exact."""
     return sp.sympify(expr).replace(
         lambda e: e.is_number and not e.is_Rational, lambda e: e.evalf(DIGITS)
     )

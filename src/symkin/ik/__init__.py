@@ -8,7 +8,10 @@
   scheme and a path follower that solves every waypoint;
 * :func:`all_solutions` (``solutions``): every solution, in closed form where the robot has
   one (``closed_form``), else from many numeric seeds;
-* plots in ``symkin.ik.plot`` (matplotlib).
+* plots in ``symkin.ik.plot`` (matplotlib);
+* ``symkin.ik.batch.solve_ik_batch`` (the generated C solver's algorithm on NumPy batches) and
+  ``symkin.ik.casadi_ik.solve_ik_casadi`` (IPOPT with joint limits as bounds): imported from
+  their modules, so that ``import symkin`` loads neither CasADi nor the code generators.
 
 Conventions and examples: ``docs/ik.md``.
 """

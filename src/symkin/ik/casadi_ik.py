@@ -17,14 +17,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from functools import lru_cache
-from types import ModuleType
 
 import casadi
 import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
-from symkin.evaluate import generated_numpy_module
+from symkin.evaluate import generated_casadi_module, generated_numpy_module
 from symkin.ik.batch import pose_errors, sample_ranges
 from symkin.ik.numeric import (
     DEFAULT_TOLERANCE,
@@ -51,17 +50,6 @@ IPOPT_OPTIONS = {
 
 
 @lru_cache(maxsize=16)
-def generated_casadi_module(model: Model) -> ModuleType:
-    """The CasADi backend's kinematics module of ``model``, rendered and loaded in memory."""
-    from symkin.emit.casadi import emit_casadi
-    from symkin.kernel import kinematics_kernels
-
-    (source,) = emit_casadi(model.robot, kinematics_kernels(model)).values()
-    module = ModuleType(f"{model.robot.name}_casadi")
-    exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
-    return module
-
-
 @lru_cache(maxsize=32)
 def ik_nlp_solver(model: Model, position_only: bool, max_iterations: int) -> casadi.Function:
     """The IPOPT solver of the IK program; its parameters are the target pose (12 values:
@@ -70,7 +58,7 @@ def ik_nlp_solver(model: Model, position_only: bool, max_iterations: int) -> cas
     q = casadi.SX.sym("q", n)
     target = casadi.SX.sym("target", 12)
     p = casadi.SX.sym("p", len(model.robot.parameters))
-    T = generated_casadi_module(model).fk_function()(q, p)
+    T = generated_casadi_module(model, "kinematics").fk_function()(q, p)
     rotation_target = casadi.reshape(target[:9], 3, 3).T  # reshape fills column by column
     position_error = target[9:] - T[:3, 3]
     objective = casadi.sumsqr(position_error) / 2

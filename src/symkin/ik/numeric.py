@@ -286,8 +286,11 @@ def _lm_attempt(
         else:
             mu *= MU_FACTOR
         history.append(energy)
+        # history[-1] is this iteration's E, history[-1 - STALL_WINDOW] the one to compare.
         stalled = (
-            stall and len(history) > STALL_WINDOW and energy > STALL_RATIO * history[-STALL_WINDOW]
+            stall
+            and len(history) > STALL_WINDOW
+            and energy > STALL_RATIO * history[-1 - STALL_WINDOW]
         )
         if mu > MU_MAX or stalled:
             break  # a local minimum: the target is out of reach from here
