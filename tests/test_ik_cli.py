@@ -248,7 +248,7 @@ def test_path_follower(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> No
         (["--target", "0.3,0,0.2", "--task", "x,q"], "unknown task row"),
         (["--target", "0.3,0,0.2", "--all"], "infinitely many solutions"),
         (["--target", "0.3,0,0.2", "--tolerance", "-1"], "tolerance must be positive"),
-        (["--target", "0.3,0,0.2", "--restarts", "-1"], "restarts >= 0"),
+        (["--target", "0.3,0,0.2", "--restarts", "-1"], "--restarts: expected a count >= 0"),
         (["--target", "0.3,0,0.2", "--set", "a9=1"], "unknown parameter"),
     ],
 )

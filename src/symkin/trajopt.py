@@ -24,7 +24,6 @@ import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass
-from functools import lru_cache
 from pathlib import Path
 from typing import Any, Literal
 
@@ -165,7 +164,6 @@ def units(joint: Joint) -> tuple[str, str, str]:
     return ("rad", "rad/s", "N m") if joint.type == "revolute" else ("m", "m/s", "N")
 
 
-@lru_cache(maxsize=16)
 def dynamics_arguments(model: Model, overrides: Mapping[str, float]) -> dict[str, np.ndarray]:
     """``{"p": ..., "pi": ...}``: the parameter vector and, when the robot file leaves inertial
     data out, the inertial values, both in the order of the generated functions' inputs."""

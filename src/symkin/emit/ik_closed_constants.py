@@ -26,7 +26,7 @@ import sympy as sp
 
 from symkin.ik.closed_form import _solver
 from symkin.ik.closed_form_parallel import ParallelAxesSolver
-from symkin.ik.closed_form_planar import PlanarSolver
+from symkin.ik.closed_form_planar import PlanarSolver, planar_links
 from symkin.ik.closed_form_table import chain_from_robot, twist_sign
 from symkin.ik.closed_form_wrist import (
     Arm,
@@ -34,6 +34,7 @@ from symkin.ik.closed_form_wrist import (
     CylindricalArm,
     SphericalArm,
     SphericalWristSolver,
+    wrist_centre_in_frame2,
 )
 from symkin.kernel import Kernel, KernelInput, kernel_from_outputs
 from symkin.robot import Robot
@@ -94,11 +95,6 @@ def _polar(x: sp.Expr, y: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     return sp.sqrt(x**2 + y**2), sp.atan2(y, x)
 
 
-def _turn(angle: sp.Expr, vector: tuple[sp.Expr, sp.Expr]) -> tuple[sp.Expr, sp.Expr]:
-    c, s = sp.cos(angle), sp.sin(angle)
-    return c * vector[0] - s * vector[1], s * vector[0] + c * vector[1]
-
-
 def _frames(chain: SymbolicChain, tail: sp.Matrix | None) -> list[Constant]:
     """``head_inverse`` (and ``tail_inverse``) where they are not the identity, and ``scale``."""
     constants: list[Constant] = [("scale", [chain.size], "length scale of the robot (>= 1 m)")]
@@ -112,26 +108,9 @@ def _frames(chain: SymbolicChain, tail: sp.Matrix | None) -> list[Constant]:
 
 
 def planar_constants(chain: SymbolicChain, solver: PlanarSolver) -> list[Constant]:
-    """Mirror of ``closed_form_planar.planar_solver``."""
+    """The constants of ``closed_form_planar.planar_solver`` as expressions in ``p``."""
     tool = _translation_rotation(rot_x(chain.alpha[-1])) @ chain.tool
-    offsets: list[sp.Expr] = []
-    links: list[tuple[sp.Expr, sp.Expr]] = []
-    start = (sp.S.Zero, sp.S.Zero)
-    gamma, vector = sp.S.Zero, (sp.S.Zero, sp.S.Zero)
-    for i, kind in enumerate(chain.kinds):
-        if kind == "revolute":
-            if offsets:
-                links.append(vector)
-            else:
-                start = vector
-            offsets.append(chain.theta[i] + gamma)
-            gamma, vector = sp.S.Zero, (chain.a[i], sp.S.Zero)
-        else:
-            gamma += chain.theta[i]
-            shift = _turn(gamma, (chain.a[i], sp.S.Zero))
-            vector = (vector[0] + shift[0], vector[1] + shift[1])
-    shift = _turn(gamma, (tool[0, 3], tool[1, 3]))
-    links.append((vector[0] + shift[0], vector[1] + shift[1]))
+    start, offsets, links, gamma = planar_links(chain, tool, sp.S.Zero, sp.cos, sp.sin)
     polar = [_polar(*link) for link in links]
     constants: list[Constant] = [
         ("offsets", offsets, "o_k + gamma_{k-1}: angle offset of each revolute joint"),
@@ -149,16 +128,6 @@ def planar_constants(chain: SymbolicChain, solver: PlanarSolver) -> list[Constan
     return constants + _frames(chain, None)
 
 
-def _wrist_centre_in_frame2(chain: SymbolicChain) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """Mirror of ``closed_form_wrist._wrist_centre_in_frame2``."""
-    a3, alpha3, d4 = chain.a[2], chain.alpha[2], chain.d[3]
-    cx, cy = a3, -sp.sin(alpha3) * d4
-    if chain.kinds[2] == "prismatic":
-        c, s = sp.cos(chain.theta[2]), sp.sin(chain.theta[2])
-        cx, cy = c * cx - s * cy, s * cx + c * cy
-    return cx, cy, chain.d[2] + sp.cos(alpha3) * d4
-
-
 def _arm_constants(chain: SymbolicChain, arm: Arm, twist2: int) -> list[Constant]:
     """Mirror of ``_articulated``, ``_spherical`` and ``_cylindrical`` in
     ``closed_form_wrist``."""
@@ -174,7 +143,7 @@ def _arm_constants(chain: SymbolicChain, arm: Arm, twist2: int) -> list[Constant
             ("link2", list(link2), "(a_2, 0) in polar form (length, angle)"),
             ("link3", list(link3), "(a_3, -sin(alpha_3) d_4) in polar form"),
         ]
-    cx, cy, cz = _wrist_centre_in_frame2(chain)
+    cx, cy, cz = wrist_centre_in_frame2(chain, sp.cos, sp.sin)
     if isinstance(arm, SphericalArm):
         return [
             ("d1", [d[0]], "d_1"),

@@ -49,7 +49,6 @@ IPOPT_OPTIONS = {
 }
 
 
-@lru_cache(maxsize=16)
 @lru_cache(maxsize=32)
 def ik_nlp_solver(model: Model, position_only: bool, max_iterations: int) -> casadi.Function:
     """The IPOPT solver of the IK program; its parameters are the target pose (12 values:

@@ -22,7 +22,9 @@ and Control*, Sec. 5.3; Craig, *Introduction to Robotics*, Sec. 4.4) without ``a
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -73,9 +75,40 @@ def polar(vector: tuple[float, float]) -> tuple[float, float]:
     return math.hypot(*vector), math.atan2(vector[1], vector[0])
 
 
-def _turn(angle: float, vector: tuple[float, float]) -> tuple[float, float]:
-    c, s = math.cos(angle), math.sin(angle)
-    return c * vector[0] - s * vector[1], s * vector[0] + c * vector[1]
+def planar_links(
+    chain: Any, tool: Any, zero: Any, cos: Callable, sin: Callable
+) -> tuple[tuple[Any, Any], list[Any], list[tuple[Any, Any]], Any]:
+    """Walk a planar chain: the first revolute axis ``start``, each revolute joint's angle
+    offset, the in-plane link vectors between revolute axes (prismatic joints and the tool
+    folded in) and the turn ``gamma`` after the last revolute joint.
+
+    Numbers for the solver, or SymPy expressions (``zero = sp.S.Zero``, ``sp.cos``, ``sp.sin``)
+    for the constants of the generated C: one walk serves both.
+    """
+
+    def turn(angle: Any, vector: tuple[Any, Any]) -> tuple[Any, Any]:
+        c, s = cos(angle), sin(angle)
+        return c * vector[0] - s * vector[1], s * vector[0] + c * vector[1]
+
+    offsets: list[Any] = []
+    links: list[tuple[Any, Any]] = []
+    start = (zero, zero)
+    gamma, vector = zero, (zero, zero)
+    for i, kind in enumerate(chain.kinds):
+        if kind == "revolute":
+            if offsets:
+                links.append(vector)
+            else:
+                start = vector
+            offsets.append(chain.theta[i] + gamma)
+            gamma, vector = zero, (chain.a[i], zero)
+        else:
+            gamma += chain.theta[i]
+            shift = turn(gamma, (chain.a[i], zero))
+            vector = (vector[0] + shift[0], vector[1] + shift[1])
+    shift = turn(gamma, (tool[0, 3], tool[1, 3]))
+    links.append((vector[0] + shift[0], vector[1] + shift[1]))
+    return start, offsets, links, gamma
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,23 +183,7 @@ def planar_solver(chain: NumericChain) -> PlanarSolver | None:
         return None
     # The last twist turns only the last frame: it joins the tool.
     tool = homogeneous(rot_x(chain.alpha[-1])) @ chain.tool
-    offsets, links = [], []
-    start = (0.0, 0.0)
-    gamma, vector = 0.0, (0.0, 0.0)
-    for i, kind in enumerate(chain.kinds):
-        if kind == "revolute":
-            if offsets:
-                links.append(vector)
-            else:
-                start = vector
-            offsets.append(chain.theta[i] + gamma)
-            gamma, vector = 0.0, (chain.a[i], 0.0)
-        else:
-            gamma += chain.theta[i]
-            shift = _turn(gamma, (chain.a[i], 0.0))
-            vector = (vector[0] + shift[0], vector[1] + shift[1])
-    shift = _turn(gamma, (tool[0, 3], tool[1, 3]))
-    links.append((vector[0] + shift[0], vector[1] + shift[1]))
+    start, offsets, links, gamma = planar_links(chain, tool, 0.0, math.cos, math.sin)
     if any(chain.is_zero_length(math.hypot(*v)) for v in links[:2]):
         return None
     return PlanarSolver(

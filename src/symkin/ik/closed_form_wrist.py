@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -252,15 +253,18 @@ class SphericalWristSolver:
         return result
 
 
-def _wrist_centre_in_frame2(chain: NumericChain) -> tuple[float, float, float]:
+def wrist_centre_in_frame2(
+    chain: Any, cos: Callable = math.cos, sin: Callable = math.sin
+) -> tuple[Any, Any, Any]:
     """``(c_x, c_y, c_z)``: the wrist centre ``(0, 0, d_4)`` of frame 3 in frame 2, without
-    the joint-3 motion: ``Rot(theta_3) (a_3, -sin(al3) d_4)`` and ``d_3 + cos(al3) d_4``."""
+    the joint-3 motion: ``Rot(theta_3) (a_3, -sin(al3) d_4)`` and ``d_3 + cos(al3) d_4``.
+    Numbers for the solver; with ``sp.cos``, ``sp.sin`` expressions for the generated C."""
     a3, alpha3, d4 = chain.a[2], chain.alpha[2], chain.d[3]
-    cx, cy = a3, -math.sin(alpha3) * d4
+    cx, cy = a3, -sin(alpha3) * d4
     if chain.kinds[2] == "prismatic":
-        c, s = math.cos(chain.theta[2]), math.sin(chain.theta[2])
+        c, s = cos(chain.theta[2]), sin(chain.theta[2])
         cx, cy = c * cx - s * cy, s * cx + c * cy
-    return cx, cy, chain.d[2] + math.cos(alpha3) * d4
+    return cx, cy, chain.d[2] + cos(alpha3) * d4
 
 
 def _articulated(chain: NumericChain) -> ArticulatedArm | None:
@@ -287,7 +291,7 @@ def _spherical(chain: NumericChain) -> SphericalArm | None:
     twist1, twist2 = twist_sign(chain.alpha[0]), twist_sign(chain.alpha[1])
     if not twist1 or not twist2:
         return None
-    cx, cy, cz = _wrist_centre_in_frame2(chain)
+    cx, cy, cz = wrist_centre_in_frame2(chain)
     return SphericalArm(
         twist1=twist1,
         twist2=twist2,
@@ -305,7 +309,7 @@ def _cylindrical(chain: NumericChain) -> CylindricalArm | None:
     twist2 = twist_sign(chain.alpha[1])
     if not is_parallel(chain.alpha[0]) or not twist2:
         return None
-    cx, cy, cz = _wrist_centre_in_frame2(chain)
+    cx, cy, cz = wrist_centre_in_frame2(chain)
     c, s = math.cos(chain.theta[1]), math.sin(chain.theta[1])
     k = chain.a[1] + cx
     return CylindricalArm(
