@@ -1,7 +1,8 @@
 """The examples in the documentation run and show what symkin really prints.
 
 Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md,
-docs/backends.md, docs/dynamics.md, docs/latex.md, docs/ik.md, docs/ik-generated.md):
+docs/backends.md, docs/dynamics.md, docs/latex.md, docs/ik.md, docs/ik-generated.md,
+docs/trajopt.md):
 
 * Each file runs in a fresh temporary directory, its fenced blocks in document order.
 * A ```toml block whose first line is a comment naming a file (``# two_link.toml: ...``) is
@@ -25,6 +26,7 @@ from __future__ import annotations
 import math
 import re
 import shlex
+import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -201,6 +203,13 @@ def test_latex_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]
 @pytest.mark.parametrize("page", ["ik.md", "ik-generated.md"])
 def test_ik_examples_run(page: str, in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     run_document(ROOT / "docs" / page, capsys)
+
+
+@pytest.mark.slow
+def test_trajopt_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Run from the repository's point of view: the examples load ``examples/arm_2r.toml``."""
+    shutil.copytree(ROOT / "examples", in_tmp_dir / "examples")
+    run_document(ROOT / "docs" / "trajopt.md", capsys)
 
 
 def test_doc_links_resolve() -> None:
