@@ -157,6 +157,31 @@ class DynamicState:
     torque: np.ndarray | None
 
 
+def dynamics_arguments(
+    model: Model, overrides: Mapping[str, float] | None = None
+) -> dict[str, np.ndarray]:
+    """``{"p": ..., "pi": ...}``: the parameter vector and, when the robot file leaves inertial
+    data out, the inertial values, in the order of the generated dynamics' inputs.
+
+    ``overrides`` may name robot parameters and the inertial symbols of links the robot file
+    leaves without data (``m1``, ``cx1``, ..., ``iyz1``); every such symbol needs a value.
+    """
+    overrides = dict(overrides or {})
+    inertial_names = [s.name for s in inertial_symbols(model)]
+    inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
+    missing = [name for name in inertial_names if name not in inertial]
+    if missing:
+        raise SymkinError(
+            f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
+            "the robot file ([joints.link]) or with --set NAME=VALUE"
+        )
+    values = model.robot.parameter_values(overrides)
+    arguments = {"p": np.array([values[name] for name, _ in model.robot.parameters])}
+    if inertial_names:
+        arguments["pi"] = np.array([inertial[name] for name in inertial_names])
+    return arguments
+
+
 def dynamic_state(
     model: Model,
     q: Sequence[float],
@@ -170,20 +195,8 @@ def dynamic_state(
     leaves without data (``m1``, ``cx1``, ..., ``iyz1``); every such symbol needs a value.
     """
     _check_lengths(model, q, dq, ddq)
-    overrides = dict(overrides or {})
-    inertial_names = [s.name for s in inertial_symbols(model)]
-    inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
-    missing = [name for name in inertial_names if name not in inertial]
-    if missing:
-        raise SymkinError(
-            f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
-            "the robot file ([joints.link]) or with --set NAME=VALUE"
-        )
-    values = model.robot.parameter_values(overrides)
-    p = np.array([values[name] for name, _ in model.robot.parameters])
-    pi = np.array([inertial[name] for name in inertial_names])
+    shared = dynamics_arguments(model, overrides)
     module = generated_numpy_module(model)
-    shared = {"p": p, "pi": pi} if inertial_names else {"p": p}
     return DynamicState(
         mass_matrix=module.mass_matrix(q, **shared),
         gravity=module.gravity(q, **shared),

@@ -34,11 +34,11 @@ from symkin.derive import Model
 from symkin.errors import SymkinError
 from symkin.evaluate import (
     dynamic_state,
+    dynamics_arguments,
     generated_casadi_module,
     generated_numpy_module,
     parameter_substitution,
 )
-from symkin.kernel import inertial_symbols
 from symkin.robot import Joint, Robot
 
 Objective = Literal["effort", "time"]
@@ -162,19 +162,6 @@ class _Group:
 def units(joint: Joint) -> tuple[str, str, str]:
     """Position, velocity and torque (or force) units of a joint."""
     return ("rad", "rad/s", "N m") if joint.type == "revolute" else ("m", "m/s", "N")
-
-
-def dynamics_arguments(model: Model, overrides: Mapping[str, float]) -> dict[str, np.ndarray]:
-    """``{"p": ..., "pi": ...}``: the parameter vector and, when the robot file leaves inertial
-    data out, the inertial values, both in the order of the generated functions' inputs."""
-    inertial_names = [s.name for s in inertial_symbols(model)]
-    values = model.robot.parameter_values(
-        {k: v for k, v in overrides.items() if k not in inertial_names}
-    )
-    arguments = {"p": np.array([values[name] for name, _ in model.robot.parameters])}
-    if inertial_names:
-        arguments["pi"] = np.array([overrides[name] for name in inertial_names])
-    return arguments
 
 
 def _check_vector(
