@@ -68,6 +68,25 @@ def run_parallel(commands: dict[str, list[str]], cwd: Path) -> dict[str, Build]:
     return results
 
 
+def solver_library_command(c: Path, name: str, solver: str, library: str) -> list[str]:
+    """Strict C99 shared library of a generated solver (``<name>_<solver>.c``) and the robot's
+    kernels (``<name>.c``), both in folder ``c``."""
+    return [
+        CC, *STRICT, "-Wvla", *SHARED, "-o", str(c / library),
+        str(c / f"{name}_{solver}.c"), str(c / f"{name}.c"), "-lm",
+    ]  # fmt: skip
+
+
+def sanitized_driver_command(c: Path, name: str, solver: str, driver: Path) -> list[str]:
+    """A bench driver (``bench/ik_*_loop.c``) over a generated solver, built with AddressSanitizer
+    and UBSan; the driver includes ``ROBOT_<SOLVER>_HEADER``."""
+    return [
+        CC, *STRICT, *SANITIZE, f"-DROBOT={name}", f"-DROBOT_MACRO={name.upper()}",
+        f'-DROBOT_{solver.upper()}_HEADER="{name}_{solver}.h"', f"-I{c}", "-o", str(c / "driver"),
+        str(driver), str(c / f"{name}_{solver}.c"), str(c / f"{name}.c"), "-lm",
+    ]  # fmt: skip
+
+
 def numpy_shape(rows: int, cols: int) -> tuple[int, ...]:
     """The documented NumPy output shape: (rows, cols), (rows,) for a column, () for 1x1."""
     if cols == 1:

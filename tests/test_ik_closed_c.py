@@ -31,14 +31,12 @@ import pytest
 
 import symkin
 from codegen_helpers import (
-    CC,
     ROOT,
-    SANITIZE,
-    SHARED,
-    STRICT,
     function_bodies,
     parameters,
     run_parallel,
+    sanitized_driver_command,
+    solver_library_command,
     strip_comments,
     write_tree,
 )
@@ -160,17 +158,10 @@ def built(tmp_path_factory) -> Built:
             }
             c = root / f"{name}_{precision}" / "c"
             write_tree(c.parent, files[name, precision])
-            commands[name, precision] = [
-                CC, *STRICT, "-Wvla", *SHARED, "-o", str(c / "libclosed.so"),
-                str(c / f"{name}_ik_closed.c"), str(c / f"{name}.c"), "-lm",
-            ]  # fmt: skip
+            commands[name, precision] = solver_library_command(c, name, "ik_closed", "libclosed.so")
     for name in SANITIZED:
         c = root / f"{name}_double" / "c"
-        commands[name, "driver"] = [
-            CC, *STRICT, *SANITIZE, f"-DROBOT={name}", f"-DROBOT_MACRO={name.upper()}",
-            f'-DROBOT_IK_CLOSED_HEADER="{name}_ik_closed.h"', f"-I{c}", "-o", str(c / "driver"),
-            str(DRIVER), str(c / f"{name}_ik_closed.c"), str(c / f"{name}.c"), "-lm",
-        ]  # fmt: skip
+        commands[name, "driver"] = sanitized_driver_command(c, name, "ik_closed", DRIVER)
     for build in run_parallel(commands, root).values():
         build.check()
     libraries = {

@@ -23,15 +23,13 @@ from scipy.spatial.transform import Rotation
 
 import symkin
 from codegen_helpers import (
-    CC,
     GUARD,
     ROOT,
-    SANITIZE,
-    SHARED,
-    STRICT,
     function_bodies,
     parameters,
     run_parallel,
+    sanitized_driver_command,
+    solver_library_command,
     strip_comments,
     write_tree,
 )
@@ -196,16 +194,10 @@ def built(tmp_path_factory) -> Built:
         directory = root / f"{name}_{precision}"
         write_tree(directory, files[name, precision])
         c = directory / "c"
-        commands[name, precision] = [
-            CC, *STRICT, "-Wvla", *SHARED, "-o", str(c / "libik.so"),
-            str(c / f"{name}_ik.c"), str(c / f"{name}.c"), "-lm",
-        ]  # fmt: skip
-    c = root / "puma560_double" / "c"
-    commands["driver"] = [
-        CC, *STRICT, *SANITIZE, "-DROBOT=puma560", "-DROBOT_MACRO=PUMA560",
-        '-DROBOT_IK_HEADER="puma560_ik.h"', f"-I{c}", "-o", str(c / "driver"), str(DRIVER),
-        str(c / "puma560_ik.c"), str(c / "puma560.c"), "-lm",
-    ]  # fmt: skip
+        commands[name, precision] = solver_library_command(c, name, "ik", "libik.so")
+    commands["driver"] = sanitized_driver_command(
+        root / "puma560_double" / "c", "puma560", "ik", DRIVER
+    )
     for build in run_parallel(commands, root).values():
         build.check()
     libraries = {
