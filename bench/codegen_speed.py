@@ -176,6 +176,38 @@ def compile_c(cc: str, flags: tuple[str, ...], sources: list[Path], output: Path
     return output
 
 
+@dataclass(frozen=True)
+class SideBySide:
+    """The C-loop harness over symkin's C and over CasADi's C, and both as shared libraries."""
+
+    loop_ours: Path
+    loop_casadi: Path
+    lib_ours: Path
+    lib_casadi: Path
+
+
+def side_by_side(
+    cc: str, flags: tuple[str, ...], harness: Path, directory: Path, name: str, *defines: str
+) -> SideBySide:
+    """Compile ``harness`` against ``c/<name>.c`` and ``casadi_c/casadi_<name>.c`` (``-DHEADER``
+    names each one's header; ``-DBENCH_CASADI`` for CasADi's) and both as libraries."""
+    c_dir, casadi_dir = directory / "c", directory / "casadi_c"
+    ours, theirs = c_dir / f"{name}.c", casadi_dir / f"casadi_{name}.c"
+    shared = ("-shared", "-fPIC")
+    return SideBySide(
+        loop_ours=compile_c(
+            cc, flags, [harness, ours], directory / "loop_symkin", f"-I{c_dir}",
+            f'-DHEADER="{name}.h"', *defines,
+        ),
+        loop_casadi=compile_c(
+            cc, flags, [harness, theirs], directory / "loop_casadi", f"-I{casadi_dir}",
+            f'-DHEADER="casadi_{name}.h"', "-DBENCH_CASADI", *defines,
+        ),
+        lib_ours=compile_c(cc, flags, [ours], directory / "libsymkin.so", *shared),
+        lib_casadi=compile_c(cc, flags, [theirs], directory / "libcasadi.so", *shared),
+    )  # fmt: skip
+
+
 def load_module(path: Path) -> ModuleType:
     spec = importlib.util.spec_from_file_location(path.stem, path)
     assert spec is not None and spec.loader is not None
@@ -232,23 +264,7 @@ def build(directory: Path) -> Build:
 
     cc = compiler()
     flags = tuple(OPTIMISATION_FLAGS)
-    c_dir = directory / "c"
-    loop_ours = compile_c(
-        cc, flags, [HARNESS, c_dir / f"{ROBOT}.c"], directory / "loop_symkin", f"-I{c_dir}"
-    )
-    loop_casadi = compile_c(
-        cc,
-        flags,
-        [HARNESS, casadi_dir / f"casadi_{ROBOT}.c"],
-        directory / "loop_casadi",
-        f"-I{casadi_dir}",
-        "-DBENCH_CASADI",
-    )
-    shared = ("-shared", "-fPIC")
-    lib_ours = compile_c(cc, flags, [c_dir / f"{ROBOT}.c"], directory / "libsymkin.so", *shared)
-    lib_casadi = compile_c(
-        cc, flags, [casadi_dir / f"casadi_{ROBOT}.c"], directory / "libcasadi.so", *shared
-    )
+    built = side_by_side(cc, flags, HARNESS, directory, ROBOT)
     return Build(
         directory=directory,
         ext=ext,
@@ -260,10 +276,10 @@ def build(directory: Path) -> Build:
         parameters=np.array(list(robot.parameter_values().values()), dtype=float),
         flags=flags,
         cc=cc,
-        loop_ours=loop_ours,
-        loop_casadi=loop_casadi,
-        lib_ours=lib_ours,
-        lib_casadi=lib_casadi,
+        loop_ours=built.loop_ours,
+        loop_casadi=built.loop_casadi,
+        lib_ours=built.lib_ours,
+        lib_casadi=built.lib_casadi,
     )
 
 

@@ -78,13 +78,13 @@ from codegen_speed import (
     Result,
     Settings,
     check_close,
-    compile_c,
     compiler,
     compiler_version,
     load_module,
     ns_text,
     ratio_text,
     result_cells,
+    side_by_side,
     time_contenders,
     write_docs,
 )
@@ -343,33 +343,9 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     generator.add(casadi_module.inverse_dynamics_function())
     generator.generate(f"{casadi_dir}/")
 
-    c_dir = directory / "c"
     n_p, n_pi = len(robot.parameters), 0 if inertial is None else len(inertial)
     defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}", f"-DN_PI={n_pi}")
-    loop_ours = compile_c(
-        cc,
-        flags,
-        [HARNESS, c_dir / f"{name}.c"],
-        directory / "loop_symkin",
-        f"-I{c_dir}",
-        f'-DHEADER="{name}.h"',
-        *defines,
-    )
-    loop_casadi = compile_c(
-        cc,
-        flags,
-        [HARNESS, casadi_dir / f"casadi_{name}.c"],
-        directory / "loop_casadi",
-        f"-I{casadi_dir}",
-        f'-DHEADER="casadi_{name}.h"',
-        "-DBENCH_CASADI",
-        *defines,
-    )
-    shared = ("-shared", "-fPIC")
-    lib_ours = compile_c(cc, flags, [c_dir / f"{name}.c"], directory / "libsymkin.so", *shared)
-    lib_casadi = compile_c(
-        cc, flags, [casadi_dir / f"casadi_{name}.c"], directory / "libcasadi.so", *shared
-    )
+    built = side_by_side(cc, flags, HARNESS, directory, name, *defines)
     return Built(
         label=label,
         robot=robot,
@@ -377,10 +353,10 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
         inertial=inertial,
         numpy_module=numpy_module,
         casadi_module=casadi_module,
-        loop_ours=loop_ours,
-        loop_casadi=loop_casadi,
-        lib_ours=lib_ours,
-        lib_casadi=lib_casadi,
+        loop_ours=built.loop_ours,
+        loop_casadi=built.loop_casadi,
+        lib_ours=built.lib_ours,
+        lib_casadi=built.lib_casadi,
     )
 
 
