@@ -256,6 +256,7 @@ def kernel_from_assignments(
     kept, matrices = _summands_inlined(*_without_aliases(kept, matrices))
     # Factoring makes new sums, some the negatives of others.
     kept, matrices = _without_aliases(*_common_factors_out(kept, matrices))
+    kept, matrices = _signs_absorbed(kept, matrices)
     prefix = _intermediate_prefix([e for _, e in kept] + [e for m in matrices for e in m])
     renaming = {old: sp.Symbol(f"{prefix}{k}", real=True) for k, (old, _) in enumerate(kept)}
     renamed = tuple((renaming[s], e.xreplace(renaming)) for s, e in kept)
@@ -290,6 +291,34 @@ def _summands_inlined(
     substituted = [(s, inlined(e)) for s, e in assignments]
     matrices = [m.applyfunc(inlined) for m in matrices]
     return _needed(substituted, matrices), matrices
+
+
+def _signs_absorbed(
+    assignments: list[tuple[sp.Symbol, sp.Expr]], matrices: list[sp.ImmutableMatrix]
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.ImmutableMatrix]]:
+    """Name ``a + b`` instead of ``-a - b`` and ``a*b`` instead of ``-a*b`` (one negation
+    fewer) and let the uses take the sign: ``x - t`` costs what ``x + t`` does.  Kept only
+    where the whole kernel gets shorter."""
+    flipped: dict[sp.Symbol, sp.Expr] = {}
+    result = []
+    for symbol, expr in assignments:
+        expr = expr.xreplace(flipped)
+        if (expr.is_Add and all(t.could_extract_minus_sign() for t in expr.args)) or (
+            expr.is_Mul and expr.as_coeff_Mul()[0] < 0
+        ):
+            flipped[symbol] = -symbol
+            expr = -expr
+        result.append((symbol, expr))
+    if not flipped:
+        return assignments, matrices
+    flipped_matrices = [m.xreplace(flipped) for m in matrices]
+
+    def total(pairs: list[tuple[sp.Symbol, sp.Expr]], outputs: list[sp.ImmutableMatrix]) -> int:
+        return count_operations([e for _, e in pairs] + [e for m in outputs for e in m])["total"]
+
+    if total(result, flipped_matrices) < total(assignments, matrices):
+        return result, flipped_matrices
+    return assignments, matrices
 
 
 def _needed(
@@ -373,9 +402,9 @@ def _divided(term: sp.Expr, factor: sp.Expr) -> sp.Expr:
 def _without_aliases(
     assignments: list[tuple[sp.Symbol, sp.Expr]], matrices: list[sp.ImmutableMatrix]
 ) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.ImmutableMatrix]]:
-    """Substitute intermediates that copy a symbol or a number, or the negative of one or of
-    an earlier intermediate (``t7 = -t3``; ``t9 = t4 - t2`` after ``t8 = t2 - t4``): CSE
-    does not see that ``x`` and ``-x`` share their work."""
+    """Substitute intermediates that copy a symbol or a number, or an earlier intermediate or
+    its negative (``t7 = -t3``; ``t9 = t4 - t2`` after ``t8 = t2 - t4``): CSE does not see
+    that ``x`` and ``-x`` share their work, and factoring makes sums CSE never saw."""
     aliases: dict[sp.Symbol, sp.Expr] = {}
     defined: dict[frozenset, sp.Symbol] = {}
     kept = []
@@ -386,10 +415,12 @@ def _without_aliases(
         negated = frozenset((-c, rest) for c, rest in terms)
         if expr.is_Atom or (terms[0][0] == -1 and len(terms) == 1 and terms[0][1].is_Atom):
             aliases[symbol] = expr
+        elif frozenset(terms) in defined:
+            aliases[symbol] = defined[frozenset(terms)]
         elif negated in defined:
             aliases[symbol] = -defined[negated]
         else:
-            defined.setdefault(frozenset(terms), symbol)
+            defined[frozenset(terms)] = symbol
             kept.append((symbol, expr))
     return kept, [m.xreplace(aliases) for m in matrices]
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 508 ops (193 additions, 309 multiplications, 6 trig)
- *   gravity: 107 ops (35 additions, 66 multiplications, 6 trig)
- *   coriolis: 422 ops (169 additions, 244 multiplications, 6 trig, 3 powers)
- *   coriolis_matrix: 1556 ops (649 additions, 889 multiplications, 12 divisions, 6 trig)
- *   inverse_dynamics: 470 ops (196 additions, 265 multiplications, 6 trig, 3 powers)
+ *   mass_matrix: 477 ops (187 additions, 284 multiplications, 6 trig)
+ *   gravity: 102 ops (35 additions, 61 multiplications, 6 trig)
+ *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
+ *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
+ *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, do
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (508 operations).
+/* Mass matrix (477 operations).
  * M[36]: M(q) (6x6)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (d1, d6)
@@ -106,7 +106,7 @@ void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
 
-/* Gravity torques (107 operations).
+/* Gravity torques (102 operations).
  * G[6]: G(q) (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (d1, d6)
@@ -116,7 +116,7 @@ void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const dou
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (422 operations).
+/* Coriolis and centrifugal torques (369 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (1556 operations).
+/* Coriolis matrix (christoffel symbols) (1442 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -138,7 +138,7 @@ void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6]
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (470 operations).
+/* Inverse dynamics (428 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

@@ -11,11 +11,11 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 508 ops (193 additions, 309 multiplications, 6 trig)
- *   gravity: 107 ops (35 additions, 66 multiplications, 6 trig)
- *   coriolis: 422 ops (169 additions, 244 multiplications, 6 trig, 3 powers)
- *   coriolis_matrix: 1556 ops (649 additions, 889 multiplications, 12 divisions, 6 trig)
- *   inverse_dynamics: 470 ops (196 additions, 265 multiplications, 6 trig, 3 powers)
+ *   mass_matrix: 477 ops (187 additions, 284 multiplications, 6 trig)
+ *   gravity: 102 ops (35 additions, 61 multiplications, 6 trig)
+ *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
+ *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
+ *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
  */
 #include <stdio.h>
 

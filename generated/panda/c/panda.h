@@ -8,11 +8,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1429 ops (593 additions, 824 multiplications, 12 trig)
- *   gravity: 220 ops (79 additions, 129 multiplications, 12 trig)
- *   coriolis: 835 ops (351 additions, 462 multiplications, 12 trig, 10 powers)
- *   coriolis_matrix: 5927 ops (2570 additions, 3337 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 877 ops (373 additions, 482 multiplications, 12 trig, 10 powers)
+ *   mass_matrix: 1404 ops (593 additions, 799 multiplications, 12 trig)
+ *   gravity: 211 ops (79 additions, 120 multiplications, 12 trig)
+ *   coriolis: 728 ops (348 additions, 349 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 5829 ops (2563 additions, 3246 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 774 ops (376 additions, 367 multiplications, 12 trig, 19 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -76,7 +76,7 @@ void panda_fk_jacobian(const double q[7], const double *p, double T[16], double 
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
-/* Mass matrix (1429 operations).
+/* Mass matrix (1404 operations).
  * M[49]: M(q) (7x7)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
@@ -86,7 +86,7 @@ void panda_mass_matrix(const double q[7], const double *p, const double *pi, dou
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
 
-/* Gravity torques (220 operations).
+/* Gravity torques (211 operations).
  * G[7]: G(q) (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
@@ -96,7 +96,7 @@ void panda_gravity(const double q[7], const double *p, const double *pi, double 
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (835 operations).
+/* Coriolis and centrifugal torques (728 operations).
  * c[7]: c = C(q, dq) dq (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -107,7 +107,7 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, cons
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (5927 operations).
+/* Coriolis matrix (christoffel symbols) (5829 operations).
  * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -118,7 +118,7 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (877 operations).
+/* Inverse dynamics (774 operations).
  * tau[7]: tau = M ddq + C dq + G + F (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)

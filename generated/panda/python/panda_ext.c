@@ -8,11 +8,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1429 ops (593 additions, 824 multiplications, 12 trig)
- *   gravity: 220 ops (79 additions, 129 multiplications, 12 trig)
- *   coriolis: 835 ops (351 additions, 462 multiplications, 12 trig, 10 powers)
- *   coriolis_matrix: 5927 ops (2570 additions, 3337 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 877 ops (373 additions, 482 multiplications, 12 trig, 10 powers)
+ *   mass_matrix: 1404 ops (593 additions, 799 multiplications, 12 trig)
+ *   gravity: 211 ops (79 additions, 120 multiplications, 12 trig)
+ *   coriolis: 728 ops (348 additions, 349 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 5829 ops (2563 additions, 3246 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 774 ops (376 additions, 367 multiplications, 12 trig, 19 powers)
  *
  * CPython extension 'panda_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (7,) or (N, 7) and

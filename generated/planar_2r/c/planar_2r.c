@@ -10,10 +10,10 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 38 ops (17 additions, 19 multiplications, 2 trig)
+ *   mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 38 ops (12 additions, 22 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 29 ops (10 additions, 16 multiplications, 1 divisions, 2 trig)
+ *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
  */
 #include <math.h>
@@ -236,18 +236,17 @@ void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi,
     const double t5 = m2*(cx2 + t3);
     const double t6 = L2 + cx2;
     const double t7 = izz2 + t5*t6 - cy2*t4;
-    const double t8 = -cy1*m1;
+    const double t8 = cy1*m1;
     const double t9 = m1*(L1 + cx1);
     const double t10 = t9 + t0*t4 + t2*t5;
-    const double t11 = t7 + izz1 + L1*t10 + cx1*t9 - cy1*t8;
-    const double t12 = -cy2*m2;
+    const double t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8;
+    const double t12 = cy2*m2;
     const double t13 = m2*(L2 + cx2);
-    const double t14 = L2 + cx2;
-    const double t15 = izz2 + t13*t14 - cy2*t12;
+    const double t14 = izz2 + cy2*t12 + t13*t6;
     M[0] = t11;
     M[1] = t7;
     M[2] = t7;
-    M[3] = t15;
+    M[3] = t14;
 }
 
 void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
@@ -289,21 +288,21 @@ void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, 
     const double cx2 = pi[11];
     const double cy2 = pi[12];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = dq1 + dq2;
     const double t3 = t2*t2;
     const double t4 = cos(q2);
-    const double t5 = t1*t4 - L2*t3;
+    const double t5 = L2*t3 + t1*t4;
     const double t6 = sin(q2);
-    const double t7 = -t1*t6;
-    const double t8 = m2*(t5 - cx2*t3);
+    const double t7 = t1*t6;
+    const double t8 = m2*(-t5 - cx2*t3);
     const double t9 = m2*(t7 - cy2*t3);
     const double t10 = L2 + cx2;
     const double t11 = t10*t9 - cy2*t8;
-    const double t12 = m1*(t1 - cx1*t0);
-    const double t13 = -cy1*t0*m1;
-    const double t14 = t13 + t4*t9 + t6*t8;
-    const double t15 = t11 + L1*t14 + cx1*t13 - cy1*t12;
+    const double t12 = m1*(-t1 - cx1*t0);
+    const double t13 = cy1*t0*m1;
+    const double t14 = -t13 + t4*t9 + t6*t8;
+    const double t15 = t11 + L1*t14 - cx1*t13 - cy1*t12;
     c[0] = t15;
     c[1] = t11;
 }
@@ -333,18 +332,18 @@ void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const doub
     const double t4 = L2 + t3;
     const double t5 = m2*(t1 - cy2);
     const double t6 = m2*(cx2 + t4);
-    const double t7 = -t1*m2;
+    const double t7 = t1*m2;
     const double t8 = t3*m2;
     const double t9 = L2 + cx2;
-    const double t10 = t7*t9 - cy2*t8;
-    const double t11 = t5 + t7;
+    const double t10 = cy2*t8 + t7*t9;
+    const double t11 = t5 - t7;
     const double t12 = t8 - t6;
     const double t13 = t0*t12 + t11*t2;
-    const double t14 = t10 + L1*t13;
+    const double t14 = -t10 + L1*t13;
     const double t15 = (1.0/2.0)*t14;
     const double t16 = dq1*t15;
     C[0] = dq2*t15;
-    C[1] = t16 + dq2*t10;
+    C[1] = t16 - dq2*t10;
     C[2] = -t16;
     C[3] = 0;
 }
@@ -379,18 +378,18 @@ void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const dou
     const double t2 = L1*ddq1;
     const double t3 = dq1 + dq2;
     const double t4 = ddq1 + ddq2;
-    const double t5 = cos(q2);
-    const double t6 = sin(q2);
-    const double t7 = t3*t3;
-    const double t8 = t1*t5 + t2*t6 - L2*t7;
-    const double t9 = L2*t4 + t2*t5 - t1*t6;
-    const double t10 = m2*(t8 - cx2*t7 - cy2*t4);
-    const double t11 = m2*(t9 + cx2*t4 - cy2*t7);
+    const double t5 = t3*t3;
+    const double t6 = cos(q2);
+    const double t7 = sin(q2);
+    const double t8 = t1*t6 + t2*t7 - L2*t5;
+    const double t9 = L2*t4 + t2*t6 - t1*t7;
+    const double t10 = m2*(t8 - cx2*t5 - cy2*t4);
+    const double t11 = m2*(t9 + cx2*t4 - cy2*t5);
     const double t12 = L2 + cx2;
     const double t13 = t11*t12 + t4*izz2 - cy2*t10;
     const double t14 = m1*(t1 - cx1*t0 - cy1*ddq1);
     const double t15 = m1*(t2 + cx1*ddq1 - cy1*t0);
-    const double t16 = t15 + t10*t6 + t11*t5;
+    const double t16 = t15 + t10*t7 + t11*t6;
     const double t17 = t13 + L1*t16 + cx1*t15 + ddq1*izz1 - cy1*t14;
     tau[0] = t17;
     tau[1] = t13;

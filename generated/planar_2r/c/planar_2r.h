@@ -10,10 +10,10 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 38 ops (17 additions, 19 multiplications, 2 trig)
+ *   mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 38 ops (12 additions, 22 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 29 ops (10 additions, 16 multiplications, 1 divisions, 2 trig)
+ *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -96,7 +96,7 @@ void planar_2r_manipulability(const double q[2], const double *p, double mu[1]);
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (38 operations).
+/* Mass matrix (35 operations).
  * M[4]: M(q) (2x2)
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2)
@@ -116,7 +116,7 @@ void planar_2r_gravity(const double q[2], const double *p, const double *pi, dou
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (38 operations).
+/* Coriolis and centrifugal torques (37 operations).
  * c[2]: c = C(q, dq) dq (2x1)
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, 
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (29 operations).
+/* Coriolis matrix (christoffel symbols) (28 operations).
  * C[4]: C(q, dq) (2x2), dM/dt - 2C skew-symmetric
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)

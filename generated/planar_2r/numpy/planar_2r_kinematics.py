@@ -10,10 +10,10 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 38 ops (17 additions, 19 multiplications, 2 trig)
+  mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
   gravity: 0 ops (none)
-  coriolis: 38 ops (12 additions, 22 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 29 ops (10 additions, 16 multiplications, 1 divisions, 2 trig)
+  coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
@@ -208,7 +208,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 38 operations.
+    """Mass matrix: 35 operations.
 
     q: joint positions (rad or m), 2 values per state.
     p: parameters (L1, L2), 2 values.
@@ -240,19 +240,18 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     t5 = m2*(cx2 + t3)
     t6 = L2 + cx2
     t7 = izz2 + t5*t6 - cy2*t4
-    t8 = -cy1*m1
+    t8 = cy1*m1
     t9 = m1*(L1 + cx1)
     t10 = t9 + t0*t4 + t2*t5
-    t11 = t7 + izz1 + L1*t10 + cx1*t9 - cy1*t8
-    t12 = -cy2*m2
+    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
+    t12 = cy2*m2
     t13 = m2*(L2 + cx2)
-    t14 = L2 + cx2
-    t15 = izz2 + t13*t14 - cy2*t12
+    t14 = izz2 + cy2*t12 + t13*t6
     M = numpy.zeros(batch + (2, 2))
     M[..., 0, 0] = t11
     M[..., 0, 1] = t7
     M[..., 1, 0] = t7
-    M[..., 1, 1] = t15
+    M[..., 1, 1] = t14
     return M
 
 
@@ -275,7 +274,7 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis and centrifugal torques: 38 operations.
+    """Coriolis and centrifugal torques: 37 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
@@ -302,21 +301,21 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     cx2 = pi[..., 11]
     cy2 = pi[..., 12]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = dq1 + dq2
     t3 = t2**2
     t4 = numpy.cos(q2)
-    t5 = t1*t4 - L2*t3
+    t5 = L2*t3 + t1*t4
     t6 = numpy.sin(q2)
-    t7 = -t1*t6
-    t8 = m2*(t5 - cx2*t3)
+    t7 = t1*t6
+    t8 = m2*(-t5 - cx2*t3)
     t9 = m2*(t7 - cy2*t3)
     t10 = L2 + cx2
     t11 = t10*t9 - cy2*t8
-    t12 = m1*(t1 - cx1*t0)
-    t13 = -cy1*t0*m1
-    t14 = t13 + t4*t9 + t6*t8
-    t15 = t11 + L1*t14 + cx1*t13 - cy1*t12
+    t12 = m1*(-t1 - cx1*t0)
+    t13 = cy1*t0*m1
+    t14 = -t13 + t4*t9 + t6*t8
+    t15 = t11 + L1*t14 - cx1*t13 - cy1*t12
     c = numpy.zeros(batch + (2,))
     c[..., 0] = t15
     c[..., 1] = t11
@@ -324,7 +323,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 29 operations.
+    """Coriolis matrix (christoffel symbols): 28 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
@@ -354,19 +353,19 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t4 = L2 + t3
     t5 = m2*(t1 - cy2)
     t6 = m2*(cx2 + t4)
-    t7 = -t1*m2
+    t7 = t1*m2
     t8 = t3*m2
     t9 = L2 + cx2
-    t10 = t7*t9 - cy2*t8
-    t11 = t5 + t7
+    t10 = cy2*t8 + t7*t9
+    t11 = t5 - t7
     t12 = t8 - t6
     t13 = t0*t12 + t11*t2
-    t14 = t10 + L1*t13
+    t14 = -t10 + L1*t13
     t15 = (1/2)*t14
     t16 = dq1*t15
     C = numpy.zeros(batch + (2, 2))
     C[..., 0, 0] = dq2*t15
-    C[..., 0, 1] = t16 + dq2*t10
+    C[..., 0, 1] = t16 - dq2*t10
     C[..., 1, 0] = -t16
     return C
 
@@ -409,18 +408,18 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
-    t5 = numpy.cos(q2)
-    t6 = numpy.sin(q2)
-    t7 = t3**2
-    t8 = t1*t5 + t2*t6 - L2*t7
-    t9 = L2*t4 + t2*t5 - t1*t6
-    t10 = m2*(t8 - cx2*t7 - cy2*t4)
-    t11 = m2*(t9 + cx2*t4 - cy2*t7)
+    t5 = t3**2
+    t6 = numpy.cos(q2)
+    t7 = numpy.sin(q2)
+    t8 = t1*t6 + t2*t7 - L2*t5
+    t9 = L2*t4 + t2*t6 - t1*t7
+    t10 = m2*(t8 - cx2*t5 - cy2*t4)
+    t11 = m2*(t9 + cx2*t4 - cy2*t5)
     t12 = L2 + cx2
     t13 = t11*t12 + t4*izz2 - cy2*t10
     t14 = m1*(t1 - cx1*t0 - cy1*ddq1)
     t15 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t16 = t15 + t10*t6 + t11*t5
+    t16 = t15 + t10*t7 + t11*t6
     t17 = t13 + L1*t16 + cx1*t15 + ddq1*izz1 - cy1*t14
     tau = numpy.zeros(batch + (2,))
     tau[..., 0] = t17

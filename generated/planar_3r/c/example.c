@@ -11,10 +11,10 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 94 ops (43 additions, 47 multiplications, 4 trig)
+ *   mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 146 ops (58 additions, 78 multiplications, 6 divisions, 4 trig)
+ *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
  */
 #include <stdio.h>

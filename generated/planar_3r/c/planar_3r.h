@@ -10,10 +10,10 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 94 ops (43 additions, 47 multiplications, 4 trig)
+ *   mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
  *   gravity: 0 ops (none)
  *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 146 ops (58 additions, 78 multiplications, 6 divisions, 4 trig)
+ *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -96,7 +96,7 @@ void planar_3r_manipulability(const double q[3], const double *p, double mu[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (94 operations).
+/* Mass matrix (89 operations).
  * M[9]: M(q) (3x3)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3)
@@ -127,7 +127,7 @@ void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, 
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (146 operations).
+/* Coriolis matrix (christoffel symbols) (141 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)

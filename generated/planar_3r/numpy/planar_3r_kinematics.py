@@ -10,10 +10,10 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 94 ops (43 additions, 47 multiplications, 4 trig)
+  mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
   gravity: 0 ops (none)
   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
-  coriolis_matrix: 146 ops (58 additions, 78 multiplications, 6 divisions, 4 trig)
+  coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
@@ -237,7 +237,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 94 operations.
+    """Mass matrix: 89 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2, L3), 3 values.
@@ -268,50 +268,48 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     cy3 = pi[..., 22]
     izz3 = pi[..., 26]
     t0 = numpy.cos(q2)
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = numpy.sin(q2)
     t3 = L2 + L1*t2
     t4 = numpy.cos(q3)
     t5 = numpy.sin(q3)
-    t6 = t1*t4 + t3*t5
-    t7 = L3 + t3*t4 - t1*t5
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
     t8 = m3*(t6 - cy3)
     t9 = m3*(cx3 + t7)
     t10 = L3 + cx3
     t11 = izz3 + t10*t9 - cy3*t8
-    t12 = m2*(t1 - cy2)
+    t12 = m2*(-cy2 - t1)
     t13 = m2*(cx2 + t3)
     t14 = t12 + t4*t8 - t5*t9
     t15 = t13 + t4*t9 + t5*t8
     t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
-    t17 = -cy1*m1
+    t17 = cy1*m1
     t18 = m1*(L1 + cx1)
     t19 = t18 + t15*t2 - t0*t14
-    t20 = t16 + izz1 + L1*t19 + cx1*t18 - cy1*t17
+    t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17
     t21 = L2*t5
     t22 = L3 + L2*t4
     t23 = m3*(t21 - cy3)
     t24 = m3*(cx3 + t22)
-    t25 = L3 + cx3
-    t26 = izz3 + t24*t25 - cy3*t23
-    t27 = -cy2*m2
-    t28 = m2*(L2 + cx2)
-    t29 = t28 + t23*t5 + t24*t4
-    t30 = t26 + izz2 + L2*t29 + cx2*t28 - cy2*t27
-    t31 = -cy3*m3
-    t32 = m3*(L3 + cx3)
-    t33 = L3 + cx3
-    t34 = izz3 + t32*t33 - cy3*t31
+    t25 = izz3 + t10*t24 - cy3*t23
+    t26 = cy2*m2
+    t27 = m2*(L2 + cx2)
+    t28 = t27 + t23*t5 + t24*t4
+    t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26
+    t30 = cy3*m3
+    t31 = m3*(L3 + cx3)
+    t32 = izz3 + cy3*t30 + t10*t31
     M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t20
     M[..., 0, 1] = t16
     M[..., 0, 2] = t11
     M[..., 1, 0] = t16
-    M[..., 1, 1] = t30
-    M[..., 1, 2] = t26
+    M[..., 1, 1] = t29
+    M[..., 1, 2] = t25
     M[..., 2, 0] = t11
-    M[..., 2, 1] = t26
-    M[..., 2, 2] = t34
+    M[..., 2, 1] = t25
+    M[..., 2, 2] = t32
     return M
 
 
@@ -375,19 +373,19 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t6 = numpy.cos(q2)
     t7 = t1*t6
     t8 = dq3 + t2
-    t9 = numpy.cos(q3)
-    t10 = numpy.sin(q3)
-    t11 = t8**2
-    t12 = t10*t7 + t5*t9 - L3*t11
-    t13 = t7*t9 - t10*t5
-    t14 = m3*(t12 - cx3*t11)
-    t15 = m3*(t13 - cy3*t11)
+    t9 = t8**2
+    t10 = numpy.cos(q3)
+    t11 = numpy.sin(q3)
+    t12 = t10*t5 + t11*t7 - L3*t9
+    t13 = t10*t7 - t11*t5
+    t14 = m3*(t12 - cx3*t9)
+    t15 = m3*(t13 - cy3*t9)
     t16 = L3 + cx3
     t17 = t15*t16 - cy3*t14
     t18 = m2*(t5 - cx2*t3)
     t19 = m2*(t7 - cy2*t3)
-    t20 = t18 + t14*t9 - t10*t15
-    t21 = t19 + t10*t14 + t15*t9
+    t20 = t18 + t10*t14 - t11*t15
+    t21 = t19 + t10*t15 + t11*t14
     t22 = t17 + L2*t21 + cx2*t19 - cy2*t18
     t23 = m1*(t1 - cx1*t0)
     t24 = -cy1*t0*m1
@@ -401,7 +399,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 146 operations.
+    """Coriolis matrix (christoffel symbols): 141 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -438,8 +436,8 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t5 = numpy.cos(q3)
     t6 = numpy.sin(q3)
     t7 = t4*t6 - t1*t5
-    t8 = -t1*t6
-    t9 = L3 - t8 + t4*t5
+    t8 = t1*t6
+    t9 = L3 + t8 + t4*t5
     t10 = m3*(t7 - cy3)
     t11 = m3*(cx3 + t9)
     t12 = t10*t5 - t11*t6
@@ -466,42 +464,40 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t33 = t15 - t31
     t34 = t0*t33 + t2*t32
     t35 = t30 + L1*t34
-    t36 = -t7*m3
-    t37 = -t8 + t4*t5
+    t36 = t7*m3
+    t37 = t8 + t4*t5
     t38 = t37*m3
-    t39 = L3 + cx3
-    t40 = t36*t39 - cy3*t38
-    t41 = t12 + t36*t5 + t38*t6
-    t42 = t40 + L2*t41
-    t43 = -t14 + t38*t5 - t36*t6
-    t44 = t2*t41 - t0*t43
-    t45 = t42 + L1*t44
-    t46 = -t16*m3
-    t47 = t17*m3
-    t48 = L3 + cx3
-    t49 = t46*t48 - cy3*t47
-    t50 = t47 - t20
-    t51 = t19 + t46
-    t52 = t5*t51 + t50*t6
-    t53 = t49 + L2*t52
-    t54 = (1/2)*t35
-    t55 = (1/2)*dq3
-    t56 = dq1*t54
-    t57 = t26 + t42
-    t58 = (1/2)*dq1
-    t59 = t45*t58
-    t60 = (1/2)*dq2
-    t61 = t26 - t42
-    t62 = t53*t60
+    t39 = cy3*t38 + t25*t36
+    t40 = t12 + t38*t6 - t36*t5
+    t41 = -t39 + L2*t40
+    t42 = -t14 + t36*t6 + t38*t5
+    t43 = t2*t40 - t0*t42
+    t44 = t41 + L1*t43
+    t45 = t16*m3
+    t46 = t17*m3
+    t47 = cy3*t46 + t25*t45
+    t48 = t46 - t20
+    t49 = t19 - t45
+    t50 = t48*t6 + t49*t5
+    t51 = -t47 + L2*t50
+    t52 = (1/2)*t35
+    t53 = (1/2)*dq3
+    t54 = dq1*t52
+    t55 = t26 + t41
+    t56 = (1/2)*dq1
+    t57 = t44*t56
+    t58 = (1/2)*dq2
+    t59 = t26 - t41
+    t60 = t51*t58
     C = numpy.zeros(batch + (3, 3))
-    C[..., 0, 0] = dq2*t54 + t45*t55
-    C[..., 0, 1] = t56 + dq2*t30 + t55*t57
-    C[..., 0, 2] = t59 + dq3*t40 + t57*t60
-    C[..., 1, 0] = -t56 - 1/2*dq3*t61
-    C[..., 1, 1] = t53*t55
-    C[..., 1, 2] = t62 + dq3*t49 - t58*t61
-    C[..., 2, 0] = -t59 + (1/2)*dq2*t61
-    C[..., 2, 1] = -t62 + t58*t61
+    C[..., 0, 0] = dq2*t52 + t44*t53
+    C[..., 0, 1] = t54 + dq2*t30 + t53*t55
+    C[..., 0, 2] = t57 + t55*t58 - dq3*t39
+    C[..., 1, 0] = -t54 - 1/2*dq3*t59
+    C[..., 1, 1] = t51*t53
+    C[..., 1, 2] = t60 - dq3*t47 - t56*t59
+    C[..., 2, 0] = -t57 + (1/2)*dq2*t59
+    C[..., 2, 1] = -t60 + t56*t59
     return C
 
 
@@ -551,30 +547,30 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
-    t5 = numpy.cos(q2)
-    t6 = t3**2
+    t5 = t3**2
+    t6 = numpy.cos(q2)
     t7 = numpy.sin(q2)
-    t8 = t1*t7 - L2*t6 - t2*t5
-    t9 = L2*t4 + t1*t5 + t2*t7
+    t8 = t1*t7 - L2*t5 - t2*t6
+    t9 = L2*t4 + t1*t6 + t2*t7
     t10 = dq3 + t3
     t11 = ddq3 + t4
-    t12 = numpy.cos(q3)
-    t13 = numpy.sin(q3)
-    t14 = t10**2
-    t15 = t12*t8 + t13*t9 - L3*t14
-    t16 = L3*t11 + t12*t9 - t13*t8
-    t17 = m3*(t15 - cx3*t14 - cy3*t11)
-    t18 = m3*(t16 + cx3*t11 - cy3*t14)
+    t12 = t10**2
+    t13 = numpy.cos(q3)
+    t14 = numpy.sin(q3)
+    t15 = t13*t8 + t14*t9 - L3*t12
+    t16 = L3*t11 + t13*t9 - t14*t8
+    t17 = m3*(t15 - cx3*t12 - cy3*t11)
+    t18 = m3*(t16 + cx3*t11 - cy3*t12)
     t19 = L3 + cx3
     t20 = t11*izz3 + t18*t19 - cy3*t17
-    t21 = m2*(t8 - cx2*t6 - cy2*t4)
-    t22 = m2*(t9 + cx2*t4 - cy2*t6)
-    t23 = t21 + t12*t17 - t13*t18
-    t24 = t22 + t12*t18 + t13*t17
+    t21 = m2*(t8 - cx2*t5 - cy2*t4)
+    t22 = m2*(t9 + cx2*t4 - cy2*t5)
+    t23 = t21 + t13*t17 - t14*t18
+    t24 = t22 + t13*t18 + t14*t17
     t25 = t20 + L2*t24 + cx2*t22 + t4*izz2 - cy2*t21
     t26 = m1*(t1 - cx1*t0 - cy1*ddq1)
     t27 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t28 = t27 + t24*t7 - t23*t5
+    t28 = t27 + t24*t7 - t23*t6
     t29 = t25 + L1*t28 + cx1*t27 + ddq1*izz1 - cy1*t26
     tau = numpy.zeros(batch + (3,))
     tau[..., 0] = t29

@@ -10,11 +10,11 @@
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 514 ops (193 additions, 311 multiplications, 10 trig)
- *   gravity: 139 ops (46 additions, 83 multiplications, 10 trig)
- *   coriolis: 423 ops (162 additions, 244 multiplications, 10 trig, 7 powers)
- *   coriolis_matrix: 2018 ops (808 additions, 1193 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 461 ops (185 additions, 259 multiplications, 10 trig, 7 powers)
+ *   mass_matrix: 489 ops (190 additions, 289 multiplications, 10 trig)
+ *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
+ *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
+ *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void puma560_manipulability(const double q[6], const double *p, double mu[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (514 operations).
+/* Mass matrix (489 operations).
  * M[36]: M(q) (6x6)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
@@ -105,7 +105,7 @@ void puma560_mass_matrix(const double q[6], const double *p, double M[36]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *M);
 
-/* Gravity torques (139 operations).
+/* Gravity torques (136 operations).
  * G[6]: G(q) (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[4]: parameters (a2, a3, d3, d4)
@@ -114,7 +114,7 @@ void puma560_gravity(const double q[6], const double *p, double G[6]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_gravity_batch(size_t count, const double *q, const double *p, double *G);
 
-/* Coriolis and centrifugal torques (423 operations).
+/* Coriolis and centrifugal torques (371 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -124,7 +124,7 @@ void puma560_coriolis(const double q[6], const double dq[6], const double *p, do
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c);
 
-/* Coriolis matrix (christoffel symbols) (2018 operations).
+/* Coriolis matrix (christoffel symbols) (1825 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -134,7 +134,7 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C);
 
-/* Inverse dynamics (461 operations).
+/* Inverse dynamics (414 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

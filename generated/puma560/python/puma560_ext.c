@@ -10,11 +10,11 @@
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 514 ops (193 additions, 311 multiplications, 10 trig)
- *   gravity: 139 ops (46 additions, 83 multiplications, 10 trig)
- *   coriolis: 423 ops (162 additions, 244 multiplications, 10 trig, 7 powers)
- *   coriolis_matrix: 2018 ops (808 additions, 1193 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 461 ops (185 additions, 259 multiplications, 10 trig, 7 powers)
+ *   mass_matrix: 489 ops (190 additions, 289 multiplications, 10 trig)
+ *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
+ *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
+ *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *
  * CPython extension 'puma560_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (6,) or (N, 6) and

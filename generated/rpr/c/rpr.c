@@ -10,11 +10,11 @@
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 82 ops (31 additions, 49 multiplications, 2 trig)
- *   gravity: 20 ops (4 additions, 14 multiplications, 2 trig)
- *   coriolis: 140 ops (51 additions, 84 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 126 ops (47 additions, 72 multiplications, 5 divisions, 2 trig)
- *   inverse_dynamics: 172 ops (69 additions, 98 multiplications, 2 trig, 3 powers)
+ *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
+ *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
+ *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
+ *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
+ *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -270,31 +270,31 @@ void rpr_mass_matrix(const double q[3], const double *p, const double *pi, doubl
     const double t1 = sin(q3);
     const double t2 = q2 + L3*t1;
     const double t3 = cz3*m3;
-    const double t4 = -t1*t3;
-    const double t5 = -t0*t3;
+    const double t4 = t1*t3;
+    const double t5 = t0*t3;
     const double t6 = m3*(t2 + cx3*t1 + cy3*t0);
-    const double t7 = cy3*t6 + t0*ixx3 - cz3*t5 - ixy3*t1;
-    const double t8 = -L3 - cx3;
-    const double t9 = cz3*t4 + ixy3*t0 + t6*t8 - t1*iyy3;
-    const double t10 = ixz3*t0 - cy3*t4 - iyz3*t1 - t5*t8;
-    const double t11 = -cz2*m2;
+    const double t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1;
+    const double t8 = L3 + cx3;
+    const double t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8;
+    const double t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8;
+    const double t11 = cz2*m2;
     const double t12 = m2*(cy2 + q2);
     const double t13 = t11 + t0*t5 + t1*t4;
     const double t14 = t12 + t6;
     const double t15 = cz1*m1;
-    const double t16 = -cx1*m1;
-    const double t17 = ixx2 + iyy1 + cy2*t12 + cz1*t15 + q2*t14 + t0*t7 - cx1*t16 - cz2*t11 - t1*t9;
+    const double t16 = cx1*m1;
+    const double t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9;
     const double t18 = t1*m3;
     const double t19 = t0*m3;
-    const double t20 = -cy3*t18 - t19*t8;
+    const double t20 = t19*t8 - cy3*t18;
     const double t21 = m2 + t0*t19 + t1*t18;
-    const double t22 = -cy3*m3;
+    const double t22 = cy3*m3;
     const double t23 = m3*(L3 + cx3);
-    const double t24 = izz3 - cy3*t22 - t23*t8;
+    const double t24 = izz3 + cy3*t22 + t23*t8;
     M[0] = t17;
-    M[1] = t13;
+    M[1] = -t13;
     M[2] = t10;
-    M[3] = t13;
+    M[3] = -t13;
     M[4] = t21;
     M[5] = t20;
     M[6] = t10;
@@ -321,18 +321,18 @@ void rpr_gravity(const double q[3], const double *p, const double *pi, double G[
     const double t0 = cos(q3);
     const double t1 = 9.8100000000000005*t0;
     const double t2 = sin(q3);
-    const double t3 = -9.8100000000000005*t2;
+    const double t3 = 9.8100000000000005*t2;
     const double t4 = t1*m3;
     const double t5 = t3*m3;
-    const double t6 = -cz3*t5;
+    const double t6 = cz3*t5;
     const double t7 = cz3*t4;
     const double t8 = L3 + cx3;
-    const double t9 = t5*t8 - cy3*t4;
-    const double t10 = t0*t5 + t2*t4;
+    const double t9 = cy3*t4 + t5*t8;
+    const double t10 = t2*t4 - t0*t5;
     const double t11 = t0*t6 - t2*t7;
     G[0] = t11;
     G[1] = t10;
-    G[2] = t9;
+    G[2] = -t9;
 }
 
 void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
@@ -368,43 +368,46 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, const 
     const double ixz3 = pi[28];
     const double iyz3 = pi[29];
     const double t0 = dq1*dq1;
-    const double t1 = -q2*t0;
+    const double t1 = q2*t0;
     const double t2 = 2*dq1*dq2;
     const double t3 = cos(q3);
     const double t4 = dq1*t3;
     const double t5 = sin(q3);
     const double t6 = dq1*t5;
-    const double t7 = -dq3*t6;
-    const double t8 = -dq3*t4;
-    const double t9 = -dq3*dq3 - t6*t6;
-    const double t10 = L3*t9 + t1*t5;
-    const double t11 = L3*t4;
-    const double t12 = t1*t3 - t11*t6;
-    const double t13 = t2 + dq3*t11 - L3*t8;
-    const double t14 = cx3*t6 + cy3*t4;
-    const double t15 = cx3*dq3 - cz3*t4;
-    const double t16 = m3*(t10 + cz3*t8 - dq3*t15 - t14*t6);
-    const double t17 = -cy3*dq3 - cz3*t6;
-    const double t18 = m3*(t12 + dq3*t17 - cz3*t7 - t14*t4);
-    const double t19 = m3*(t13 + cy3*t7 + t15*t4 + t17*t6 - cx3*t8);
-    const double t20 = dq3*iyz3 + ixy3*t4 - t6*iyy3;
-    const double t21 = dq3*izz3 + ixz3*t4 - iyz3*t6;
-    const double t22 = cy3*t19 + ixy3*t8 + t7*ixx3 - cz3*t18 - dq3*t20 - t21*t6;
-    const double t23 = dq3*ixz3 + t4*ixx3 - ixy3*t6;
-    const double t24 = -L3 - cx3;
-    const double t25 = cz3*t16 + dq3*t23 + ixy3*t7 + t19*t24 + t8*iyy3 - t21*t4;
-    const double t26 = ixz3*t7 + iyz3*t8 + t20*t4 + t23*t6 - cy3*t16 - t18*t24;
-    const double t27 = m2*(t1 - cy2*t0);
-    const double t28 = m2*(t2 - cz2*t0);
-    const double t29 = t27 + t16*t5 + t18*t3;
-    const double t30 = t19 + t28;
-    const double t31 = t0*m1;
-    const double t32 = -cx1*t31;
-    const double t33 = -cz1*t31;
-    const double t34 = cy2*t28 + cz1*t32 + q2*t30 + t22*t3 - cx1*t33 - cz2*t27 - t25*t5;
-    c[0] = t34;
-    c[1] = t29;
-    c[2] = t26;
+    const double t7 = dq3*t6;
+    const double t8 = dq3*t4;
+    const double t9 = t4*t4;
+    const double t10 = t6*t6;
+    const double t11 = dq3*dq3;
+    const double t12 = t4*t6;
+    const double t13 = t10 + t11;
+    const double t14 = t11 + t9;
+    const double t15 = 2*t8;
+    const double t16 = 2*t7;
+    const double t17 = t10 + t9;
+    const double t18 = L3*t13 + t1*t5;
+    const double t19 = L3*t12 + t1*t3;
+    const double t20 = t2 + L3*t15;
+    const double t21 = m3*(-t18 - cx3*t13 - cy3*t12);
+    const double t22 = m3*(-t19 - cx3*t12 - cy3*t14);
+    const double t23 = m3*(t20 + cx3*t15 - cy3*t16 - cz3*t17);
+    const double t24 = ixx3 + izz3 - iyy3;
+    const double t25 = cy3*t23 + iyz3*(t10 - t11) - cz3*t22 - ixz3*t12 - t24*t7 - 2*ixy3*t8;
+    const double t26 = L3 + cx3;
+    const double t27 = iyy3 + izz3 - ixx3;
+    const double t28 = cz3*t21 + ixz3*(t11 - t9) + iyz3*t12 - t23*t26 - t27*t8 - 2*ixy3*t7;
+    const double t29 = ixy3*(t9 - t10) + t22*t26 - cy3*t21 - t12*(iyy3 - ixx3);
+    const double t30 = m2*(-t1 - cy2*t0);
+    const double t31 = m2*(t2 - cz2*t0);
+    const double t32 = t30 + t21*t5 + t22*t3;
+    const double t33 = t23 + t31;
+    const double t34 = t0*m1;
+    const double t35 = cx1*t34;
+    const double t36 = cz1*t34;
+    const double t37 = cx1*t36 + cy2*t31 + q2*t33 + t25*t3 - cz1*t35 - cz2*t30 - t28*t5;
+    c[0] = t37;
+    c[1] = t32;
+    c[2] = t29;
 }
 
 void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
@@ -440,53 +443,40 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
     const double t3 = t1*m3;
     const double t4 = cz3*t3;
     const double t5 = cz3*m3;
-    const double t6 = -t0*t5;
+    const double t6 = t0*t5;
     const double t7 = m3*(t2 + cx3*t1 + cy3*t0);
     const double t8 = ixy3*t1;
-    const double t9 = -t8 + cy3*t7 + t0*ixx3 - cz3*t6;
-    const double t10 = -L3 - cx3;
-    const double t11 = ixy3*t0 + t10*t7 - cz3*t4 - t1*iyy3;
+    const double t9 = -t8 + cy3*t7 + cz3*t6 + t0*ixx3;
+    const double t10 = L3 + cx3;
+    const double t11 = ixy3*t0 - cz3*t4 - t1*iyy3 - t10*t7;
     const double t12 = m2*(cy2 + q2);
-    const double t13 = t1*m3;
-    const double t14 = t0*m3;
-    const double t15 = m2 + m3;
-    const double t16 = cy3*m3;
-    const double t17 = -L3 - cx3;
-    const double t18 = t17*m3;
-    const double t19 = t12 + t7 + cy2*m2 + q2*t15 + t0*t16 - t1*t18;
-    const double t20 = L3*t0;
-    const double t21 = m3*(t20 + cx3*t0 - cy3*t1);
-    const double t22 = cy3*t21 - cz3*t4 - ixy3*t0 - t1*ixx3;
-    const double t23 = -t0*t5;
-    const double t24 = -L3 - cx3;
-    const double t25 = -t8 + cz3*t23 + t21*t24 - t0*iyy3;
-    const double t26 = -t25 - t9;
-    const double t27 = t22 - t11;
-    const double t28 = q2*t21 + t0*t27 + t1*t26;
-    const double t29 = t23 - t6;
-    const double t30 = t1*t29;
-    const double t31 = -cy3*t23 - ixz3*t1 - iyz3*t0 - t10*t4;
-    const double t32 = t0*m3;
-    const double t33 = t32 - t14;
-    const double t34 = t13 - t3;
-    const double t35 = t0*t34 + t1*t33;
-    const double t36 = -L3 - cx3;
-    const double t37 = t3*t36 - cy3*t32;
-    const double t38 = (1.0/2.0)*dq2;
-    const double t39 = (1.0/2.0)*dq1;
-    const double t40 = t28*t39 + t30*t38;
-    const double t41 = t30*t39 + t35*t38;
-    const double t42 = (1.0/2.0)*t19;
-    const double t43 = (1.0/2.0)*dq3;
-    const double t44 = dq1*t42;
-    C[0] = dq2*t42 + t28*t43;
-    C[1] = t44 + t30*t43;
-    C[2] = t40 + dq3*t31;
-    C[3] = -t44 + (1.0/2.0)*dq3*t30;
-    C[4] = t35*t43;
-    C[5] = t41 + dq3*t37;
-    C[6] = -t40;
-    C[7] = -t41;
+    const double t13 = t0*m3;
+    const double t14 = m2 + m3;
+    const double t15 = cy3*m3;
+    const double t16 = t10*m3;
+    const double t17 = t12 + t7 + cy2*m2 + q2*t14 + t0*t15 + t1*t16;
+    const double t18 = L3*t0;
+    const double t19 = m3*(t18 + cx3*t0 - cy3*t1);
+    const double t20 = cy3*t19 - cz3*t4 - ixy3*t0 - t1*ixx3;
+    const double t21 = t8 + cz3*t6 + t0*iyy3 + t10*t19;
+    const double t22 = t21 - t9;
+    const double t23 = t20 - t11;
+    const double t24 = q2*t19 + t0*t23 + t1*t22;
+    const double t25 = cy3*t6 + t10*t4 - ixz3*t1 - iyz3*t0;
+    const double t26 = cy3*t13 + t10*t3;
+    const double t27 = (1.0/2.0)*dq1;
+    const double t28 = t24*t27;
+    const double t29 = (1.0/2.0)*t17;
+    const double t30 = (1.0/2.0)*dq3;
+    const double t31 = dq1*t29;
+    C[0] = dq2*t29 + t24*t30;
+    C[1] = t31;
+    C[2] = t28 + dq3*t25;
+    C[3] = -t31;
+    C[4] = 0;
+    C[5] = -dq3*t26;
+    C[6] = -t28;
+    C[7] = 0;
     C[8] = 0;
 }
 
@@ -535,36 +525,43 @@ void rpr_inverse_dynamics(const double q[3], const double dq[3], const double dd
     const double t5 = sin(q3);
     const double t6 = dq1*t5;
     const double t7 = ddq1*t3 - dq3*t6;
-    const double t8 = -ddq1*t5 - dq3*t4;
-    const double t9 = -dq3*dq3 - t6*t6;
-    const double t10 = 9.8100000000000005*t3 + L3*t9 + t1*t5;
-    const double t11 = L3*t4;
-    const double t12 = -9.8100000000000005*t5 + L3*ddq3 + t1*t3 - t11*t6;
-    const double t13 = t2 + dq3*t11 - L3*t8;
-    const double t14 = cx3*t6 + cy3*t4;
-    const double t15 = cx3*dq3 - cz3*t4;
-    const double t16 = m3*(t10 + cz3*t8 - cy3*ddq3 - dq3*t15 - t14*t6);
-    const double t17 = -cy3*dq3 - cz3*t6;
-    const double t18 = m3*(t12 + cx3*ddq3 + dq3*t17 - cz3*t7 - t14*t4);
-    const double t19 = m3*(t13 + cy3*t7 + t15*t4 + t17*t6 - cx3*t8);
-    const double t20 = dq3*iyz3 + ixy3*t4 - t6*iyy3;
-    const double t21 = dq3*izz3 + ixz3*t4 - iyz3*t6;
-    const double t22 = cy3*t19 + ddq3*ixz3 + ixy3*t8 + t7*ixx3 - cz3*t18 - dq3*t20 - t21*t6;
-    const double t23 = dq3*ixz3 + t4*ixx3 - ixy3*t6;
-    const double t24 = -L3 - cx3;
-    const double t25 = cz3*t16 + ddq3*iyz3 + dq3*t23 + ixy3*t7 + t19*t24 + t8*iyy3 - t21*t4;
-    const double t26 = ddq3*izz3 + ixz3*t7 + iyz3*t8 + t20*t4 + t23*t6 - cy3*t16 - t18*t24;
-    const double t27 = m2*(t1 - cy2*t0 - cz2*ddq1);
-    const double t28 = m2*(t2 + cy2*ddq1 - cz2*t0);
-    const double t29 = t27 + t16*t5 + t18*t3;
-    const double t30 = t19 + t28;
-    const double t31 = m1*(cz1*ddq1 - cx1*t0);
-    const double t32 = m1*(-cx1*ddq1 - cz1*t0);
-    const double t33 = ixx2 + iyy1;
-    const double t34 = cy2*t28 + cz1*t31 + ddq1*t33 + q2*t30 + t22*t3 - cx1*t32 - cz2*t27 - t25*t5;
-    tau[0] = t34;
-    tau[1] = t29;
-    tau[2] = t26;
+    const double t8 = ddq1*t5 + dq3*t4;
+    const double t9 = t4*t4;
+    const double t10 = t6*t6;
+    const double t11 = dq3*dq3;
+    const double t12 = t4*t6;
+    const double t13 = dq3*t4;
+    const double t14 = dq3*t6;
+    const double t15 = t10 + t11;
+    const double t16 = ddq3 + t12;
+    const double t17 = t13 - t8;
+    const double t18 = ddq3 - t12;
+    const double t19 = t11 + t9;
+    const double t20 = t14 + t7;
+    const double t21 = t13 + t8;
+    const double t22 = t7 - t14;
+    const double t23 = t10 + t9;
+    const double t24 = 9.8100000000000005*t3 + t1*t5 - L3*t15;
+    const double t25 = -9.8100000000000005*t5 + L3*t18 + t1*t3;
+    const double t26 = t2 + L3*t21;
+    const double t27 = m3*(t24 + cz3*t17 - cx3*t15 - cy3*t16);
+    const double t28 = m3*(t25 + cx3*t18 - cy3*t19 - cz3*t20);
+    const double t29 = m3*(t26 + cx3*t21 + cy3*t22 - cz3*t23);
+    const double t30 = cy3*t29 + ixz3*t18 + iyz3*(t10 - t11) + t7*ixx3 - cz3*t28 - ixy3*t21 - t14*(izz3 - iyy3);
+    const double t31 = L3 + cx3;
+    const double t32 = cz3*t27 + ixy3*t22 + ixz3*(t11 - t9) + iyz3*t16 + t13*(ixx3 - izz3) - t29*t31 - t8*iyy3;
+    const double t33 = ddq3*izz3 + ixy3*(t9 - t10) + ixz3*t20 + iyz3*t17 + t28*t31 - cy3*t27 - t12*(iyy3 - ixx3);
+    const double t34 = m2*(t1 - cy2*t0 - cz2*ddq1);
+    const double t35 = m2*(t2 + cy2*ddq1 - cz2*t0);
+    const double t36 = t34 + t27*t5 + t28*t3;
+    const double t37 = t29 + t35;
+    const double t38 = m1*(cz1*ddq1 - cx1*t0);
+    const double t39 = m1*(-cx1*ddq1 - cz1*t0);
+    const double t40 = ixx2 + iyy1;
+    const double t41 = cy2*t35 + cz1*t38 + ddq1*t40 + q2*t37 + t3*t30 - cx1*t39 - cz2*t34 - t32*t5;
+    tau[0] = t41;
+    tau[1] = t36;
+    tau[2] = t33;
 }
 
 void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)

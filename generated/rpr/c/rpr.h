@@ -10,11 +10,11 @@
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 82 ops (31 additions, 49 multiplications, 2 trig)
- *   gravity: 20 ops (4 additions, 14 multiplications, 2 trig)
- *   coriolis: 140 ops (51 additions, 84 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 126 ops (47 additions, 72 multiplications, 5 divisions, 2 trig)
- *   inverse_dynamics: 172 ops (69 additions, 98 multiplications, 2 trig, 3 powers)
+ *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
+ *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
+ *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
+ *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
+ *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void rpr_manipulability(const double q[3], const double *p, double mu[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (82 operations).
+/* Mass matrix (77 operations).
  * M[9]: M(q) (3x3)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[1]: parameters (L3)
@@ -106,7 +106,7 @@ void rpr_mass_matrix(const double q[3], const double *p, const double *pi, doubl
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
 
-/* Gravity torques (20 operations).
+/* Gravity torques (19 operations).
  * G[3]: G(q) (3x1)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[1]: parameters (L3)
@@ -116,7 +116,7 @@ void rpr_gravity(const double q[3], const double *p, const double *pi, double G[
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (140 operations).
+/* Coriolis and centrifugal torques (114 operations).
  * c[3]: c = C(q, dq) dq (3x1)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, const 
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (126 operations).
+/* Coriolis matrix (christoffel symbols) (93 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -138,7 +138,7 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (172 operations).
+/* Inverse dynamics (151 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)

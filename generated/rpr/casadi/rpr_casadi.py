@@ -10,11 +10,11 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
-  mass_matrix: 82 ops (31 additions, 49 multiplications, 2 trig)
-  gravity: 20 ops (4 additions, 14 multiplications, 2 trig)
-  coriolis: 140 ops (51 additions, 84 multiplications, 2 trig, 3 powers)
-  coriolis_matrix: 126 ops (47 additions, 72 multiplications, 5 divisions, 2 trig)
-  inverse_dynamics: 172 ops (69 additions, 98 multiplications, 2 trig, 3 powers)
+  mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
+  gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
+  coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
+  coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
+  inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L3) and named outputs; build it once
@@ -262,7 +262,7 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (82 operations) as a casadi.Function.
+    """Mass matrix (77 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     """
@@ -294,32 +294,32 @@ def mass_matrix_function(symbol_type=casadi.SX):
     t1 = casadi.sin(q3)
     t2 = q2 + L3*t1
     t3 = cz3*m3
-    t4 = -t1*t3
-    t5 = -t0*t3
+    t4 = t1*t3
+    t5 = t0*t3
     t6 = m3*(t2 + cx3*t1 + cy3*t0)
-    t7 = cy3*t6 + t0*ixx3 - cz3*t5 - ixy3*t1
-    t8 = -L3 - cx3
-    t9 = cz3*t4 + ixy3*t0 + t6*t8 - t1*iyy3
-    t10 = ixz3*t0 - cy3*t4 - iyz3*t1 - t5*t8
-    t11 = -cz2*m2
+    t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1
+    t8 = L3 + cx3
+    t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8
+    t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8
+    t11 = cz2*m2
     t12 = m2*(cy2 + q2)
     t13 = t11 + t0*t5 + t1*t4
     t14 = t12 + t6
     t15 = cz1*m1
-    t16 = -cx1*m1
-    t17 = ixx2 + iyy1 + cy2*t12 + cz1*t15 + q2*t14 + t0*t7 - cx1*t16 - cz2*t11 - t1*t9
+    t16 = cx1*m1
+    t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9
     t18 = t1*m3
     t19 = t0*m3
-    t20 = -cy3*t18 - t19*t8
+    t20 = t19*t8 - cy3*t18
     t21 = m2 + t0*t19 + t1*t18
-    t22 = -cy3*m3
+    t22 = cy3*m3
     t23 = m3*(L3 + cx3)
-    t24 = izz3 - cy3*t22 - t23*t8
+    t24 = izz3 + cy3*t22 + t23*t8
     M = symbol_type.zeros(3, 3)
     M[0, 0] = t17
-    M[0, 1] = t13
+    M[0, 1] = -t13
     M[0, 2] = t10
-    M[1, 0] = t13
+    M[1, 0] = -t13
     M[1, 1] = t21
     M[1, 2] = t20
     M[2, 0] = t10
@@ -335,7 +335,7 @@ def mass_matrix_function(symbol_type=casadi.SX):
 
 
 def gravity_function(symbol_type=casadi.SX):
-    """Gravity torques (20 operations) as a casadi.Function.
+    """Gravity torques (19 operations) as a casadi.Function.
 
     Output G: G(q) (3x1).
     """
@@ -351,19 +351,19 @@ def gravity_function(symbol_type=casadi.SX):
     t0 = casadi.cos(q3)
     t1 = 9.81*t0
     t2 = casadi.sin(q3)
-    t3 = -9.81*t2
+    t3 = 9.81*t2
     t4 = t1*m3
     t5 = t3*m3
-    t6 = -cz3*t5
+    t6 = cz3*t5
     t7 = cz3*t4
     t8 = L3 + cx3
-    t9 = t5*t8 - cy3*t4
-    t10 = t0*t5 + t2*t4
+    t9 = cy3*t4 + t5*t8
+    t10 = t2*t4 - t0*t5
     t11 = t0*t6 - t2*t7
     G = symbol_type.zeros(3, 1)
     G[0, 0] = t11
     G[1, 0] = t10
-    G[2, 0] = t9
+    G[2, 0] = -t9
     return casadi.Function(
         "rpr_gravity",
         [q, p, pi],
@@ -374,7 +374,7 @@ def gravity_function(symbol_type=casadi.SX):
 
 
 def coriolis_function(symbol_type=casadi.SX):
-    """Coriolis and centrifugal torques (140 operations) as a casadi.Function.
+    """Coriolis and centrifugal torques (114 operations) as a casadi.Function.
 
     Output c: c = C(q, dq) dq (3x1).
     """
@@ -405,44 +405,47 @@ def coriolis_function(symbol_type=casadi.SX):
     ixz3 = pi[28]
     iyz3 = pi[29]
     t0 = dq1**2
-    t1 = -q2*t0
+    t1 = q2*t0
     t2 = 2*dq1*dq2
     t3 = casadi.cos(q3)
     t4 = dq1*t3
     t5 = casadi.sin(q3)
     t6 = dq1*t5
-    t7 = -dq3*t6
-    t8 = -dq3*t4
-    t9 = -dq3**2 - t6**2
-    t10 = L3*t9 + t1*t5
-    t11 = L3*t4
-    t12 = t1*t3 - t11*t6
-    t13 = t2 + dq3*t11 - L3*t8
-    t14 = cx3*t6 + cy3*t4
-    t15 = cx3*dq3 - cz3*t4
-    t16 = m3*(t10 + cz3*t8 - dq3*t15 - t14*t6)
-    t17 = -cy3*dq3 - cz3*t6
-    t18 = m3*(t12 + dq3*t17 - cz3*t7 - t14*t4)
-    t19 = m3*(t13 + cy3*t7 + t15*t4 + t17*t6 - cx3*t8)
-    t20 = dq3*iyz3 + ixy3*t4 - t6*iyy3
-    t21 = dq3*izz3 + ixz3*t4 - iyz3*t6
-    t22 = cy3*t19 + ixy3*t8 + t7*ixx3 - cz3*t18 - dq3*t20 - t21*t6
-    t23 = dq3*ixz3 + t4*ixx3 - ixy3*t6
-    t24 = -L3 - cx3
-    t25 = cz3*t16 + dq3*t23 + ixy3*t7 + t19*t24 + t8*iyy3 - t21*t4
-    t26 = ixz3*t7 + iyz3*t8 + t20*t4 + t23*t6 - cy3*t16 - t18*t24
-    t27 = m2*(t1 - cy2*t0)
-    t28 = m2*(t2 - cz2*t0)
-    t29 = t27 + t16*t5 + t18*t3
-    t30 = t19 + t28
-    t31 = t0*m1
-    t32 = -cx1*t31
-    t33 = -cz1*t31
-    t34 = cy2*t28 + cz1*t32 + q2*t30 + t22*t3 - cx1*t33 - cz2*t27 - t25*t5
+    t7 = dq3*t6
+    t8 = dq3*t4
+    t9 = t4**2
+    t10 = t6**2
+    t11 = dq3**2
+    t12 = t4*t6
+    t13 = t10 + t11
+    t14 = t11 + t9
+    t15 = 2*t8
+    t16 = 2*t7
+    t17 = t10 + t9
+    t18 = L3*t13 + t1*t5
+    t19 = L3*t12 + t1*t3
+    t20 = t2 + L3*t15
+    t21 = m3*(-t18 - cx3*t13 - cy3*t12)
+    t22 = m3*(-t19 - cx3*t12 - cy3*t14)
+    t23 = m3*(t20 + cx3*t15 - cy3*t16 - cz3*t17)
+    t24 = ixx3 + izz3 - iyy3
+    t25 = cy3*t23 + iyz3*(t10 - t11) - cz3*t22 - ixz3*t12 - t24*t7 - 2*ixy3*t8
+    t26 = L3 + cx3
+    t27 = iyy3 + izz3 - ixx3
+    t28 = cz3*t21 + ixz3*(t11 - t9) + iyz3*t12 - t23*t26 - t27*t8 - 2*ixy3*t7
+    t29 = ixy3*(t9 - t10) + t22*t26 - cy3*t21 - t12*(iyy3 - ixx3)
+    t30 = m2*(-t1 - cy2*t0)
+    t31 = m2*(t2 - cz2*t0)
+    t32 = t30 + t21*t5 + t22*t3
+    t33 = t23 + t31
+    t34 = t0*m1
+    t35 = cx1*t34
+    t36 = cz1*t34
+    t37 = cx1*t36 + cy2*t31 + q2*t33 + t25*t3 - cz1*t35 - cz2*t30 - t28*t5
     c = symbol_type.zeros(3, 1)
-    c[0, 0] = t34
-    c[1, 0] = t29
-    c[2, 0] = t26
+    c[0, 0] = t37
+    c[1, 0] = t32
+    c[2, 0] = t29
     return casadi.Function(
         "rpr_coriolis",
         [q, dq, p, pi],
@@ -453,7 +456,7 @@ def coriolis_function(symbol_type=casadi.SX):
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (126 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (93 operations) as a casadi.Function.
 
     Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
     """
@@ -484,54 +487,39 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     t3 = t1*m3
     t4 = cz3*t3
     t5 = cz3*m3
-    t6 = -t0*t5
+    t6 = t0*t5
     t7 = m3*(t2 + cx3*t1 + cy3*t0)
     t8 = ixy3*t1
-    t9 = -t8 + cy3*t7 + t0*ixx3 - cz3*t6
-    t10 = -L3 - cx3
-    t11 = ixy3*t0 + t10*t7 - cz3*t4 - t1*iyy3
+    t9 = -t8 + cy3*t7 + cz3*t6 + t0*ixx3
+    t10 = L3 + cx3
+    t11 = ixy3*t0 - cz3*t4 - t1*iyy3 - t10*t7
     t12 = m2*(cy2 + q2)
-    t13 = t1*m3
-    t14 = t0*m3
-    t15 = m2 + m3
-    t16 = cy3*m3
-    t17 = -L3 - cx3
-    t18 = t17*m3
-    t19 = t12 + t7 + cy2*m2 + q2*t15 + t0*t16 - t1*t18
-    t20 = L3*t0
-    t21 = m3*(t20 + cx3*t0 - cy3*t1)
-    t22 = cy3*t21 - cz3*t4 - ixy3*t0 - t1*ixx3
-    t23 = -t0*t5
-    t24 = -L3 - cx3
-    t25 = -t8 + cz3*t23 + t21*t24 - t0*iyy3
-    t26 = -t25 - t9
-    t27 = t22 - t11
-    t28 = q2*t21 + t0*t27 + t1*t26
-    t29 = t23 - t6
-    t30 = t1*t29
-    t31 = -cy3*t23 - ixz3*t1 - iyz3*t0 - t10*t4
-    t32 = t0*m3
-    t33 = t32 - t14
-    t34 = t13 - t3
-    t35 = t0*t34 + t1*t33
-    t36 = -L3 - cx3
-    t37 = t3*t36 - cy3*t32
-    t38 = (1/2)*dq2
-    t39 = (1/2)*dq1
-    t40 = t28*t39 + t30*t38
-    t41 = t30*t39 + t35*t38
-    t42 = (1/2)*t19
-    t43 = (1/2)*dq3
-    t44 = dq1*t42
+    t13 = t0*m3
+    t14 = m2 + m3
+    t15 = cy3*m3
+    t16 = t10*m3
+    t17 = t12 + t7 + cy2*m2 + q2*t14 + t0*t15 + t1*t16
+    t18 = L3*t0
+    t19 = m3*(t18 + cx3*t0 - cy3*t1)
+    t20 = cy3*t19 - cz3*t4 - ixy3*t0 - t1*ixx3
+    t21 = t8 + cz3*t6 + t0*iyy3 + t10*t19
+    t22 = t21 - t9
+    t23 = t20 - t11
+    t24 = q2*t19 + t0*t23 + t1*t22
+    t25 = cy3*t6 + t10*t4 - ixz3*t1 - iyz3*t0
+    t26 = cy3*t13 + t10*t3
+    t27 = (1/2)*dq1
+    t28 = t24*t27
+    t29 = (1/2)*t17
+    t30 = (1/2)*dq3
+    t31 = dq1*t29
     C = symbol_type.zeros(3, 3)
-    C[0, 0] = dq2*t42 + t28*t43
-    C[0, 1] = t44 + t30*t43
-    C[0, 2] = t40 + dq3*t31
-    C[1, 0] = -t44 + (1/2)*dq3*t30
-    C[1, 1] = t35*t43
-    C[1, 2] = t41 + dq3*t37
-    C[2, 0] = -t40
-    C[2, 1] = -t41
+    C[0, 0] = dq2*t29 + t24*t30
+    C[0, 1] = t31
+    C[0, 2] = t28 + dq3*t25
+    C[1, 0] = -t31
+    C[1, 2] = -dq3*t26
+    C[2, 0] = -t28
     return casadi.Function(
         "rpr_coriolis_matrix",
         [q, dq, p, pi],
@@ -542,7 +530,7 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
 
 
 def inverse_dynamics_function(symbol_type=casadi.SX):
-    """Inverse dynamics (172 operations) as a casadi.Function.
+    """Inverse dynamics (151 operations) as a casadi.Function.
 
     Output tau: tau = M ddq + C dq + G + F (3x1).
     """
@@ -586,37 +574,44 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     t5 = casadi.sin(q3)
     t6 = dq1*t5
     t7 = ddq1*t3 - dq3*t6
-    t8 = -ddq1*t5 - dq3*t4
-    t9 = -dq3**2 - t6**2
-    t10 = 9.81*t3 + L3*t9 + t1*t5
-    t11 = L3*t4
-    t12 = -9.81*t5 + L3*ddq3 + t1*t3 - t11*t6
-    t13 = t2 + dq3*t11 - L3*t8
-    t14 = cx3*t6 + cy3*t4
-    t15 = cx3*dq3 - cz3*t4
-    t16 = m3*(t10 + cz3*t8 - cy3*ddq3 - dq3*t15 - t14*t6)
-    t17 = -cy3*dq3 - cz3*t6
-    t18 = m3*(t12 + cx3*ddq3 + dq3*t17 - cz3*t7 - t14*t4)
-    t19 = m3*(t13 + cy3*t7 + t15*t4 + t17*t6 - cx3*t8)
-    t20 = dq3*iyz3 + ixy3*t4 - t6*iyy3
-    t21 = dq3*izz3 + ixz3*t4 - iyz3*t6
-    t22 = cy3*t19 + ddq3*ixz3 + ixy3*t8 + t7*ixx3 - cz3*t18 - dq3*t20 - t21*t6
-    t23 = dq3*ixz3 + t4*ixx3 - ixy3*t6
-    t24 = -L3 - cx3
-    t25 = cz3*t16 + ddq3*iyz3 + dq3*t23 + ixy3*t7 + t19*t24 + t8*iyy3 - t21*t4
-    t26 = ddq3*izz3 + ixz3*t7 + iyz3*t8 + t20*t4 + t23*t6 - cy3*t16 - t18*t24
-    t27 = m2*(t1 - cy2*t0 - cz2*ddq1)
-    t28 = m2*(t2 + cy2*ddq1 - cz2*t0)
-    t29 = t27 + t16*t5 + t18*t3
-    t30 = t19 + t28
-    t31 = m1*(cz1*ddq1 - cx1*t0)
-    t32 = m1*(-cx1*ddq1 - cz1*t0)
-    t33 = ixx2 + iyy1
-    t34 = cy2*t28 + cz1*t31 + ddq1*t33 + q2*t30 + t22*t3 - cx1*t32 - cz2*t27 - t25*t5
+    t8 = ddq1*t5 + dq3*t4
+    t9 = t4**2
+    t10 = t6**2
+    t11 = dq3**2
+    t12 = t4*t6
+    t13 = dq3*t4
+    t14 = dq3*t6
+    t15 = t10 + t11
+    t16 = ddq3 + t12
+    t17 = t13 - t8
+    t18 = ddq3 - t12
+    t19 = t11 + t9
+    t20 = t14 + t7
+    t21 = t13 + t8
+    t22 = t7 - t14
+    t23 = t10 + t9
+    t24 = 9.81*t3 + t1*t5 - L3*t15
+    t25 = -9.81*t5 + L3*t18 + t1*t3
+    t26 = t2 + L3*t21
+    t27 = m3*(t24 + cz3*t17 - cx3*t15 - cy3*t16)
+    t28 = m3*(t25 + cx3*t18 - cy3*t19 - cz3*t20)
+    t29 = m3*(t26 + cx3*t21 + cy3*t22 - cz3*t23)
+    t30 = cy3*t29 + ixz3*t18 + iyz3*(t10 - t11) + t7*ixx3 - cz3*t28 - ixy3*t21 - t14*(izz3 - iyy3)
+    t31 = L3 + cx3
+    t32 = cz3*t27 + ixy3*t22 + ixz3*(t11 - t9) + iyz3*t16 + t13*(ixx3 - izz3) - t29*t31 - t8*iyy3
+    t33 = ddq3*izz3 + ixy3*(t9 - t10) + ixz3*t20 + iyz3*t17 + t28*t31 - cy3*t27 - t12*(iyy3 - ixx3)
+    t34 = m2*(t1 - cy2*t0 - cz2*ddq1)
+    t35 = m2*(t2 + cy2*ddq1 - cz2*t0)
+    t36 = t34 + t27*t5 + t28*t3
+    t37 = t29 + t35
+    t38 = m1*(cz1*ddq1 - cx1*t0)
+    t39 = m1*(-cx1*ddq1 - cz1*t0)
+    t40 = ixx2 + iyy1
+    t41 = cy2*t35 + cz1*t38 + ddq1*t40 + q2*t37 + t3*t30 - cx1*t39 - cz2*t34 - t32*t5
     tau = symbol_type.zeros(3, 1)
-    tau[0, 0] = t34
-    tau[1, 0] = t29
-    tau[2, 0] = t26
+    tau[0, 0] = t41
+    tau[1, 0] = t36
+    tau[2, 0] = t33
     return casadi.Function(
         "rpr_inverse_dynamics",
         [q, dq, ddq, p, pi],

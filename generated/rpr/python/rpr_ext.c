@@ -10,11 +10,11 @@
  *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 82 ops (31 additions, 49 multiplications, 2 trig)
- *   gravity: 20 ops (4 additions, 14 multiplications, 2 trig)
- *   coriolis: 140 ops (51 additions, 84 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 126 ops (47 additions, 72 multiplications, 5 divisions, 2 trig)
- *   inverse_dynamics: 172 ops (69 additions, 98 multiplications, 2 trig, 3 powers)
+ *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
+ *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
+ *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
+ *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
+ *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
  *
  * CPython extension 'rpr_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes q of shape (3,) or (N, 3) and

@@ -10,10 +10,10 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
+ *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+ *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
  */
 #include <math.h>
@@ -261,16 +261,16 @@ void scara_mass_matrix(const double q[3], const double *p, const double *pi, dou
     const double t8 = t4 + t6;
     const double t9 = t5 + t7;
     const double t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4;
-    const double t11 = -cy1*m1;
+    const double t11 = cy1*m1;
     const double t12 = m1*(L1 + cx1);
     const double t13 = t12 + t0*t8 + t2*t9;
-    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 - cy1*t11;
-    const double t15 = -cy3*m3;
+    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11;
+    const double t15 = cy3*m3;
     const double t16 = m3*(L2 + cx3);
-    const double t17 = -cy2*m2;
+    const double t17 = cy2*m2;
     const double t18 = m2*(L2 + cx2);
     const double t19 = t16 + t18;
-    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 - cy2*t17 - cy3*t15;
+    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15;
     M[0] = t14;
     M[1] = t10;
     M[2] = 0;
@@ -377,21 +377,21 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
     const double t4 = L2 + t3;
     const double t5 = m2*(t1 - cy2) + m3*(t1 - cy3);
     const double t6 = m2*(cx2 + t4) + m3*(cx3 + t4);
-    const double t7 = -t1*m3;
+    const double t7 = t1*m3;
     const double t8 = t3*m3;
-    const double t9 = -t1*m2;
+    const double t9 = t1*m2;
     const double t10 = t7 + t9;
     const double t11 = t3*m2;
-    const double t12 = L2*t10 + cx2*t9 + cx3*t7 - cy2*t11 - cy3*t8;
+    const double t12 = L2*t10 + cx2*t9 + cx3*t7 + cy2*t11 + cy3*t8;
     const double t13 = t11 + t8;
-    const double t14 = t10 + t5;
+    const double t14 = t5 - t10;
     const double t15 = t13 - t6;
     const double t16 = t0*t15 + t14*t2;
-    const double t17 = t12 + L1*t16;
+    const double t17 = -t12 + L1*t16;
     const double t18 = (1.0/2.0)*t17;
     const double t19 = dq1*t18;
     C[0] = dq2*t18;
-    C[1] = t19 + dq2*t12;
+    C[1] = t19 - dq2*t12;
     C[2] = 0;
     C[3] = -t19;
     C[4] = 0;
@@ -436,24 +436,24 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
     const double t2 = L1*ddq1;
     const double t3 = dq1 + dq2;
     const double t4 = ddq1 + ddq2;
-    const double t5 = cos(q2);
-    const double t6 = sin(q2);
-    const double t7 = t3*t3;
-    const double t8 = t1*t5 + t2*t6 - L2*t7;
-    const double t9 = L2*t4 + t2*t5 - t1*t6;
+    const double t5 = t3*t3;
+    const double t6 = cos(q2);
+    const double t7 = sin(q2);
+    const double t8 = t1*t6 + t2*t7 - L2*t5;
+    const double t9 = L2*t4 + t2*t6 - t1*t7;
     const double t10 = 9.8100000000000005 + ddq3;
-    const double t11 = m3*(t8 - cx3*t7 - cy3*t4);
-    const double t12 = m3*(t9 + cx3*t4 - cy3*t7);
+    const double t11 = m3*(t8 - cx3*t5 - cy3*t4);
+    const double t12 = m3*(t9 + cx3*t4 - cy3*t5);
     const double t13 = t10*m3;
-    const double t14 = m2*(t8 - cx2*t7 - cy2*t4);
-    const double t15 = m2*(t9 + cx2*t4 - cy2*t7);
+    const double t14 = m2*(t8 - cx2*t5 - cy2*t4);
+    const double t15 = m2*(t9 + cx2*t4 - cy2*t5);
     const double t16 = t11 + t14;
     const double t17 = t12 + t15;
     const double t18 = izz2 + izz3;
     const double t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11;
     const double t20 = m1*(t1 - cx1*t0 - cy1*ddq1);
     const double t21 = m1*(t2 + cx1*ddq1 - cy1*t0);
-    const double t22 = t21 + t16*t6 + t17*t5;
+    const double t22 = t21 + t16*t7 + t17*t6;
     const double t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20;
     tau[0] = t23;
     tau[1] = t19;

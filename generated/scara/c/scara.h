@@ -10,10 +10,10 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
+ *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
  *   gravity: 1 ops (1 multiplications)
  *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+ *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
@@ -96,7 +96,7 @@ void scara_manipulability(const double q[3], const double *p, double mu[1]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (61 operations).
+/* Mass matrix (58 operations).
  * M[9]: M(q) (3x3)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2)
@@ -127,7 +127,7 @@ void scara_coriolis(const double q[3], const double dq[3], const double *p, cons
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (45 operations).
+/* Coriolis matrix (christoffel symbols) (43 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)

@@ -10,10 +10,10 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 61 ops (29 additions, 30 multiplications, 2 trig)
+  mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
   gravity: 1 ops (1 multiplications)
   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 45 ops (18 additions, 24 multiplications, 1 divisions, 2 trig)
+  coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
@@ -217,7 +217,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 61 operations.
+    """Mass matrix: 58 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2), 2 values.
@@ -256,16 +256,16 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     t8 = t4 + t6
     t9 = t5 + t7
     t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
-    t11 = -cy1*m1
+    t11 = cy1*m1
     t12 = m1*(L1 + cx1)
     t13 = t12 + t0*t8 + t2*t9
-    t14 = t10 + izz1 + L1*t13 + cx1*t12 - cy1*t11
-    t15 = -cy3*m3
+    t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11
+    t15 = cy3*m3
     t16 = m3*(L2 + cx3)
-    t17 = -cy2*m2
+    t17 = cy2*m2
     t18 = m2*(L2 + cx2)
     t19 = t16 + t18
-    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 - cy2*t17 - cy3*t15
+    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15
     M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t14
     M[..., 0, 1] = t10
@@ -352,7 +352,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 45 operations.
+    """Coriolis matrix (christoffel symbols): 43 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -385,22 +385,22 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t4 = L2 + t3
     t5 = m2*(t1 - cy2) + m3*(t1 - cy3)
     t6 = m2*(cx2 + t4) + m3*(cx3 + t4)
-    t7 = -t1*m3
+    t7 = t1*m3
     t8 = t3*m3
-    t9 = -t1*m2
+    t9 = t1*m2
     t10 = t7 + t9
     t11 = t3*m2
-    t12 = L2*t10 + cx2*t9 + cx3*t7 - cy2*t11 - cy3*t8
+    t12 = L2*t10 + cx2*t9 + cx3*t7 + cy2*t11 + cy3*t8
     t13 = t11 + t8
-    t14 = t10 + t5
+    t14 = t5 - t10
     t15 = t13 - t6
     t16 = t0*t15 + t14*t2
-    t17 = t12 + L1*t16
+    t17 = -t12 + L1*t16
     t18 = (1/2)*t17
     t19 = dq1*t18
     C = numpy.zeros(batch + (3, 3))
     C[..., 0, 0] = dq2*t18
-    C[..., 0, 1] = t19 + dq2*t12
+    C[..., 0, 1] = t19 - dq2*t12
     C[..., 1, 0] = -t19
     return C
 
@@ -448,24 +448,24 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
-    t5 = numpy.cos(q2)
-    t6 = numpy.sin(q2)
-    t7 = t3**2
-    t8 = t1*t5 + t2*t6 - L2*t7
-    t9 = L2*t4 + t2*t5 - t1*t6
+    t5 = t3**2
+    t6 = numpy.cos(q2)
+    t7 = numpy.sin(q2)
+    t8 = t1*t6 + t2*t7 - L2*t5
+    t9 = L2*t4 + t2*t6 - t1*t7
     t10 = 9.81 + ddq3
-    t11 = m3*(t8 - cx3*t7 - cy3*t4)
-    t12 = m3*(t9 + cx3*t4 - cy3*t7)
+    t11 = m3*(t8 - cx3*t5 - cy3*t4)
+    t12 = m3*(t9 + cx3*t4 - cy3*t5)
     t13 = t10*m3
-    t14 = m2*(t8 - cx2*t7 - cy2*t4)
-    t15 = m2*(t9 + cx2*t4 - cy2*t7)
+    t14 = m2*(t8 - cx2*t5 - cy2*t4)
+    t15 = m2*(t9 + cx2*t4 - cy2*t5)
     t16 = t11 + t14
     t17 = t12 + t15
     t18 = izz2 + izz3
     t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11
     t20 = m1*(t1 - cx1*t0 - cy1*ddq1)
     t21 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t22 = t21 + t16*t6 + t17*t5
+    t22 = t21 + t16*t7 + t17*t6
     t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20
     tau = numpy.zeros(batch + (3,))
     tau[..., 0] = t23

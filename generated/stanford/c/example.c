@@ -11,11 +11,11 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 722 ops (294 additions, 420 multiplications, 8 trig)
- *   gravity: 152 ops (55 additions, 89 multiplications, 8 trig)
- *   coriolis: 631 ops (268 additions, 349 multiplications, 8 trig, 6 powers)
- *   coriolis_matrix: 2502 ops (1079 additions, 1408 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 670 ops (292 additions, 364 multiplications, 8 trig, 6 powers)
+ *   mass_matrix: 703 ops (290 additions, 405 multiplications, 8 trig)
+ *   gravity: 146 ops (55 additions, 83 multiplications, 8 trig)
+ *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
+ *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
+ *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
  */
 #include <stdio.h>
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 722 ops (294 additions, 420 multiplications, 8 trig)
- *   gravity: 152 ops (55 additions, 89 multiplications, 8 trig)
- *   coriolis: 631 ops (268 additions, 349 multiplications, 8 trig, 6 powers)
- *   coriolis_matrix: 2502 ops (1079 additions, 1408 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 670 ops (292 additions, 364 multiplications, 8 trig, 6 powers)
+ *   mass_matrix: 703 ops (290 additions, 405 multiplications, 8 trig)
+ *   gravity: 146 ops (55 additions, 83 multiplications, 8 trig)
+ *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
+ *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
+ *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void stanford_manipulability(const double q[6], const double *p, double mu[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (722 operations).
+/* Mass matrix (703 operations).
  * M[36]: M(q) (6x6)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6)
@@ -106,7 +106,7 @@ void stanford_mass_matrix(const double q[6], const double *p, const double *pi, 
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
 
-/* Gravity torques (152 operations).
+/* Gravity torques (146 operations).
  * G[6]: G(q) (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6)
@@ -116,7 +116,7 @@ void stanford_gravity(const double q[6], const double *p, const double *pi, doub
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (631 operations).
+/* Coriolis and centrifugal torques (519 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void stanford_coriolis(const double q[6], const double dq[6], const double *p, c
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (2502 operations).
+/* Coriolis matrix (christoffel symbols) (2376 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -138,7 +138,7 @@ void stanford_coriolis_matrix(const double q[6], const double dq[6], const doubl
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (670 operations).
+/* Inverse dynamics (580 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

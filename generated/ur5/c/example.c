@@ -11,11 +11,11 @@
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 841 ops (346 additions, 485 multiplications, 10 trig)
- *   gravity: 169 ops (60 additions, 99 multiplications, 10 trig)
- *   coriolis: 693 ops (289 additions, 383 multiplications, 10 trig, 11 powers)
- *   coriolis_matrix: 2979 ops (1287 additions, 1675 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 747 ops (319 additions, 407 multiplications, 10 trig, 11 powers)
+ *   mass_matrix: 807 ops (342 additions, 455 multiplications, 10 trig)
+ *   gravity: 164 ops (60 additions, 94 multiplications, 10 trig)
+ *   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
+ *   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
+ *   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
  */
 #include <stdio.h>
 

@@ -10,11 +10,11 @@
  *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 841 ops (346 additions, 485 multiplications, 10 trig)
- *   gravity: 169 ops (60 additions, 99 multiplications, 10 trig)
- *   coriolis: 693 ops (289 additions, 383 multiplications, 10 trig, 11 powers)
- *   coriolis_matrix: 2979 ops (1287 additions, 1675 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 747 ops (319 additions, 407 multiplications, 10 trig, 11 powers)
+ *   mass_matrix: 807 ops (342 additions, 455 multiplications, 10 trig)
+ *   gravity: 164 ops (60 additions, 94 multiplications, 10 trig)
+ *   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
+ *   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
+ *   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -96,7 +96,7 @@ void ur5_manipulability(const double q[6], const double *p, double mu[1]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
 
-/* Mass matrix (841 operations).
+/* Mass matrix (807 operations).
  * M[36]: M(q) (6x6)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6)
@@ -106,7 +106,7 @@ void ur5_mass_matrix(const double q[6], const double *p, const double *pi, doubl
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
 
-/* Gravity torques (169 operations).
+/* Gravity torques (164 operations).
  * G[6]: G(q) (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6)
@@ -116,7 +116,7 @@ void ur5_gravity(const double q[6], const double *p, const double *pi, double G[
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
 
-/* Coriolis and centrifugal torques (693 operations).
+/* Coriolis and centrifugal torques (607 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -127,7 +127,7 @@ void ur5_coriolis(const double q[6], const double dq[6], const double *p, const 
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
 
-/* Coriolis matrix (christoffel symbols) (2979 operations).
+/* Coriolis matrix (christoffel symbols) (2767 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
@@ -138,7 +138,7 @@ void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p,
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
 
-/* Inverse dynamics (747 operations).
+/* Inverse dynamics (655 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)

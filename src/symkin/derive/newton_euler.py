@@ -9,17 +9,23 @@ rotation ``R_i`` and translation ``p_i``; joint i moves about (or along) the uni
 
   revolute:   w_i  = R_i^T w_{i-1} + s_i dq_i
               dw_i = R_i^T dw_{i-1} + s_i ddq_i + (R_i^T w_{i-1}) x s_i dq_i
-              dv_i = R_i^T acc_{i-1}(j_i) + dw_i x e_i + w_i x (w_i x e_i)
+              dv_i = R_i^T (dv_{i-1} + U_{i-1} j_i) + U_i e_i
   prismatic:  w_i  = R_i^T w_{i-1},  dw_i = R_i^T dw_{i-1}
-              dv_i = R_i^T acc_{i-1}(p_i) + 2 w_i x s_i dq_i + s_i ddq_i
+              dv_i = R_i^T (dv_{i-1} + U_{i-1} p_i) + 2 w_i x s_i dq_i + s_i ddq_i
 
-where ``acc_{i-1}(x) = dv_{i-1} + dw_{i-1} x x + w_{i-1} x (w_{i-1} x x)`` and
-``dv_0 = -g`` (gravity as a base acceleration).  Inward, with the COM ``r_i``::
+where ``U_i = [dw_i]x + [w_i]x [w_i]x`` (so ``U x = dw x x + w x (w x x)``, the acceleration
+of a point relative to the origin; Khalil & Dombre eq. 9.97), built from the six products
+``w_a w_b`` once per link, and ``dv_0 = -g`` (gravity as a base acceleration).  Inward, with
+the COM ``r_i``::
 
-  F_i = m_i (dv_i + dw_i x r_i + w_i x (w_i x r_i)),   N_i = I_i dw_i + w_i x (I_i w_i)
+  F_i = m_i (dv_i + U_i r_i),   N_i = I_i dw_i + w_i x (I_i w_i)
   f_i = F_i + R_{i+1} f_{i+1}
   m_i = N_i + r_i x F_i + e_i x f_i + R_{i+1} m_{i+1} + j_{i+1} x (R_{i+1} f_{i+1})
   tau_i = s_i . m_i  (revolute),   s_i . f_i  (prismatic)
+
+``w x (I w)`` is written in the same products ``w_a w_b`` (linear in the entries of ``I``),
+and the barycentric form (first moment ``mc``, inertia about the origin) reads
+``F = m dv + U mc``, ``N = I_o dw + w x (I_o w) + mc x dv`` (eq. 9.98).
 
 ``m_i`` is the moment about the joint's axis point ``j_i`` (not about origin i): it is what
 ``tau`` needs, and carrying it to the parent costs one cross product with the sparse ``j``
@@ -159,30 +165,72 @@ def _joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometr
     return tuple(geometry)
 
 
-def _point_acceleration(dv: sp.Matrix, dw: sp.Matrix, w: sp.Matrix, x: sp.Matrix) -> sp.Matrix:
-    return dv + dw.cross(x) + w.cross(w.cross(x))
+@dataclass(frozen=True)
+class _LinkMotion:
+    """Angular velocity and acceleration of a link, the six products ``w_a w_b`` and
+    ``U = [dw]x + [w]x [w]x`` (so the acceleration of a point ``x`` is ``dv + U x``), frame i.
+    Khalil & Dombre, *Modeling, Identification and Control of Robots*, eq. 9.97."""
+
+    w: sp.Matrix
+    dw: sp.Matrix
+    products: dict[str, sp.Expr]
+    u: sp.Matrix
+
+    @classmethod
+    def of(cls, w: sp.Matrix, dw: sp.Matrix, recorder: Recorder) -> _LinkMotion:
+        wx, wy, wz = w
+        products = {
+            "xx": wx * wx, "yy": wy * wy, "zz": wz * wz,
+            "xy": wx * wy, "xz": wx * wz, "yz": wy * wz,
+        }  # fmt: skip
+        p = {k: recorder.name(v) for k, v in products.items()}
+        dx, dy, dz = dw
+        u = sp.Matrix(
+            [
+                [-(p["yy"] + p["zz"]), p["xy"] - dz, p["xz"] + dy],
+                [p["xy"] + dz, -(p["xx"] + p["zz"]), p["yz"] - dx],
+                [p["xz"] - dy, p["yz"] + dx, -(p["xx"] + p["yy"])],
+            ]
+        )
+        return cls(w, dw, p, u.applyfunc(recorder.name))
+
+    def gyroscopic(self, inertia: sp.Matrix) -> sp.Matrix:
+        """``w x (I w)`` for a symmetric ``I``, linear in the products ``w_a w_b``."""
+        p = self.products
+        xx, yy, zz = inertia[0, 0], inertia[1, 1], inertia[2, 2]
+        xy, xz, yz = inertia[0, 1], inertia[0, 2], inertia[1, 2]
+        return sp.Matrix(
+            [
+                xz * p["xy"] - xy * p["xz"] + yz * (p["yy"] - p["zz"]) + (zz - yy) * p["yz"],
+                xy * p["yz"] - yz * p["xy"] + xz * (p["zz"] - p["xx"]) + (xx - zz) * p["xz"],
+                yz * p["xz"] - xz * p["yz"] + xy * (p["xx"] - p["yy"]) + (yy - xx) * p["xy"],
+            ]
+        )
+
+
+_AT_REST = _LinkMotion(sp.zeros(3, 1), sp.zeros(3, 1), {}, sp.zeros(3, 3))
 
 
 def _body_wrench(
-    link: Link, w: sp.Matrix, dw: sp.Matrix, dv: sp.Matrix, recorder: Recorder
+    link: Link, motion: _LinkMotion, dv: sp.Matrix, recorder: Recorder
 ) -> tuple[sp.Matrix, sp.Matrix]:
     """Force and moment about the frame origin that move the link (COM form):
-    ``F = m (dv + dw x r + w x (w x r))``, ``N = I_c dw + w x (I_c w) + r x F``."""
+    ``F = m (dv + U r)``, ``N = I_c dw + w x (I_c w) + r x F``."""
     com = sp.Matrix(link.com)
     inertia = sp.Matrix(link.inertia_matrix)
-    force = recorder.vector(link.mass * _point_acceleration(dv, dw, w, com))
-    return force, inertia * dw + w.cross(inertia * w) + com.cross(force)
+    force = recorder.vector(link.mass * (dv + motion.u * com))
+    return force, inertia * motion.dw + motion.gyroscopic(inertia) + com.cross(force)
 
 
 def _barycentric_wrench(
-    link: BarycentricParameters, w: sp.Matrix, dw: sp.Matrix, dv: sp.Matrix, recorder: Recorder
+    link: BarycentricParameters, motion: _LinkMotion, dv: sp.Matrix, recorder: Recorder
 ) -> tuple[sp.Matrix, sp.Matrix]:
-    """The same with barycentric parameters (Khalil & Dombre, Ch. 9):
-    ``F = m dv + dw x mc + w x (w x mc)``, ``N = I_o dw + w x (I_o w) + mc x dv``."""
+    """The same with barycentric parameters (Khalil & Dombre, eq. 9.98):
+    ``F = m dv + U mc``, ``N = I_o dw + w x (I_o w) + mc x dv``."""
     first = sp.Matrix(link.first_moment)
     inertia = sp.Matrix(link.inertia)
-    force = recorder.vector(link.mass * dv + dw.cross(first) + w.cross(w.cross(first)))
-    return force, inertia * dw + w.cross(inertia * w) + first.cross(dv)
+    force = recorder.vector(link.mass * dv + motion.u * first)
+    return force, inertia * motion.dw + motion.gyroscopic(inertia) + first.cross(dv)
 
 
 def joint_torques(
@@ -201,39 +249,39 @@ def joint_torques(
     """
     geometry = _joint_geometry(robot, kinematics)
     base_rotation = sp.Matrix(robot.base[:3, :3])
-    w = sp.zeros(3, 1)
-    dw = sp.zeros(3, 1)
+    motion = _AT_REST
     dv = recorder.vector(-base_rotation.T * sp.Matrix(gravity))
     states = []
     for i, joint in enumerate(geometry):
         back = joint.rotation.T
+        w, dw = motion.w, motion.dw
         if joint.revolute:
             w_parent = back * w
             w_new = recorder.vector(w_parent + joint.axis * dq[i])
             dw_new = recorder.vector(
                 back * dw + joint.axis * ddq[i] + w_parent.cross(joint.axis) * dq[i]
             )
-            origin = back * _point_acceleration(dv, dw, w, joint.point)
-            dv_new = origin + dw_new.cross(joint.offset) + w_new.cross(w_new.cross(joint.offset))
+            moved = _LinkMotion.of(w_new, dw_new, recorder)
+            origin = back * (dv + motion.u * joint.point)
+            dv_new = origin + moved.u * joint.offset
         else:
-            w_new = recorder.vector(back * w)
-            dw_new = recorder.vector(back * dw)
-            origin = back * _point_acceleration(dv, dw, w, joint.translation)
-            dv_new = origin + 2 * w_new.cross(joint.axis) * dq[i] + joint.axis * ddq[i]
-        w, dw, dv = w_new, dw_new, recorder.vector(dv_new)
-        states.append((w, dw, dv))
+            moved = _LinkMotion.of(recorder.vector(back * w), recorder.vector(back * dw), recorder)
+            origin = back * (dv + motion.u * joint.translation)
+            dv_new = origin + 2 * moved.w.cross(joint.axis) * dq[i] + joint.axis * ddq[i]
+        motion, dv = moved, recorder.vector(dv_new)
+        states.append((motion, dv))
 
     force = sp.zeros(3, 1)
     about_joint = sp.zeros(3, 1)
     torques: list[sp.Expr] = [sp.Integer(0)] * robot.dof
     for i in reversed(range(robot.dof)):
-        w, dw, dv = states[i]
+        motion, dv = states[i]
         if inertial is None:
             body_force, body_moment = _body_wrench(
-                link_inertial_data(robot, i), w, dw, dv, recorder
+                link_inertial_data(robot, i), motion, dv, recorder
             )
         else:
-            body_force, body_moment = _barycentric_wrench(inertial[i], w, dw, dv, recorder)
+            body_force, body_moment = _barycentric_wrench(inertial[i], motion, dv, recorder)
         if i + 1 < robot.dof:
             child = geometry[i + 1]
             carried_force = child.rotation * force
