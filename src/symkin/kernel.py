@@ -312,13 +312,14 @@ def _signs_absorbed(
     if not flipped:
         return assignments, matrices
     flipped_matrices = [m.xreplace(flipped) for m in matrices]
-
-    def total(pairs: list[tuple[sp.Symbol, sp.Expr]], outputs: list[sp.ImmutableMatrix]) -> int:
-        return count_operations([e for _, e in pairs] + [e for m in outputs for e in m])["total"]
-
-    if total(result, flipped_matrices) < total(assignments, matrices):
-        return result, flipped_matrices
-    return assignments, matrices
+    before = [e for _, e in assignments] + [e for m in matrices for e in m]
+    after = [e for _, e in result] + [e for m in flipped_matrices for e in m]
+    # Only the expressions that changed are counted (xreplace returns the same object else).
+    changed = [k for k, (old, new) in enumerate(zip(before, after, strict=True)) if old is not new]
+    saving = count_operations([before[k] for k in changed])["total"] - count_operations(
+        [after[k] for k in changed]
+    )["total"]
+    return (result, flipped_matrices) if saving > 0 else (assignments, matrices)
 
 
 def _needed(
