@@ -30,11 +30,14 @@ In one run, on the same machine:
   560 with numeric parameters (``Robot.with_parameter_values()``: no ``p``, base inertial
   parameters; its torques are first checked against the code with ``p``), and the Panda, whose
   inertial parameters are Robotics Toolbox's (``models.DH.Panda``).
-* **Inverse dynamics per call from Python** (PUMA 560): symkin's C through ctypes, the generated
-  NumPy module, CasADi (``Function`` call and its C through ctypes), Pinocchio ``rnea`` on a
-  model built from the same DH table and inertial data (``tests/test_dynamics_oracles.py``),
+* **Inverse dynamics per call from Python** (PUMA 560): symkin's generated CPython extension
+  (compiled with ``symkin.build.build_extension``, as ``symkin derive`` does), symkin's C
+  through ctypes, the generated NumPy module, CasADi (``Function`` call and its C through
+  ctypes), Pinocchio ``rnea`` on a model built from the same DH table and inertial data
+  (``tests/test_dynamics_oracles.py``),
   and Robotics Toolbox ``DH.Puma560().rne`` (its C extension ``frne``); and in batches of
-  10,000 states: symkin's batched C, the NumPy module and Robotics Toolbox.
+  10,000 states: symkin's batched C (ctypes and the extension), the NumPy module and Robotics
+  Toolbox.
 
 Before any timing, every implementation's torques are compared with symkin's C at random
 states (the script stops if one differs by more than 1e-9 relative); the largest difference is
@@ -99,7 +102,7 @@ from derivation_time import (
     timing_cell,
     version,
 )
-from symkin.build import OPTIMISATION_FLAGS
+from symkin.build import OPTIMISATION_FLAGS, build_extension, load_extension
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
@@ -296,6 +299,7 @@ class Built:
     loop_casadi: Path
     lib_ours: Path
     lib_casadi: Path
+    directory: Path  # the generated files
 
 
 def panda_inertial_parameters() -> np.ndarray:
@@ -330,7 +334,7 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     variant, label = BUILDS[key]
     robot = robot_variant(*variant)
     name = robot.name
-    write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi")))
+    write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi", "python")))
     numpy_module = load_module(directory / "numpy" / f"{name}_kinematics.py")
     casadi_module = load_module(directory / "casadi" / f"{name}_casadi.py")
     inertial = INERTIAL_PARAMETERS[name]() if name in INERTIAL_PARAMETERS else None
@@ -357,6 +361,7 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
         loop_casadi=built.loop_casadi,
         lib_ours=built.lib_ours,
         lib_casadi=built.lib_casadi,
+        directory=directory,
     )
 
 
@@ -525,6 +530,13 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
     )
 
     # Pinocchio on the model the dynamics tests use, with the rotor inertias as armature.
+    # symkin's CPython extension, compiled as `symkin derive` compiles it.
+    name = b.robot.name
+    ext = load_extension(
+        build_extension(b.directory / "python" / f"{name}_ext.c", b.directory / "c" / f"{name}.c")
+    )
+    ns["ext"] = ext
+
     pin_model = pinocchio_model(b.robot)[1]
     pin_model.armature = np.array([float(j.link.motor_inertia) for j in b.robot.joints])
     ns.update(pin=pin, model=pin_model, data=pin_model.createData())
@@ -540,6 +552,7 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
     for q, dq, ddq in states:
         tau = ours(q, dq, ddq)
         checked.compare("puma560: symkin NumPy module", numpy_id(q, dq, ddq), tau)
+        checked.compare("puma560: symkin extension", ext.inverse_dynamics(q, dq, ddq), tau)
         checked.compare("puma560: CasADi `Function`", f_id(q, dq, ddq, P).full().ravel(), tau)
         out = np.empty(dof)
         ns["cas_arg"][0:3] = [q.ctypes.data, dq.ctypes.data, ddq.ctypes.data]
@@ -556,6 +569,7 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
     batch(CHECK_STATES, *pointers)
     checked.compare("puma560: symkin batched C", out, expected)
     checked.compare("puma560: symkin NumPy module (batch)", numpy_id(Q, DQ, DDQ), expected)
+    checked.compare("puma560: symkin extension (batch)", ext.inverse_dynamics(Q, DQ, DDQ), expected)
     with python_fallback_fails(puma):
         checked.compare("puma560: Robotics Toolbox `rne` (batch)", puma.rne(Q, DQ, DDQ), expected)
     checked.notes.append(
@@ -583,7 +597,11 @@ def with_addresses(arrays: tuple[np.ndarray, ...]) -> tuple:
 def per_call_contenders() -> tuple[list[Contender], Contender]:
     rows = [
         Contender(
-            Result("ctypes on symkin's C (`puma560_inverse_dynamics`, fresh output)", ours=True),
+            Result("symkin extension `inverse_dynamics(q, dq, ddq)`", ours=True),
+            UNPACK + "ext.inverse_dynamics(x, v, a)",
+        ),
+        Contender(
+            Result("ctypes on symkin's C (`puma560_inverse_dynamics`, fresh output)"),
             UNPACK + "tau = empty(6); "
             "c_id(x.ctypes.data, v.ctypes.data, a.ctypes.data, P_ptr, tau.ctypes.data)",
         ),
@@ -621,6 +639,10 @@ def batch_contenders() -> list[Contender]:
             Result("symkin batched C via ctypes (`puma560_inverse_dynamics_batch`)", ours=True),
             UNPACK + f"tau = empty(({BATCH}, 6)); c_id_batch({BATCH}, x.ctypes.data, "
             "v.ctypes.data, a.ctypes.data, P_ptr, tau.ctypes.data)",
+        ),
+        Contender(
+            Result("symkin extension, one call on the batch"),
+            UNPACK + "ext.inverse_dynamics(x, v, a)",
         ),
         Contender(
             Result("symkin NumPy module (broadcasts)"), UNPACK + "np_dyn.inverse_dynamics(x, v, a)"
@@ -731,16 +753,17 @@ def c_loop_table(
 def python_tables(
     rows: list[Contender], empty: Contender, batch: list[Contender], c_loop_ns: float
 ) -> list[str]:
-    ctypes_ns = next(c.result.median for c in rows if c.result.ours)
+    extension_ns = next(c.result.median for c in rows if c.result.ours)
     lines = [
         "### PUMA 560 inverse dynamics per call from Python",
         "",
         "Each call on a different state (from a pool of 65,536). An empty loop iteration, "
         f"included in every figure, took {ns_text(empty.result.median)} ns. Ratios are a "
-        "contender's median over symkin's C in the C loop and over symkin's C called the same "
-        "way from Python (ctypes).",
+        "contender's median over symkin's C in the C loop and over symkin's C called through "
+        "its generated CPython extension (`python/puma560_ext.c`, built as `symkin derive` "
+        "builds it).",
         "",
-        "| how | tau [ns/call] | ratio to symkin C loop | ratio to symkin C via ctypes "
+        "| how | tau [ns/call] | ratio to symkin C loop | ratio to symkin extension "
         "| repeats × calls |",
         "| --- | ---: | ---: | ---: | ---: |",
     ]
@@ -749,7 +772,8 @@ def python_tables(
         label = f"**{c.result.label}**" if c.result.ours else c.result.label
         count = f"{len(c.result.values)} × {c.batch}" if c.result.values else "—"
         lines.append(
-            f"| {label} | {value} | {ratio} | {ratio_text(c.result.median, ctypes_ns)} | {count} |"
+            f"| {label} | {value} | {ratio} | {ratio_text(c.result.median, extension_ns)} "
+            f"| {count} |"
         )
     reference = next(c.result.median for c in batch if c.result.ours)
     lines += [

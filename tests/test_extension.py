@@ -86,7 +86,7 @@ def test_determinant_matches_when_square(built):
 
 def test_bad_shapes_raise_python_errors(built):
     robot, extension, _ = built
-    with pytest.raises(ValueError, match=r"q must have shape"):
+    with pytest.raises(ValueError, match=r"must have shape"):
         extension.fk(np.zeros(robot.dof + 1))
     with pytest.raises(ValueError, match=r"p must hold"):
         extension.fk(np.zeros(robot.dof), np.zeros(len(robot.parameters) + 2))
@@ -102,3 +102,70 @@ def test_float_precision_extension(tmp_path):
     transforms = extension.fk(states)
     assert transforms.dtype == np.float32
     np.testing.assert_allclose(transforms, reference.fk(states), rtol=0, atol=5e-6)
+
+
+# Dynamics functions, their state inputs (forward dynamics takes tau in place of ddq).
+DYNAMICS = {
+    "mass_matrix": ("q",),
+    "gravity": ("q",),
+    "coriolis": ("q", "dq"),
+    "coriolis_matrix": ("q", "dq"),
+    "inverse_dynamics": ("q", "dq", "ddq"),
+    "forward_dynamics": ("q", "dq", "tau"),
+}
+
+
+def _inertial_values(robot, seed):
+    """Physical values (positive mass, principal moments that satisfy the triangle
+    inequality) for the 10 symbols of every link the robot file leaves without data."""
+    rng = np.random.default_rng(seed)
+    values = []
+    for joint in robot.joints:
+        if joint.link is None:
+            values += [rng.uniform(1, 3), *rng.uniform(-0.1, 0.1, 3)]
+            values += [*rng.uniform(0.05, 0.09, 3), 0.0, 0.0, 0.0]
+    return {"pi": np.array(values)} if values else {}
+
+
+@pytest.mark.parametrize("kernel", DYNAMICS)
+def test_dynamics_match_numpy(built, kernel):
+    robot, extension, reference = built
+    extra = _inertial_values(robot, seed=4)
+    rng = np.random.default_rng(6)
+    batch = [rng.uniform(-1.5, 1.5, size=(12, robot.dof)) for _ in DYNAMICS[kernel]]
+    for arguments in (batch, [b[0] for b in batch]):
+        got = getattr(extension, kernel)(*arguments, **extra)
+        want = getattr(reference, kernel)(*arguments, **extra)
+        assert got.shape == want.shape
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-10)
+
+
+def test_forward_dynamics_recovers_the_accelerations(built):
+    # An identity between two functions, not a comparison with the NumPy module.
+    robot, extension, _ = built
+    extra = _inertial_values(robot, seed=8)
+    q, dq, ddq = np.random.default_rng(7).uniform(-1.5, 1.5, size=(3, 20, robot.dof))
+    tau = extension.inverse_dynamics(q, dq, ddq, **extra)
+    np.testing.assert_allclose(extension.forward_dynamics(q, dq, tau, **extra), ddq, atol=1e-8)
+
+
+def test_inertial_parameters_positional_or_by_keyword(built):
+    robot, extension, _ = built
+    extra = _inertial_values(robot, seed=10)
+    q, dq, ddq = np.random.default_rng(11).uniform(-1, 1, size=(3, robot.dof))
+    by_keyword = extension.inverse_dynamics(q, dq, ddq, **extra)
+    positional = extension.inverse_dynamics(q, dq, ddq, None, *extra.values())
+    np.testing.assert_array_equal(by_keyword, positional)
+    if not extra:
+        with pytest.raises(TypeError, match=r"expected inverse_dynamics\(q, dq, ddq, p=None\)"):
+            extension.inverse_dynamics(q, dq, ddq, pi=np.zeros(10))
+        return
+    count = len(extra["pi"])
+    with pytest.raises(ValueError, match=rf"give the {count} inertial parameters"):
+        extension.inverse_dynamics(q, dq, ddq)
+    with pytest.raises(ValueError, match=rf"pi must hold {count} values"):
+        extension.mass_matrix(q, pi=extra["pi"][:-1])
+    with pytest.raises(TypeError, match=r"expected fk\(q, p=None\)"):
+        extension.fk(q, pi=extra["pi"])
+    with pytest.raises(ValueError, match=r"the same for all"):
+        extension.coriolis(q, np.zeros((2, robot.dof)), **extra)

@@ -17,71 +17,132 @@
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
  *
  * CPython extension 'planar_3r_ext': the generated C kernels callable from Python with far
- * less overhead than ctypes. Each function takes q of shape (3,) or (N, 3) and
- * optionally p (the parameters L1, L2, L3); it returns new
- * NumPy arrays with the batch dimension first. Build: symkin derive planar_3r --out DIR.
+ * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
+ * where it needs them), each of shape (3,) or (N, 3), then optionally p (the
+ * parameters L1, L2, L3) and the 30 inertial parameters pi the robot
+ * file leaves out (required by the dynamics functions); p and pi may also be given by
+ * keyword. It returns new NumPy arrays with the batch dimension first.
+ * Build: symkin derive planar_3r --out DIR.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
 #include <numpy/arrayobject.h>
+#include <string.h>
 
 #include "../c/planar_3r.h"
 
-typedef void (*batch_kernel)(size_t count, const double *q, const double *p,
-                             double **outputs);
+#define MAX_STATES 3
+#define MAX_OUTPUTS 2
+#define NUM_INERTIAL 30
+
+typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
+                             const double *pi, double **outputs);
 
 typedef struct {
-    int ndim;
-    npy_intp dims[2];
-} output_shape;
+    const char *usage;
+    int nstates;
+    int takes_pi;
+    batch_kernel kernel;
+    int noutputs;
+    int ndims[MAX_OUTPUTS];
+    npy_intp dims[MAX_OUTPUTS][2];
+} binding;
 
 static const double default_parameters[] = PLANAR_3R_DEFAULT_PARAMETERS;
 
-/* Shared by every kernel: convert inputs, allocate outputs, run the batched C kernel. */
-static PyObject *run_kernel(PyObject *const *args, Py_ssize_t nargs, batch_kernel kernel,
-                            int noutputs, const output_shape *shapes)
+/* A 1-D array of exactly `size` entries, or NULL with a Python error set. */
+static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char *name,
+                                      const char *usage)
 {
-    PyArrayObject *q, *p = NULL;
-    PyObject *result = NULL, *outputs[2] = {NULL, NULL};
-    double *out_data[2];
-    const double *p_data = default_parameters;
-    int batched, i, k;
-    npy_intp count;
+    PyArrayObject *array = (PyArrayObject *)PyArray_FROMANY(
+        value, NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    if (array != NULL && PyArray_DIM(array, 0) != size) {
+        PyErr_Format(PyExc_ValueError, "%s: %s must hold %d values", usage, name, (int)size);
+        Py_DECREF(array);
+        return NULL;
+    }
+    return array;
+}
 
-    if (nargs < 1 || nargs > 2) {
-        PyErr_SetString(PyExc_TypeError, "expected (q) or (q, p)");
+/* Shared by every function: parse (states..., p=None, pi=None), check shapes, allocate the
+ * outputs, run the batched C kernel with the GIL released. */
+static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t nargs,
+                             PyObject *kwnames)
+{
+    PyArrayObject *states[MAX_STATES] = {NULL, NULL, NULL}, *p = NULL, *pi = NULL;
+    PyObject *p_value = Py_None, *pi_value = Py_None;
+    PyObject *result = NULL, *outputs[MAX_OUTPUTS] = {NULL, NULL};
+    const double *state_data[MAX_STATES] = {NULL, NULL, NULL};
+    double *out_data[MAX_OUTPUTS] = {NULL, NULL};
+    const double *p_data = default_parameters, *pi_data = NULL;
+    Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0, j;
+    int batched = 0, i, k;
+    npy_intp count = 1;
+
+    if (nargs < b->nstates || nargs > b->nstates + 1 + b->takes_pi) {
+        PyErr_Format(PyExc_TypeError, "expected %s", b->usage);
         return NULL;
     }
-    q = (PyArrayObject *)PyArray_FROMANY(args[0], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
-    if (q == NULL) {
-        return NULL;
+    if (nargs > b->nstates) {
+        p_value = args[b->nstates];
     }
-    batched = PyArray_NDIM(q) == 2;
-    if (PyArray_DIM(q, batched) != 3) {
-        PyErr_SetString(PyExc_ValueError, "q must have shape (3,) or (N, 3)");
-        goto done;
+    if (nargs > b->nstates + 1) {
+        pi_value = args[b->nstates + 1];
     }
-    count = batched ? PyArray_DIM(q, 0) : 1;
-    if (nargs == 2 && args[1] != Py_None) {
-        p = (PyArrayObject *)PyArray_FROMANY(args[1], NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
-        if (p == NULL) {
+    for (j = 0; j < nkw; ++j) {
+        const char *key = PyUnicode_AsUTF8(PyTuple_GET_ITEM(kwnames, j));
+        if (key != NULL && strcmp(key, "p") == 0 && nargs <= b->nstates) {
+            p_value = args[nargs + j];
+        } else if (key != NULL && strcmp(key, "pi") == 0 && b->takes_pi && nargs <= b->nstates + 1) {
+            pi_value = args[nargs + j];
+        } else {
+            PyErr_Format(PyExc_TypeError, "expected %s", b->usage);
+            return NULL;
+        }
+    }
+    for (i = 0; i < b->nstates; ++i) {
+        states[i] = (PyArrayObject *)PyArray_FROMANY(args[i], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+        if (states[i] == NULL) {
             goto done;
         }
-        if (PyArray_DIM(p, 0) != PLANAR_3R_NUM_PARAMETERS) {
-            PyErr_SetString(PyExc_ValueError, "p must hold 3 parameters");
+        if (i == 0) {
+            batched = PyArray_NDIM(states[0]) == 2;
+            count = batched ? PyArray_DIM(states[0], 0) : 1;
+        }
+        if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
+            PyArray_DIM(states[i], batched) != 3 || (batched && PyArray_DIM(states[i], 0) != count)) {
+            PyErr_Format(PyExc_ValueError, "%s: every state input must have shape (3,) or (N, 3), the same for all", b->usage);
+            goto done;
+        }
+        state_data[i] = (const double *)PyArray_DATA(states[i]);
+    }
+    if (p_value != Py_None) {
+        p = vector_argument(p_value, PLANAR_3R_NUM_PARAMETERS, "p", b->usage);
+        if (p == NULL) {
             goto done;
         }
         p_data = (const double *)PyArray_DATA(p);
     }
-    for (k = 0; k < noutputs; ++k) {
+    if (b->takes_pi) {
+        if (pi_value == Py_None) {
+            PyErr_Format(PyExc_ValueError, "%s: give the %d inertial parameters pi the robot file leaves out", b->usage, NUM_INERTIAL);
+            goto done;
+        }
+        pi = vector_argument(pi_value, NUM_INERTIAL, "pi", b->usage);
+        if (pi == NULL) {
+            goto done;
+        }
+        pi_data = (const double *)PyArray_DATA(pi);
+    }
+    for (k = 0; k < b->noutputs; ++k) {
         npy_intp dims[3];
         int ndim = 0;
         if (batched) {
             dims[ndim++] = count;
         }
-        for (i = 0; i < shapes[k].ndim; ++i) {
-            dims[ndim++] = shapes[k].dims[i];
+        for (i = 0; i < b->ndims[k]; ++i) {
+            dims[ndim++] = b->dims[k][i];
         }
         outputs[k] = PyArray_SimpleNew(ndim, dims, NPY_FLOAT64);
         if (outputs[k] == NULL) {
@@ -90,155 +151,301 @@ static PyObject *run_kernel(PyObject *const *args, Py_ssize_t nargs, batch_kerne
         out_data[k] = (double *)PyArray_DATA((PyArrayObject *)outputs[k]);
     }
     Py_BEGIN_ALLOW_THREADS
-    kernel((size_t)count, (const double *)PyArray_DATA(q), p_data, out_data);
+    b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
     Py_END_ALLOW_THREADS
-    if (noutputs == 1) {
+    if (b->noutputs == 1) {
         result = outputs[0];
         outputs[0] = NULL;
     } else {
         result = PyTuple_Pack(2, outputs[0], outputs[1]);
     }
 done:
-    Py_DECREF(q);
+    for (i = 0; i < MAX_STATES; ++i) {
+        Py_XDECREF(states[i]);
+    }
     Py_XDECREF(p);
+    Py_XDECREF(pi);
     Py_XDECREF(outputs[0]);
     Py_XDECREF(outputs[1]);
     return result;
 }
 
-static void fk_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void fk_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_fk_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_fk_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape fk_shapes[] = {
-    { 2, { 4, 4 } },
+static const binding fk_binding = {
+    "fk(q, p=None)", 1, 0, fk_adapter, 1,
+    { 2 },
+    { { 4, 4 } },
 };
 
-static PyObject *py_fk(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_fk(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, fk_adapter, 1, fk_shapes);
+    return run_binding(&fk_binding, args, nargs, kwnames);
 }
 
-static void position_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void position_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_position_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_position_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape position_shapes[] = {
-    { 1, { 3, 0 } },
+static const binding position_binding = {
+    "position(q, p=None)", 1, 0, position_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
 };
 
-static PyObject *py_position(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_position(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, position_adapter, 1, position_shapes);
+    return run_binding(&position_binding, args, nargs, kwnames);
 }
 
-static void jacobian_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void jacobian_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_jacobian_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_jacobian_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape jacobian_shapes[] = {
-    { 2, { 6, 3 } },
+static const binding jacobian_binding = {
+    "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
+    { 2 },
+    { { 6, 3 } },
 };
 
-static PyObject *py_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, jacobian_adapter, 1, jacobian_shapes);
+    return run_binding(&jacobian_binding, args, nargs, kwnames);
 }
 
-static void position_jacobian_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void position_jacobian_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_position_jacobian_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_position_jacobian_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape position_jacobian_shapes[] = {
-    { 2, { 3, 3 } },
+static const binding position_jacobian_binding = {
+    "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
+    { 2 },
+    { { 3, 3 } },
 };
 
-static PyObject *py_position_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_position_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, position_jacobian_adapter, 1, position_jacobian_shapes);
+    return run_binding(&position_jacobian_binding, args, nargs, kwnames);
 }
 
-static void fk_jacobian_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void fk_jacobian_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_fk_jacobian_batch(count, q, p, outputs[0], outputs[1]);
+    (void)pi;
+    planar_3r_fk_jacobian_batch(count, states[0], p, outputs[0], outputs[1]);
 }
 
-static const output_shape fk_jacobian_shapes[] = {
-    { 2, { 4, 4 } },
-    { 2, { 6, 3 } },
+static const binding fk_jacobian_binding = {
+    "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
+    { 2, 2 },
+    { { 4, 4 }, { 6, 3 } },
 };
 
-static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, fk_jacobian_adapter, 2, fk_jacobian_shapes);
+    return run_binding(&fk_jacobian_binding, args, nargs, kwnames);
 }
 
-static void det_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void det_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_det_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_det_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape det_shapes[] = {
-    { 0, { 0, 0 } },
+static const binding det_binding = {
+    "det(q, p=None)", 1, 0, det_adapter, 1,
+    { 0 },
+    { { 0, 0 } },
 };
 
-static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, det_adapter, 1, det_shapes);
+    return run_binding(&det_binding, args, nargs, kwnames);
 }
 
-static void manipulability_adapter(size_t count, const double *q, const double *p,
-                        double **outputs)
+static void manipulability_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
 {
-    planar_3r_manipulability_batch(count, q, p, outputs[0]);
+    (void)pi;
+    planar_3r_manipulability_batch(count, states[0], p, outputs[0]);
 }
 
-static const output_shape manipulability_shapes[] = {
-    { 0, { 0, 0 } },
+static const binding manipulability_binding = {
+    "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
+    { 0 },
+    { { 0, 0 } },
 };
 
-static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
 {
     (void)self;
-    return run_kernel(args, nargs, manipulability_adapter, 1, manipulability_shapes);
+    return run_binding(&manipulability_binding, args, nargs, kwnames);
+}
+
+static void mass_matrix_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_mass_matrix_batch(count, states[0], p, pi, outputs[0]);
+}
+
+static const binding mass_matrix_binding = {
+    "mass_matrix(q, p=None, pi=None)", 1, 1, mass_matrix_adapter, 1,
+    { 2 },
+    { { 3, 3 } },
+};
+
+static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&mass_matrix_binding, args, nargs, kwnames);
+}
+
+static void gravity_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_gravity_batch(count, states[0], p, pi, outputs[0]);
+}
+
+static const binding gravity_binding = {
+    "gravity(q, p=None, pi=None)", 1, 1, gravity_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+};
+
+static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&gravity_binding, args, nargs, kwnames);
+}
+
+static void coriolis_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_coriolis_batch(count, states[0], states[1], p, pi, outputs[0]);
+}
+
+static const binding coriolis_binding = {
+    "coriolis(q, dq, p=None, pi=None)", 2, 1, coriolis_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+};
+
+static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&coriolis_binding, args, nargs, kwnames);
+}
+
+static void coriolis_matrix_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_coriolis_matrix_batch(count, states[0], states[1], p, pi, outputs[0]);
+}
+
+static const binding coriolis_matrix_binding = {
+    "coriolis_matrix(q, dq, p=None, pi=None)", 2, 1, coriolis_matrix_adapter, 1,
+    { 2 },
+    { { 3, 3 } },
+};
+
+static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&coriolis_matrix_binding, args, nargs, kwnames);
+}
+
+static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_inverse_dynamics_batch(count, states[0], states[1], states[2], p, pi, outputs[0]);
+}
+
+static const binding inverse_dynamics_binding = {
+    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, 1, inverse_dynamics_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+};
+
+static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&inverse_dynamics_binding, args, nargs, kwnames);
+}
+
+static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_forward_dynamics(states[0] + i * 3, states[1] + i * 3, states[2] + i * 3, p, pi, outputs[0] + i * 3);
+    }
+}
+
+static const binding forward_dynamics_binding = {
+    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, 1, forward_dynamics_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+};
+
+static PyObject *py_forward_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&forward_dynamics_binding, args, nargs, kwnames);
 }
 
 static PyMethodDef methods[] = {
-    {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL,
+    {"fk", (PyCFunction)(void (*)(void))py_fk, METH_FASTCALL | METH_KEYWORDS,
      "fk(q, p=None): forward kinematics; returns T."},
-    {"position", (PyCFunction)(void (*)(void))py_position, METH_FASTCALL,
+    {"position", (PyCFunction)(void (*)(void))py_position, METH_FASTCALL | METH_KEYWORDS,
      "position(q, p=None): tool position; returns p_tool."},
-    {"jacobian", (PyCFunction)(void (*)(void))py_jacobian, METH_FASTCALL,
+    {"jacobian", (PyCFunction)(void (*)(void))py_jacobian, METH_FASTCALL | METH_KEYWORDS,
      "jacobian(q, p=None): geometric Jacobian; returns J."},
-    {"position_jacobian", (PyCFunction)(void (*)(void))py_position_jacobian, METH_FASTCALL,
+    {"position_jacobian", (PyCFunction)(void (*)(void))py_position_jacobian, METH_FASTCALL | METH_KEYWORDS,
      "position_jacobian(q, p=None): analytic position Jacobian; returns Jp."},
-    {"fk_jacobian", (PyCFunction)(void (*)(void))py_fk_jacobian, METH_FASTCALL,
+    {"fk_jacobian", (PyCFunction)(void (*)(void))py_fk_jacobian, METH_FASTCALL | METH_KEYWORDS,
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
-    {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL,
+    {"det", (PyCFunction)(void (*)(void))py_det, METH_FASTCALL | METH_KEYWORDS,
      "det(q, p=None): determinant of the task Jacobian (rows x, y, wz); returns det."},
-    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL,
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL | METH_KEYWORDS,
      "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
+    {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL | METH_KEYWORDS,
+     "mass_matrix(q, p=None, pi=None): mass matrix; returns M."},
+    {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL | METH_KEYWORDS,
+     "gravity(q, p=None, pi=None): gravity torques; returns G."},
+    {"coriolis", (PyCFunction)(void (*)(void))py_coriolis, METH_FASTCALL | METH_KEYWORDS,
+     "coriolis(q, dq, p=None, pi=None): Coriolis and centrifugal torques; returns c."},
+    {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
+     "coriolis_matrix(q, dq, p=None, pi=None): Coriolis matrix (Christoffel symbols); returns C."},
+    {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
+     "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
+    {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
+     "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},
 };
 
 static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "planar_3r_ext", "Generated kinematics of robot 'planar_3r'.", -1, methods,
+    PyModuleDef_HEAD_INIT, "planar_3r_ext", "Generated kinematics and dynamics of robot 'planar_3r'.", -1, methods,
     NULL, NULL, NULL, NULL,
 };
 

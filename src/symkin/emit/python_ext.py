@@ -1,23 +1,76 @@
 """CPython extension backend: a thin binding of the generated C kernels.
 
-Calling C through ctypes costs 1.5-2.5 us per call whatever the C does; a CPython extension
+Calling C through ctypes costs 1.5-5 us per call whatever the C does; a CPython extension
 with ``METH_FASTCALL`` and NumPy's C API costs a fraction of that and offers batched calls.
+Every kernel is bound (kinematics and dynamics), and forward dynamics when the robot has it.
 """
 
 from __future__ import annotations
 
-from symkin.emit.layout import kernel_layout
-from symkin.emit.render import preamble_lines, render
+from dataclasses import dataclass
+
+from symkin.emit.layout import STATE_INPUTS, kernel_layout
+from symkin.emit.render import forward_dynamics_context, preamble_lines, render
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}
-# The binding covers kernels of (q, p); dynamics kernels (dq, ddq, pi) are planned.
-BINDING_INPUTS = ("q", "p")
+
+
+@dataclass(frozen=True)
+class Binding:
+    """One Python function: its per-state inputs, whether it takes ``pi``, its outputs.
+
+    ``batched`` kernels have a ``<robot>_<name>_batch`` C entry point; forward dynamics has
+    none and is looped over the states in the binding.
+    """
+
+    name: str
+    description: str
+    states: tuple[str, ...]
+    takes_pi: bool
+    outputs: tuple[tuple[str, tuple[int, ...]], ...]
+    batched: bool = True
+
+    @property
+    def signature(self) -> str:
+        extra = ", pi=None" if self.takes_pi else ""
+        return f"{self.name}({', '.join(self.states)}, p=None{extra})"
 
 
 def extension_name(robot: Robot) -> str:
     return f"{robot.name}_ext"
+
+
+def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
+    """The functions of the extension, in the order of the kernels."""
+    result = []
+    for kernel in kernels:
+        # Printing is not needed for the binding; the layout only supplies names and shapes.
+        layout = kernel_layout(kernel, lambda e: "")
+        names = [i.name for i in layout.inputs]
+        result.append(
+            Binding(
+                name=layout.name,
+                description=layout.description,
+                states=tuple(n for n in names if n in STATE_INPUTS),
+                takes_pi="pi" in names,
+                outputs=tuple((o.name, o.numpy_shape) for o in layout.outputs),
+            )
+        )
+    forward = forward_dynamics_context(kernels)
+    if forward is not None:
+        result.append(
+            Binding(
+                name="forward_dynamics",
+                description="forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky)",
+                states=("q", "dq", "tau"),
+                takes_pi=bool(forward["pi"]),
+                outputs=(("ddq", (robot.dof,)),),
+                batched=False,
+            )
+        )
+    return result
 
 
 def emit_python_extension(
@@ -25,6 +78,7 @@ def emit_python_extension(
 ) -> dict[str, str]:
     """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``."""
     module = extension_name(robot)
+    forward = forward_dynamics_context(kernels)
     text = render(
         "python/module.c.j2",
         preamble=preamble_lines(robot, kernels, f"Python binding ({precision})"),
@@ -37,11 +91,7 @@ def emit_python_extension(
         npy_type=NUMPY_TYPES[precision],
         dof=robot.dof,
         parameter_names=[n for n, _ in robot.parameters],
-        # Printing is not needed for the binding; the layout only supplies names and shapes.
-        kernels=[
-            kernel_layout(k, lambda e: "")
-            for k in kernels
-            if tuple(i.name for i in k.inputs) == BINDING_INPUTS
-        ],
+        inertial_count=forward["pi"] if forward else 0,
+        bindings=bindings(robot, kernels),
     )
     return {f"python/{module}.c": text}
