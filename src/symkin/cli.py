@@ -29,7 +29,6 @@ from symkin.emit.latex import (
     TEXT_WIDTH_CM,
     check_sections,
     latex_files,
-    section_notes,
 )
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
@@ -504,8 +503,6 @@ def command_generate(args: argparse.Namespace) -> None:
 def command_latex(args: argparse.Namespace) -> None:
     robot = load_robot(args.robot)
     sections = check_sections(args.sections.split(","))
-    for note in section_notes(sections):
-        progress(note)
     q = joint_values(args.q, "--q", robot) if args.q else None
     files = latex_files(
         derive(robot),
@@ -982,7 +979,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--sections",
         default=",".join(s for s in SECTIONS if s != "dynamics"),
         metavar="LIST",
-        help=f"comma-separated, from {','.join(SECTIONS)} (default: all but dynamics)",
+        help=f"comma-separated, from {','.join(SECTIONS)} (default: all but dynamics, which "
+        "prints M, C and G by Lagrange up to three joints)",
     )
     latex.add_argument(
         "--text-width",

@@ -316,9 +316,10 @@ def _signs_absorbed(
     after = [e for _, e in result] + [e for m in flipped_matrices for e in m]
     # Only the expressions that changed are counted (xreplace returns the same object else).
     changed = [k for k, (old, new) in enumerate(zip(before, after, strict=True)) if old is not new]
-    saving = count_operations([before[k] for k in changed])["total"] - count_operations(
-        [after[k] for k in changed]
-    )["total"]
+    saving = (
+        count_operations([before[k] for k in changed])["total"]
+        - count_operations([after[k] for k in changed])["total"]
+    )
     return (result, flipped_matrices) if saving > 0 else (assignments, matrices)
 
 

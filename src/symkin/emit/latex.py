@@ -4,7 +4,8 @@
 
 * ``<robot>.tex``: a standalone A4 document (DH table, link transforms, the product built up
   step by step, tool position, Z-Y-X Euler angles, Jacobian column by column, determinant,
-  singular configurations, inverse Jacobian as adjugate over determinant);
+  singular configurations, inverse Jacobian as adjugate over determinant; on request the
+  equations of motion by Lagrange);
 * ``snippets/<quantity>.tex``: the same displays, one file per quantity, for ``\\input``;
 * ``<robot>-macros.tex``: one ``\\newcommand`` per quantity.
 
@@ -25,16 +26,15 @@ import sympy as sp
 from sympy.core.function import _coeff_isneg
 
 from symkin.derive import Model
+from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
 from symkin.emit.latex_printer import KinematicsLatexPrinter, latex_width
 from symkin.emit.render import render
 from symkin.errors import SymkinError
 from symkin.evaluate import numeric_function
+from symkin.robot import Robot
 
 SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
-PLANNED_SECTIONS = {
-    "dynamics": "the equations of motion are not available yet; the section is left out",
-}
 LANGUAGES = ("en", "de")
 
 # Page geometry of the standalone document: A4 with 2 cm margins, 11 pt, a 17 cm line.
@@ -47,6 +47,9 @@ MIN_TEXT_WIDTH_CM, MAX_TEXT_WIDTH_CM = 8.0, 40.0
 # entries (cofactors of (n-1) x (n-1) minors) run to pages and take minutes to form.
 INVERSE_MAX_DOF = 4
 INVERSE_MAX_LINES = 40
+# M, C and G are printed (Lagrange, contracted) up to this many joints; beyond, their entries
+# run to pages and the section states how the generated code computes them instead.
+DYNAMICS_MAX_DOF = 3
 # Euler angles of this robot are printed in terms of q only when each fits on a line.
 EULER_MARGIN_UNITS = 8.0
 
@@ -147,6 +150,28 @@ TEXT: dict[str, dict[str, str]] = {
         "inverse_singular": "At $q^{*}$ the Jacobian is singular and has no inverse.",
         "where": "with",
         "or": "or",
+        "dynamics": "Equations of motion",
+        "dynamics_intro": (
+            "Lagrange's equations give the joint forces and torques $\\tau$ as "
+            "$\\tau = M(q)\\, \\ddot{q} + C(q, \\dot{q})\\, \\dot{q} + G(q) + F(\\dot{q})$. "
+            "With link $i$ of mass $m_{i}$, centre of mass $r_{c,i}$, inertia tensor $I_{i}$ "
+            "about it (frame-$i$ axes), the Jacobians $J_{v,i}$, $J_{\\omega,i}$ of its centre "
+            "of mass and angular velocity and its rotation $R_{i}$ (all in base coordinates), "
+            "and gravity $g$:"
+        ),
+        "dynamics_christoffel": (
+            "$C$ comes from the Christoffel symbols of $M$, so that $\\dot{M} - 2C$ is "
+            "skew-symmetric:"
+        ),
+        "mass_matrix": "The mass matrix:",
+        "coriolis_matrix": "The Coriolis and centrifugal matrix:",
+        "gravity_vector": "The gravity torques:",
+        "friction_vector": "Friction (Coulomb, viscous and Stribeck, as the robot file gives it):",
+        "dynamics_long": (
+            "For {dof} joints the entries of $M$, $C$ and $G$ run to pages. The generated code "
+            "computes them by recursive Newton--Euler, which names every intermediate "
+            "quantity as the recursion goes (\\texttt{{symkin derive}})."
+        ),
     },
     "de": {
         "title": "Kinematik: {title}",
@@ -246,6 +271,28 @@ TEXT: dict[str, dict[str, str]] = {
         "inverse_singular": 'Bei $q^{*}$ ist die Jacobi-Matrix singul\\"ar und nicht invertierbar.',
         "where": "mit",
         "or": "oder",
+        "dynamics": "Bewegungsgleichungen",
+        "dynamics_intro": (
+            'Die Lagrange-Gleichungen ergeben die Gelenkkr\\"afte und -momente $\\tau$ als '
+            "$\\tau = M(q)\\, \\ddot{q} + C(q, \\dot{q})\\, \\dot{q} + G(q) + F(\\dot{q})$. "
+            'Mit Masse $m_{i}$, Schwerpunkt $r_{c,i}$ und Tr\\"agheitstensor $I_{i}$ (um den '
+            "Schwerpunkt, Achsen von System $i$) von Glied $i$, den Jacobi-Matrizen "
+            "$J_{v,i}$, $J_{\\omega,i}$ seines Schwerpunkts und seiner Winkelgeschwindigkeit, "
+            "seiner Drehung $R_{i}$ (alles in Basiskoordinaten) und der Schwerkraft $g$:"
+        ),
+        "dynamics_christoffel": (
+            "$C$ folgt aus den Christoffel-Symbolen von $M$, sodass $\\dot{M} - 2C$ "
+            "schiefsymmetrisch ist:"
+        ),
+        "mass_matrix": "Die Massenmatrix:",
+        "coriolis_matrix": "Die Matrix der Coriolis- und Zentrifugalterme:",
+        "gravity_vector": "Die Gravitationsmomente:",
+        "friction_vector": "Reibung (Coulomb, viskos und Stribeck, wie in der Roboterdatei):",
+        "dynamics_long": (
+            "Bei {dof} Gelenken werden die Elemente von $M$, $C$ und $G$ seitenlang. Der "
+            "erzeugte Code berechnet sie rekursiv nach Newton--Euler und benennt dabei jede "
+            'Zwischengr\\"o\\ss{{}}e (\\texttt{{symkin derive}}).'
+        ),
     },
 }
 ROW_LATEX = {"x": "x", "y": "y", "z": "z", "wx": "\\omega_{x}", "wy": "\\omega_{y}"}
@@ -265,11 +312,6 @@ def check_sections(names: Iterable[str]) -> tuple[str, ...]:
     if not chosen:
         raise SymkinError(f"--sections: name at least one of {', '.join(SECTIONS)}")
     return tuple(s for s in SECTIONS if s in chosen)
-
-
-def section_notes(sections: Iterable[str]) -> list[str]:
-    """Messages for chosen sections that are accepted but not available yet."""
-    return [f"section '{s}': {PLANNED_SECTIONS[s]}" for s in sections if s in PLANNED_SECTIONS]
 
 
 def macro_prefix(name: str) -> str:
@@ -564,6 +606,22 @@ def _entry_name(symbol: str, superscript: str = "") -> Callable[[int, int], str]
     return name
 
 
+def inertial_symbol_names(robot: Robot) -> dict[sp.Symbol, str]:
+    """How the inertial symbols of links without data print: ``m_{1}``, ``c_{x,1}``,
+    ``I_{xx,1}`` (``link_inertial_data`` names them ``m1``, ``cx1``, ``ixx1``)."""
+    names: dict[sp.Symbol, str] = {}
+    for index, joint in enumerate(robot.joints):
+        if joint.link is not None:
+            continue
+        link, i = link_inertial_data(robot, index), index + 1
+        names[link.mass] = f"m_{{{i}}}"
+        for axis, c in zip("xyz", link.com, strict=True):
+            names[c] = f"c_{{{axis},{i}}}"
+        for axes, entry in zip(("xx", "yy", "zz", "xy", "xz", "yz"), link.inertia, strict=True):
+            names[entry] = f"I_{{{axes},{i}}}"
+    return names
+
+
 def _vector_name(symbol: str, labels: Sequence[str], index: str = "") -> Callable[[int, int], str]:
     """Names ``p_{x}`` or, with an index, ``o_{3,x}``."""
 
@@ -610,6 +668,7 @@ class _Writer:
             model.ddq,
             shorthand=self.shorthand,
             decimal_separator="comma" if self.lang == "de" else "period",
+            symbol_names=inertial_symbol_names(model.robot),
         )
         self.layout = _Layout(
             printer, decimal_comma=self.lang == "de", width=self.text_width_cm * UNITS_PER_CM
@@ -994,6 +1053,82 @@ class _Writer:
         quantity = Quantity("inverse-jacobian", "InverseJacobian", "the inverse Jacobian", body)
         return Section("inverse", t["inverse"], t["inverse_intro"], (quantity,))
 
+    def section_dynamics(self) -> Section:
+        model, layout, t = self.model, self.layout, self.t
+        n = model.robot.dof
+        lagrange = _align(
+            [
+                r"M(q) &= \sum_{i=1}^{n} \left( m_{i}\, J_{v,i}^{T} J_{v,i} + J_{\omega,i}^{T} "
+                r"R_{i} I_{i} R_{i}^{T} J_{\omega,i} \right)",
+                r"G(q) &= \frac{\partial P}{\partial q}, \qquad "
+                r"P = -\sum_{i=1}^{n} m_{i}\, g^{T} r_{c,i}",
+            ]
+        )
+        christoffel = _align(
+            [
+                r"C_{kj} &= \sum_{i=1}^{n} \frac{1}{2} \left( "
+                r"\frac{\partial M_{kj}}{\partial q_{i}} + \frac{\partial M_{ki}}{\partial q_{j}}"
+                r" - \frac{\partial M_{ij}}{\partial q_{k}} \right) \dot{q}_{i}"
+            ]
+        )
+        quantities = [
+            Quantity("lagrange", "Lagrange", "M and G by Lagrange", lagrange),
+            Quantity(
+                "christoffel", "Christoffel", "C from M", christoffel, t["dynamics_christoffel"]
+            ),
+        ]
+        if n > DYNAMICS_MAX_DOF:
+            quantities.append(
+                Quantity(
+                    "dynamics-long",
+                    "DynamicsLong",
+                    "where the equations of motion are",
+                    t["dynamics_long"].format(dof=n),
+                )
+            )
+            return Section("dynamics", t["dynamics"], t["dynamics_intro"], tuple(quantities))
+        dynamics = model.lagrange
+        # Numbers at q* need every inertial value; a file without them leaves symbols.
+        numeric = self.q is not None and all(j.link is not None for j in model.robot.joints)
+        shown = [
+            ("mass-matrix", "MassMatrix", "the mass matrix", "M", dynamics.mass_matrix, True),
+            (
+                "coriolis-matrix",
+                "CoriolisMatrix",
+                "the Coriolis matrix",
+                "C",
+                dynamics.coriolis_matrix,
+                False,
+            ),
+            (
+                "gravity-vector",
+                "GravityVector",
+                "the gravity torques",
+                "G",
+                dynamics.gravity_vector,
+                True,
+            ),
+        ]
+        if any(e != 0 for e in dynamics.friction):
+            shown.append(
+                (
+                    "friction-vector",
+                    "FrictionVector",
+                    "the friction torques",
+                    "F",
+                    dynamics.friction,
+                    False,
+                )
+            )
+        for key, macro, description, symbol, matrix, with_numbers in shown:
+            rows = [str(i) for i in range(1, n + 1)]
+            name = _entry_name(symbol) if matrix.cols > 1 else _vector_name(symbol, rows)
+            numbers = self.numbers(matrix) if numeric and with_numbers else None
+            body = layout.matrix_display(symbol, matrix, name, numbers, where=t["where"])
+            text = t[key.replace("-", "_")]
+            quantities.append(Quantity(key, macro, description, body, text))
+        return Section("dynamics", t["dynamics"], t["dynamics_intro"], tuple(quantities))
+
     # -- whole document -------------------------------------------------------------------
 
     def build(self) -> list[Section]:
@@ -1005,6 +1140,7 @@ class _Writer:
             "jacobian": self.section_jacobian,
             "det": self.section_det,
             "inverse": self.section_inverse,
+            "dynamics": self.section_dynamics,
         }
         sections = []
         for key in self.sections:
@@ -1121,12 +1257,12 @@ def latex_files(
 ) -> dict[str, str]:
     """The LaTeX derivation of ``model``: standalone document, snippets and macros.
 
-    ``sections`` are names from :data:`SECTIONS` (``dynamics`` is accepted and left out
-    until dynamics exist); ``shorthand`` prints ``c_{1}``, ``s_{12}`` with a legend; ``lang``
-    is ``"en"`` or ``"de"``; ``q`` (radians / metres) adds numbers at that configuration,
-    with parameter values from the robot file updated by ``overrides``.  Formulas are laid
-    out for a line of ``text_width_cm`` (17 cm: A4 with 2 cm margins; give the host
-    document's ``\\textwidth`` when the snippets go into narrower notes).
+    ``sections`` are names from :data:`SECTIONS` (``dynamics``: the equations of motion by
+    Lagrange, printed up to three joints); ``shorthand`` prints ``c_{1}``, ``s_{12}`` with a
+    legend; ``lang`` is ``"en"`` or ``"de"``; ``q`` (radians / metres) adds numbers at that
+    configuration, with parameter values from the robot file updated by ``overrides``.
+    Formulas are laid out for a line of ``text_width_cm`` (17 cm: A4 with 2 cm margins; give
+    the host document's ``\\textwidth`` when the snippets go into narrower notes).
     Returns ``{"<robot>.tex", "<robot>-macros.tex", "snippets/<quantity>.tex": text}``.
     """
     if lang not in LANGUAGES:
@@ -1167,7 +1303,6 @@ def latex_files(
         intro=intro,
         configuration=configuration,
         legend=legend,
-        notes=section_notes(chosen),
         sections=sections_built,
     )
     quantities = [quantity for section in sections_built for quantity in section.quantities]

@@ -13,7 +13,7 @@ italic letter, so Python (not a template) can decide whether a matrix fits the p
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import sympy as sp
@@ -48,7 +48,8 @@ class KinematicsLatexPrinter(LatexPrinter):
     ``q``, ``dq``, ``ddq`` are the model's joint symbols (positions, velocities, accelerations).
     With ``shorthand=True``, ``cos(q1)`` prints as ``c_{1}`` and ``sin(q1 + q2)`` as
     ``s_{12}`` (only for sums of distinct joint variables with unit coefficients); every
-    abbreviation printed is collected in :attr:`used`.
+    abbreviation printed is collected in :attr:`used`.  ``symbol_names`` prints further
+    symbols as given (the inertial parameters: ``cx1`` -> ``c_{x,1}``).
     """
 
     def __init__(
@@ -60,8 +61,9 @@ class KinematicsLatexPrinter(LatexPrinter):
         shorthand: bool = False,
         decimal_separator: str = "period",
         fold_func_brackets: bool = False,
+        symbol_names: Mapping[sp.Symbol, str] | None = None,
     ) -> None:
-        names: dict[sp.Symbol, str] = {}
+        names: dict[sp.Symbol, str] = dict(symbol_names or {})
         for i, (qi, dqi, ddqi) in enumerate(zip(q, _padded(dq, q), _padded(ddq, q), strict=True)):
             names[qi] = f"q_{{{i + 1}}}"
             if dqi is not None:
