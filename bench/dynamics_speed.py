@@ -529,7 +529,6 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
         cas_res=(ctypes.c_void_p * 1)(),
     )
 
-    # Pinocchio on the model the dynamics tests use, with the rotor inertias as armature.
     # symkin's CPython extension, compiled as `symkin derive` compiles it.
     name = b.robot.name
     ext = load_extension(
@@ -537,6 +536,7 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
     )
     ns["ext"] = ext
 
+    # Pinocchio on the model the dynamics tests use, with the rotor inertias as armature.
     pin_model = pinocchio_model(b.robot)[1]
     pin_model.armature = np.array([float(j.link.motor_inertia) for j in b.robot.joints])
     ns.update(pin=pin, model=pin_model, data=pin_model.createData())

@@ -7,6 +7,9 @@ agreement here closes the chain C kernel -> binding -> Python.
 from __future__ import annotations
 
 import importlib.util
+import shutil
+import subprocess
+import sysconfig
 from pathlib import Path
 
 import numpy as np
@@ -92,6 +95,60 @@ def test_bad_shapes_raise_python_errors(built):
         extension.fk(np.zeros(robot.dof), np.zeros(len(robot.parameters) + 2))
     with pytest.raises(TypeError):
         extension.fk()
+
+
+def test_point_kernels_with_three_outputs(tmp_path):
+    # Position, velocity and acceleration of a point: three outputs, in a batch large enough
+    # that an output written past its array would corrupt memory.
+    point = np.array([0.1, 0.05, 0.0])
+    assert main(["derive", "planar_2r", "--out", str(tmp_path), "--emit", "numpy,python",
+                 "--point", "2:0.1,0.05,0"]) == 0  # fmt: skip
+    extension = load_extension(next((tmp_path / "python").glob("planar_2r_ext*.so")))
+    reference = _import_file(tmp_path / "numpy" / "planar_2r_kinematics.py")
+    q, dq, ddq = np.random.default_rng(12).uniform(-2, 2, size=(3, 1000, 2))
+    got = extension.point1(q, dq, ddq)
+    assert len(got) == 3
+    for value, want in zip(got, reference.point1(q, dq, ddq), strict=True):
+        np.testing.assert_allclose(value, want, rtol=0, atol=1e-12)
+    # Independently of the point kernel: the position is T applied to the point.
+    expected = extension.fk(q)[:, :3, :3] @ point + extension.fk(q)[:, :3, 3]
+    np.testing.assert_allclose(got[0], expected, atol=1e-12)
+
+
+@pytest.mark.parametrize(("robot", "extra"), [("panda", []), ("planar_2r", ["--point", "2:1,0,0"])])
+def test_extension_source_compiles_without_warnings(tmp_path, robot, extra):
+    assert (
+        main(["derive", robot, "--out", str(tmp_path), "--emit", "python", "--no-build", *extra])
+        == 0
+    )
+    command = [
+        shutil.which("cc") or "gcc", "-O2", "-Wall", "-Wextra", "-Wshadow", "-Werror",
+        "-shared", "-fPIC", f"-I{sysconfig.get_paths()['include']}", f"-I{np.get_include()}",
+        str(tmp_path / "python" / f"{robot}_ext.c"), str(tmp_path / "c" / f"{robot}.c"),
+        "-o", str(tmp_path / "strict.so"), "-lm",
+    ]  # fmt: skip
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+
+
+def test_robot_without_parameters_and_repeated_arguments(tmp_path):
+    # --numeric-parameters leaves no parameters: p defaults to an empty vector.
+    assert main(["derive", "planar_2r", "--out", str(tmp_path), "--emit", "numpy,python",
+                 "--numeric-parameters"]) == 0  # fmt: skip
+    extension = load_extension(next((tmp_path / "python").glob("planar_2r_ext*.so")))
+    reference = _import_file(tmp_path / "numpy" / "planar_2r_kinematics.py")
+    q = np.array([0.3, -0.8])
+    np.testing.assert_allclose(extension.fk(q), reference.fk(q), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(extension.fk(q, []), extension.fk(q))
+    with pytest.raises(ValueError, match=r"p must hold 0 values"):
+        extension.fk(q, [1.0])
+    pi = np.tile([1.0, 0.1, 0.0, 0.0, 0.01, 0.02, 0.02, 0.0, 0.0, 0.0], 2)
+    with pytest.raises(TypeError, match=r"got multiple values for argument 'pi'"):
+        extension.gravity(q, None, pi, pi=pi)
+    with pytest.raises(TypeError, match=r"got multiple values for argument 'p'"):
+        extension.fk(q, [], p=[])
+    with pytest.raises(TypeError, match=r"state inputs by position"):
+        extension.fk(q=q)
 
 
 def test_float_precision_extension(tmp_path):

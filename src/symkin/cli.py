@@ -24,6 +24,7 @@ from symkin.derive.kinematics import joint_dh_values
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import (
+    DEFAULT_SECTIONS,
     LANGUAGES,
     SECTIONS,
     TEXT_WIDTH_CM,
@@ -977,7 +978,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_set_option(latex)
     latex.add_argument(
         "--sections",
-        default=",".join(s for s in SECTIONS if s != "dynamics"),
+        default=",".join(DEFAULT_SECTIONS),
         metavar="LIST",
         help=f"comma-separated, from {','.join(SECTIONS)} (default: all but dynamics, which "
         "prints M, C and G by Lagrange up to three joints)",

@@ -35,6 +35,9 @@
 #define MAX_STATES 3
 #define MAX_OUTPUTS 2
 #define NUM_INERTIAL 60
+/* Below this many states the GIL stays held: releasing it costs more than the C. */
+#define RELEASE_GIL_FROM 64
+#define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -70,18 +73,18 @@ static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char
 static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t nargs,
                              PyObject *kwnames)
 {
-    PyArrayObject *states[MAX_STATES] = {NULL, NULL, NULL}, *p = NULL, *pi = NULL;
+    PyArrayObject *states[MAX_STATES] = {NULL}, *p = NULL, *pi = NULL;
     PyObject *p_value = Py_None, *pi_value = Py_None;
-    PyObject *result = NULL, *outputs[MAX_OUTPUTS] = {NULL, NULL};
-    const double *state_data[MAX_STATES] = {NULL, NULL, NULL};
-    double *out_data[MAX_OUTPUTS] = {NULL, NULL};
+    PyObject *result = NULL, *outputs[MAX_OUTPUTS] = {NULL};
+    const double *state_data[MAX_STATES] = {NULL};
+    double *out_data[MAX_OUTPUTS] = {NULL};
     const double *p_data = default_parameters, *pi_data = NULL;
     Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0, j;
     int batched = 0, i, k;
     npy_intp count = 1;
 
     if (nargs < b->nstates || nargs > b->nstates + 1 + b->takes_pi) {
-        PyErr_Format(PyExc_TypeError, "expected %s", b->usage);
+        PyErr_Format(PyExc_TypeError, "expected %s" USAGE_NOTE, b->usage);
         return NULL;
     }
     if (nargs > b->nstates) {
@@ -92,12 +95,18 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
     }
     for (j = 0; j < nkw; ++j) {
         const char *key = PyUnicode_AsUTF8(PyTuple_GET_ITEM(kwnames, j));
-        if (key != NULL && strcmp(key, "p") == 0 && nargs <= b->nstates) {
+        int is_p = key != NULL && strcmp(key, "p") == 0;
+        int is_pi = key != NULL && b->takes_pi && strcmp(key, "pi") == 0;
+        if ((is_p && nargs > b->nstates) || (is_pi && nargs > b->nstates + 1)) {
+            PyErr_Format(PyExc_TypeError, "%s: got multiple values for argument '%s'", b->usage, key);
+            return NULL;
+        }
+        if (is_p) {
             p_value = args[nargs + j];
-        } else if (key != NULL && strcmp(key, "pi") == 0 && b->takes_pi && nargs <= b->nstates + 1) {
+        } else if (is_pi) {
             pi_value = args[nargs + j];
         } else {
-            PyErr_Format(PyExc_TypeError, "expected %s", b->usage);
+            PyErr_Format(PyExc_TypeError, "expected %s" USAGE_NOTE, b->usage);
             return NULL;
         }
     }
@@ -150,14 +159,24 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
         out_data[k] = (double *)PyArray_DATA((PyArrayObject *)outputs[k]);
     }
-    Py_BEGIN_ALLOW_THREADS
-    b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
-    Py_END_ALLOW_THREADS
+    if (count >= RELEASE_GIL_FROM) {
+        Py_BEGIN_ALLOW_THREADS
+        b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
+        Py_END_ALLOW_THREADS
+    } else {
+        b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
+    }
     if (b->noutputs == 1) {
         result = outputs[0];
         outputs[0] = NULL;
     } else {
-        result = PyTuple_Pack(2, outputs[0], outputs[1]);
+        result = PyTuple_New(b->noutputs);
+        if (result != NULL) {
+            for (k = 0; k < b->noutputs; ++k) {
+                PyTuple_SET_ITEM(result, k, outputs[k]);  /* steals the reference */
+                outputs[k] = NULL;
+            }
+        }
     }
 done:
     for (i = 0; i < MAX_STATES; ++i) {
@@ -165,8 +184,9 @@ done:
     }
     Py_XDECREF(p);
     Py_XDECREF(pi);
-    Py_XDECREF(outputs[0]);
-    Py_XDECREF(outputs[1]);
+    for (k = 0; k < MAX_OUTPUTS; ++k) {
+        Py_XDECREF(outputs[k]);
+    }
     return result;
 }
 

@@ -208,7 +208,13 @@ class _LinkMotion:
         )
 
 
-_AT_REST = _LinkMotion(sp.zeros(3, 1), sp.zeros(3, 1), {}, sp.zeros(3, 3))
+# The base: at rest (gravity enters as the base's acceleration, not here).
+_AT_REST = _LinkMotion(
+    sp.ImmutableMatrix.zeros(3, 1),
+    sp.ImmutableMatrix.zeros(3, 1),
+    {},
+    sp.ImmutableMatrix.zeros(3, 3),
+)
 
 
 def _body_wrench(

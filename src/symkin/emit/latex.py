@@ -35,6 +35,9 @@ from symkin.evaluate import numeric_function
 from symkin.robot import Robot
 
 SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
+# The equations of motion are asked for by name: they need inertial data and, by Lagrange,
+# take seconds for three joints.
+DEFAULT_SECTIONS = tuple(s for s in SECTIONS if s != "dynamics")
 LANGUAGES = ("en", "de")
 
 # Page geometry of the standalone document: A4 with 2 cm margins, 11 pt, a 17 cm line.
@@ -1248,7 +1251,7 @@ def regenerate_command(
 def latex_files(
     model: Model,
     *,
-    sections: Sequence[str] = SECTIONS,
+    sections: Sequence[str] = DEFAULT_SECTIONS,
     shorthand: bool = False,
     lang: str = "en",
     q: Sequence[float] | None = None,

@@ -79,6 +79,7 @@ def emit_python_extension(
     """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``."""
     module = extension_name(robot)
     forward = forward_dynamics_context(kernels)
+    functions = bindings(robot, kernels)
     text = render(
         "python/module.c.j2",
         preamble=preamble_lines(robot, kernels, f"Python binding ({precision})"),
@@ -92,6 +93,7 @@ def emit_python_extension(
         dof=robot.dof,
         parameter_names=[n for n, _ in robot.parameters],
         inertial_count=forward["pi"] if forward else 0,
-        bindings=bindings(robot, kernels),
+        bindings=functions,
+        max_outputs=max(len(f.outputs) for f in functions),
     )
     return {f"python/{module}.c": text}
