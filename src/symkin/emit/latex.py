@@ -28,6 +28,7 @@ from sympy.core.function import _coeff_isneg
 from symkin.derive import Model
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
+from symkin.derive.lagrange import READABLE_DOF
 from symkin.emit.latex_printer import KinematicsLatexPrinter, latex_width
 from symkin.emit.render import render
 from symkin.errors import SymkinError
@@ -50,9 +51,6 @@ MIN_TEXT_WIDTH_CM, MAX_TEXT_WIDTH_CM = 8.0, 40.0
 # entries (cofactors of (n-1) x (n-1) minors) run to pages and take minutes to form.
 INVERSE_MAX_DOF = 4
 INVERSE_MAX_LINES = 40
-# M, C and G are printed (Lagrange, contracted) up to this many joints; beyond, their entries
-# run to pages and the section states how the generated code computes them instead.
-DYNAMICS_MAX_DOF = 3
 # Euler angles of this robot are printed in terms of q only when each fits on a line.
 EULER_MARGIN_UNITS = 8.0
 
@@ -160,7 +158,7 @@ TEXT: dict[str, dict[str, str]] = {
             "With link $i$ of mass $m_{i}$, centre of mass $r_{c,i}$, inertia tensor $I_{i}$ "
             "about it (frame-$i$ axes), the Jacobians $J_{v,i}$, $J_{\\omega,i}$ of its centre "
             "of mass and angular velocity and its rotation $R_{i}$ (all in base coordinates), "
-            "and gravity $g$:"
+            "gravity $g$ and, where given, rotor inertias $I_{a,i}$ reflected to the joints:"
         ),
         "dynamics_christoffel": (
             "$C$ comes from the Christoffel symbols of $M$, so that $\\dot{M} - 2C$ is "
@@ -281,7 +279,8 @@ TEXT: dict[str, dict[str, str]] = {
             'Mit Masse $m_{i}$, Schwerpunkt $r_{c,i}$ und Tr\\"agheitstensor $I_{i}$ (um den '
             "Schwerpunkt, Achsen von System $i$) von Glied $i$, den Jacobi-Matrizen "
             "$J_{v,i}$, $J_{\\omega,i}$ seines Schwerpunkts und seiner Winkelgeschwindigkeit, "
-            "seiner Drehung $R_{i}$ (alles in Basiskoordinaten) und der Schwerkraft $g$:"
+            "seiner Drehung $R_{i}$ (alles in Basiskoordinaten), der Schwerkraft $g$ und, "
+            'falls angegeben, den auf die Gelenke reduzierten Rotortr\\"agheiten $I_{a,i}$:'
         ),
         "dynamics_christoffel": (
             "$C$ folgt aus den Christoffel-Symbolen von $M$, sodass $\\dot{M} - 2C$ "
@@ -1059,10 +1058,13 @@ class _Writer:
     def section_dynamics(self) -> Section:
         model, layout, t = self.model, self.layout, self.t
         n = model.robot.dof
+        # Reflected rotor inertias, where the file gives them, sit on M's diagonal.
+        rotors = any(j.link and j.link.motor_inertia != 0 for j in model.robot.joints)
         lagrange = _align(
             [
                 r"M(q) &= \sum_{i=1}^{n} \left( m_{i}\, J_{v,i}^{T} J_{v,i} + J_{\omega,i}^{T} "
-                r"R_{i} I_{i} R_{i}^{T} J_{\omega,i} \right)",
+                r"R_{i} I_{i} R_{i}^{T} J_{\omega,i} \right)"
+                + (r" + \operatorname{diag}(I_{a,i})" if rotors else ""),
                 r"G(q) &= \frac{\partial P}{\partial q}, \qquad "
                 r"P = -\sum_{i=1}^{n} m_{i}\, g^{T} r_{c,i}",
             ]
@@ -1080,7 +1082,9 @@ class _Writer:
                 "christoffel", "Christoffel", "C from M", christoffel, t["dynamics_christoffel"]
             ),
         ]
-        if n > DYNAMICS_MAX_DOF:
+        # M, C and G are printed where Lagrange gives them readable (contracted); beyond, their
+        # entries run to pages and the section says how the generated code computes them.
+        if n > READABLE_DOF:
             quantities.append(
                 Quantity(
                     "dynamics-long",
