@@ -78,8 +78,9 @@ def emit_python_extension(
 ) -> dict[str, str]:
     """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``."""
     module = extension_name(robot)
-    forward = forward_dynamics_context(kernels)
     functions = bindings(robot, kernels)
+    # Every dynamics kernel takes the same inertial symbols pi (see kernel.dynamics_inputs).
+    inertial = next((i for k in kernels for i in k.inputs if i.name == "pi"), None)
     text = render(
         "python/module.c.j2",
         preamble=preamble_lines(robot, kernels, f"Python binding ({precision})"),
@@ -92,7 +93,7 @@ def emit_python_extension(
         npy_type=NUMPY_TYPES[precision],
         dof=robot.dof,
         parameter_names=[n for n, _ in robot.parameters],
-        inertial_count=forward["pi"] if forward else 0,
+        inertial_count=len(inertial.symbols) if inertial else 0,
         bindings=functions,
         max_outputs=max(len(f.outputs) for f in functions),
     )
