@@ -34,6 +34,7 @@ bench: $(STAMP)
 	$(BIN)/python bench/derivation_time.py
 	$(BIN)/python bench/codegen_speed.py
 	$(BIN)/python bench/dynamics_speed.py
+	$(BIN)/python bench/inertial_parameters.py
 
 clean:
 	rm -rf $(VENV) build dist src/*.egg-info .pytest_cache

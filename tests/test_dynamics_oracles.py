@@ -135,6 +135,7 @@ def pinocchio_model(robot: symkin.Robot):
     the next joint sits at the fixed part Tz(d) Tx(a) Rx(alpha) of A_i, and link i's inertia is
     given in DH frame i (= that fixed placement).  Rotor inertias are left out."""
     import pinocchio as pin  # a test dependency (pin): missing it is a failure, not a skip
+
     model = pin.Model()
     parent = 0
     placement = pin.SE3.Identity()

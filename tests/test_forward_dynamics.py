@@ -73,6 +73,7 @@ def test_c_forward_dynamics_under_sanitizers(generated, tmp_path):
     extra = {"pi": pi} if pi.size else {}
     q, dq, ddq = rng.uniform(-1, 1, size=(3, robot.dof))
     tau = numpy_module.inverse_dynamics(q, dq, ddq, **extra)
+
     # A sanitized library cannot be loaded into an uninstrumented Python, so a small C
     # driver runs the generated code under the sanitizers and prints ddq.
     def array(values):

@@ -75,28 +75,51 @@ def barycentric_from_link(link: Link) -> dict[str, float]:
     }  # fmt: skip
 
 
-def is_numeric(robot: Robot, kinematics: Kinematics) -> bool:
-    """Geometry and every link's inertial data are numbers (no parameters, no symbols)."""
-    if robot.parameters or any(j.link is None for j in robot.joints):
+def has_numeric_geometry(robot: Robot, kinematics: Kinematics) -> bool:
+    """The link transforms hold numbers and joint variables only (no parameters ``p``)."""
+    if robot.parameters:
         return False
     geometry = set().union(*(t.free_symbols for t in kinematics.link_transforms))
-    if not geometry <= set(kinematics.q):
+    return geometry <= set(kinematics.q)
+
+
+def is_numeric(robot: Robot, kinematics: Kinematics) -> bool:
+    """Geometry and every link's inertial data are numbers (no parameters, no symbols)."""
+    if not has_numeric_geometry(robot, kinematics) or any(j.link is None for j in robot.joints):
         return False
     links = [j.link for j in robot.joints]
     values = [sp.sympify(x) for link in links for x in (link.mass, *link.com, *link.inertia)]
     return all(v.is_number for v in values)
 
 
+@dataclass(frozen=True)
+class Folding:
+    """How a geometry's barycentric parameters fold into its base parameters.
+
+    Over the link-major list ``delta`` (``PARAMETER_NAMES`` for link 1, then link 2, ...):
+    ``beta[kept] = delta[kept] + K delta[dropped]`` and ``beta[dropped] = 0`` give the same
+    torques as ``delta`` for every state (Gautier 1991, eq. 13).
+    """
+
+    kept: tuple[int, ...]
+    dropped: tuple[int, ...]
+    matrix: tuple[tuple[float, ...], ...]  # K: a row per kept, a column per dropped parameter
+
+    def beta(self, delta: np.ndarray) -> np.ndarray:
+        """The base parameters of numeric barycentric parameters (zero where dropped)."""
+        kept, dropped = list(self.kept), list(self.dropped)
+        matrix = np.array(self.matrix).reshape(len(kept), len(dropped))
+        beta = np.zeros_like(delta, dtype=float)
+        beta[kept] = delta[kept] + matrix @ delta[dropped]
+        return beta
+
+
 @lru_cache(maxsize=16)
-def base_parameters(
-    robot: Robot, kinematics: Kinematics
-) -> tuple[BarycentricParameters, ...] | None:
-    """Per-link parameters with the dependent ones folded in and zeroed, or ``None`` when the
-    robot is not fully numeric (then the recursion keeps the file's parameters)."""
+def _regressor(robot: Robot, kinematics: Kinematics):
+    """``seed -> Y``: the regressor's columns (one per barycentric parameter) stacked over
+    ``SAMPLES`` random states drawn from ``seed``."""
     from symkin.derive.newton_euler import Recorder, joint_torques
 
-    if not is_numeric(robot, kinematics):
-        return None
     n = robot.dof
     symbols = [
         [sp.Symbol(f"{name}{i + 1}", real=True) for name in PARAMETER_NAMES] for i in range(n)
@@ -128,6 +151,16 @@ def base_parameters(
             rows.append(np.array([np.broadcast_to(c, len(flat)) for c in columns], dtype=float))
         return np.vstack(rows)
 
+    return regressor
+
+
+@lru_cache(maxsize=16)
+def base_parameter_folding(robot: Robot, kinematics: Kinematics) -> Folding | None:
+    """The folding of a robot with numeric geometry (its inertial data play no part), or
+    ``None`` when the geometry has parameters or the folding fails its check at fresh states."""
+    if not has_numeric_geometry(robot, kinematics):
+        return None
+    regressor = _regressor(robot, kinematics)
     Y = regressor(seed=1)
     tolerance = RANK_TOLERANCE * np.linalg.norm(Y)
     kept: list[int] = []
@@ -135,7 +168,26 @@ def base_parameters(
         if np.linalg.matrix_rank(Y[:, [*kept, k]], tol=tolerance) == len(kept) + 1:
             kept.append(k)
     dropped = [k for k in range(Y.shape[1]) if k not in kept]
-    folding, *_ = np.linalg.lstsq(Y[:, kept], Y[:, dropped], rcond=None)
+    matrix, *_ = np.linalg.lstsq(Y[:, kept], Y[:, dropped], rcond=None)
+    folding = Folding(tuple(kept), tuple(dropped), tuple(map(tuple, matrix.tolist())))
+    delta = np.random.default_rng(3).uniform(-1.0, 1.0, Y.shape[1])
+    check = regressor(seed=2)
+    error = np.max(np.abs(check @ folding.beta(delta) - check @ delta))
+    return folding if error <= 1e-9 * max(1.0, np.max(np.abs(check @ delta))) else None
+
+
+@lru_cache(maxsize=16)
+def base_parameters(
+    robot: Robot, kinematics: Kinematics
+) -> tuple[BarycentricParameters, ...] | None:
+    """Per-link parameters with the dependent ones folded in and zeroed, or ``None`` when the
+    robot is not fully numeric (then the recursion keeps the file's parameters)."""
+    if not is_numeric(robot, kinematics):
+        return None
+    folding = base_parameter_folding(robot, kinematics)
+    if folding is None:
+        return None
+    n = robot.dof
     delta = np.array(
         [
             barycentric_from_link(link_inertial_data(robot, i))[name]
@@ -143,13 +195,11 @@ def base_parameters(
             for name in PARAMETER_NAMES
         ]
     )
-    beta = np.zeros_like(delta)
-    beta[kept] = delta[kept] + folding @ delta[dropped]
-    # The least-squares fold leaves noise in the last digits (0.000884319999994): each value
-    # becomes the shortest decimal within 1e-13 of the largest parameter.
+    beta = folding.beta(delta)
+    # Each value becomes the shortest decimal within 1e-13 of the largest parameter.
     snap = 1e-13 * np.max(np.abs(beta))
     beta = np.array([_shortest_decimal(b, snap) for b in beta])
-    check = regressor(seed=2)
+    check = _regressor(robot, kinematics)(seed=2)
     error = np.max(np.abs(check @ beta - check @ delta))
     if error > 1e-10 * max(1.0, np.max(np.abs(check @ delta))):
         return None
@@ -162,6 +212,57 @@ def base_parameters(
         for row in beta.reshape(n, len(PARAMETER_NAMES))
     ]
     return tuple(BarycentricParameters.from_values(row) for row in rows)
+
+
+def barycentric_symbols(dof: int) -> tuple[sp.Symbol, ...]:
+    """``xx1, yy1, ..., mx1, my1, mz1, m1, xx2, ...``: barycentric parameters in the order of
+    :class:`Folding` (``PARAMETER_NAMES`` per link), inertia about the frame origin."""
+    return tuple(
+        sp.Symbol(f"{name}{i + 1}", real=True) for i in range(dof) for name in PARAMETER_NAMES
+    )
+
+
+def symbolic_base_parameters(
+    robot: Robot, kinematics: Kinematics
+) -> tuple[tuple[BarycentricParameters, ...], tuple[tuple[sp.Symbol, sp.Expr], ...]] | None:
+    """Base parameters as symbols, for a robot with numeric geometry and any inertial data.
+
+    Returns the links' parameters (a symbol where a parameter is kept, 0 where it is folded
+    away) and each symbol's definition in :func:`barycentric_symbols`.  Kept parameters are
+    named in capitals (``XY2``), with an ``R`` when others fold into them (``ZZ2R``, Khalil's
+    notation).  ``None`` when the geometry has parameters.
+    """
+    folding = base_parameter_folding(robot, kinematics)
+    if folding is None:
+        return None
+    delta = barycentric_symbols(robot.dof)
+    count = len(PARAMETER_NAMES)
+    # Least squares leaves noise in the last digits (0.18644623999999 for 0.4318**2).
+    snap = 1e-12 * max((abs(c) for row in folding.matrix for c in row), default=1.0)
+    values: list[sp.Expr] = [sp.Integer(0)] * len(delta)
+    definitions = []
+    for row, k in zip(folding.matrix, folding.kept, strict=True):
+        folded = [
+            _coefficient(_shortest_decimal(c, snap)) * delta[d]
+            for c, d in zip(row, folding.dropped, strict=True)
+            if abs(c) > snap
+        ]
+        link, name = divmod(k, count)
+        suffix = "R" if folded else ""
+        symbol = sp.Symbol(f"{PARAMETER_NAMES[name].upper()}{link + 1}{suffix}", real=True)
+        values[k] = symbol
+        definitions.append((symbol, delta[k] + sp.Add(*folded)))
+    links = tuple(
+        BarycentricParameters.from_values(
+            dict(zip(PARAMETER_NAMES, values[i * count : (i + 1) * count], strict=True))
+        )
+        for i in range(robot.dof)
+    )
+    return links, tuple(definitions)
+
+
+def _coefficient(value: float) -> sp.Number:
+    return sp.Integer(int(value)) if abs(value) == 1.0 else sp.Float(value)
 
 
 def _shortest_decimal(value: float, tolerance: float) -> float:
