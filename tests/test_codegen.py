@@ -414,3 +414,20 @@ def test_tools_are_available():
     """The C tests need a C compiler and make; fail loudly rather than skip."""
     assert shutil.which(CC), CC
     assert shutil.which("make")
+
+
+def test_title_that_closes_a_comment_still_builds(tmp_path):
+    # The title is copied into the generated files' header comments: '*/' would end a C
+    # comment, a triple quote the NumPy module's docstring, a backslash escape something.
+    text = (
+        'name = "odd"\n'
+        'title = "arm */ int x; \\"\\"\\" \\\\N{oops} \\\\"\n'
+        '[[joints]]\ntype = "revolute"\na = 1\n'
+    )
+    robot = symkin.robot_from_toml(text, "odd.toml")
+    assert "*/" in robot.title and '"""' in robot.title and "\\" in robot.title
+    write_tree(tmp_path, files_for_robot(robot, ("numpy", "c")))
+    compiled = run([CC, *STRICT, "-fsyntax-only", "c/odd.c"], tmp_path)
+    assert compiled.returncode == 0, compiled.stderr
+    module = import_path("generated_odd_title", tmp_path / "numpy" / "odd_kinematics.py")
+    np.testing.assert_allclose(module.position(np.array([0.0])).ravel()[:2], [1.0, 0.0])

@@ -89,10 +89,20 @@ def test_determinant_matches_when_square(built):
 
 def test_bad_shapes_raise_python_errors(built):
     robot, extension, _ = built
-    with pytest.raises(ValueError, match=r"must have shape"):
-        extension.fk(np.zeros(robot.dof + 1))
-    with pytest.raises(ValueError, match=r"p must hold"):
-        extension.fk(np.zeros(robot.dof), np.zeros(len(robot.parameters) + 2))
+    n, shape = robot.dof, rf"numbers of shape \({robot.dof},\) or \(N, {robot.dof}\)"
+    with pytest.raises(ValueError, match=rf"^fk\(q, p=None\): every state input must be {shape}"):
+        extension.fk(np.zeros(n + 1))
+    with pytest.raises(ValueError, match=rf"{shape}, the same for all \(got 3 dimensions\)"):
+        extension.fk(np.zeros((2, 3, n)))
+    with pytest.raises(ValueError, match=r"got 0 dimensions"):
+        extension.fk(1.0)
+    with pytest.raises(ValueError, match=shape):
+        extension.fk(["a"] * n)
+    count = len(robot.parameters)
+    with pytest.raises(ValueError, match=rf"p must hold {count} numbers \(got {count + 2}\)"):
+        extension.fk(np.zeros(n), np.zeros(count + 2))
+    with pytest.raises(ValueError, match=rf"p must hold {count} numbers \(got 2 dimensions\)"):
+        extension.fk(np.zeros(n), np.zeros((1, count)))
     with pytest.raises(TypeError):
         extension.fk()
 
@@ -140,9 +150,13 @@ def test_robot_without_parameters_and_repeated_arguments(tmp_path):
     q = np.array([0.3, -0.8])
     np.testing.assert_allclose(extension.fk(q), reference.fk(q), rtol=0, atol=1e-12)
     np.testing.assert_array_equal(extension.fk(q, []), extension.fk(q))
-    with pytest.raises(ValueError, match=r"p must hold 0 values"):
+    with pytest.raises(ValueError, match=r"p must hold 0 numbers"):
         extension.fk(q, [1.0])
     pi = np.tile([1.0, 0.1, 0.0, 0.0, 0.01, 0.02, 0.02, 0.0, 0.0, 0.0], 2)
+    # Zero masses and inertias make M(q) singular: an error, not NaN (the C code's answer).
+    singular = r"ddq is not finite: M\(q\) is not positive definite.*\(state 0\)"
+    with pytest.raises(ValueError, match=singular):
+        extension.forward_dynamics(np.stack([q, q]), np.zeros((2, 2)), np.ones((2, 2)), pi=0 * pi)
     with pytest.raises(TypeError, match=r"got multiple values for argument 'pi'"):
         extension.gravity(q, None, pi, pi=pi)
     with pytest.raises(TypeError, match=r"got multiple values for argument 'p'"):
@@ -220,7 +234,7 @@ def test_inertial_parameters_positional_or_by_keyword(built):
     count = len(extra["pi"])
     with pytest.raises(ValueError, match=rf"give the {count} inertial parameters"):
         extension.inverse_dynamics(q, dq, ddq)
-    with pytest.raises(ValueError, match=rf"pi must hold {count} values"):
+    with pytest.raises(ValueError, match=rf"pi must hold {count} numbers"):
         extension.mass_matrix(q, pi=extra["pi"][:-1])
     with pytest.raises(TypeError, match=r"expected fk\(q, p=None\)"):
         extension.fk(q, pi=extra["pi"])

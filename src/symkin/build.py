@@ -55,8 +55,9 @@ def build_extension(source: Path, kernels_source: Path) -> Path:
     return target
 
 
-def load_extension(path: Path) -> ModuleType:
+def load_extension(path: Path | str) -> ModuleType:
     """Import a compiled extension from its file."""
+    path = Path(path)
     name = path.name.split(".")[0]
     spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:

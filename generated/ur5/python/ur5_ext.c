@@ -28,6 +28,8 @@
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
 #include <numpy/arrayobject.h>
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "../c/ur5.h"
@@ -38,6 +40,7 @@
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
+#define STATE_SHAPES "every state input must be numbers of shape (6,) or (N, 6), the same for all"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -50,18 +53,45 @@ typedef struct {
     int noutputs;
     int ndims[MAX_OUTPUTS];
     npy_intp dims[MAX_OUTPUTS][2];
+    /* Set for forward dynamics: a NaN or infinite output is an error, not a result. */
+    const char *if_not_finite;
 } binding;
 
 static const double default_parameters[] = UR5_DEFAULT_PARAMETERS;
+
+/* `value` as a C-contiguous array of 1 to `max_ndim` dimensions, or NULL with an error that
+ * names the argument (NumPy's own messages, "object too deep for desired array", do not). */
+static PyArrayObject *array_argument(PyObject *value, int max_ndim, const char *what,
+                                     const char *usage)
+{
+    PyArrayObject *array = (PyArrayObject *)PyArray_FROMANY(
+        value, NPY_FLOAT64, 0, 0, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    if (array == NULL) {
+        if (PyErr_ExceptionMatches(PyExc_ValueError) || PyErr_ExceptionMatches(PyExc_TypeError)) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "%s: %s", usage, what);
+        }
+        return NULL;
+    }
+    if (PyArray_NDIM(array) < 1 || PyArray_NDIM(array) > max_ndim) {
+        PyErr_Format(PyExc_ValueError, "%s: %s (got %d dimensions)", usage, what,
+                     PyArray_NDIM(array));
+        Py_DECREF(array);
+        return NULL;
+    }
+    return array;
+}
 
 /* A 1-D array of exactly `size` entries, or NULL with a Python error set. */
 static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char *name,
                                       const char *usage)
 {
-    PyArrayObject *array = (PyArrayObject *)PyArray_FROMANY(
-        value, NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    char what[64];
+    PyArrayObject *array;
+    snprintf(what, sizeof what, "%s must hold %d numbers", name, (int)size);
+    array = array_argument(value, 1, what, usage);
     if (array != NULL && PyArray_DIM(array, 0) != size) {
-        PyErr_Format(PyExc_ValueError, "%s: %s must hold %d values", usage, name, (int)size);
+        PyErr_Format(PyExc_ValueError, "%s: %s (got %d)", usage, what, (int)PyArray_DIM(array, 0));
         Py_DECREF(array);
         return NULL;
     }
@@ -69,7 +99,7 @@ static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char
 }
 
 /* Shared by every function: parse (states..., p=None, pi=None), check shapes, allocate the
- * outputs, run the batched C kernel with the GIL released. */
+ * outputs, run the batched C kernel (with the GIL released for large batches). */
 static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t nargs,
                              PyObject *kwnames)
 {
@@ -111,7 +141,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
     }
     for (i = 0; i < b->nstates; ++i) {
-        states[i] = (PyArrayObject *)PyArray_FROMANY(args[i], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+        states[i] = array_argument(args[i], 2, STATE_SHAPES, b->usage);
         if (states[i] == NULL) {
             goto done;
         }
@@ -121,7 +151,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
         if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
             PyArray_DIM(states[i], batched) != 6 || (batched && PyArray_DIM(states[i], 0) != count)) {
-            PyErr_Format(PyExc_ValueError, "%s: every state input must have shape (6,) or (N, 6), the same for all", b->usage);
+            PyErr_Format(PyExc_ValueError, "%s: %s", b->usage, STATE_SHAPES);
             goto done;
         }
         state_data[i] = (const double *)PyArray_DATA(states[i]);
@@ -166,6 +196,16 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
     } else {
         b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
     }
+    if (b->if_not_finite != NULL) {
+        npy_intp n = PyArray_SIZE((PyArrayObject *)outputs[0]), m;
+        for (m = 0; m < n; ++m) {
+            if (!isfinite(out_data[0][m])) {
+                PyErr_Format(PyExc_ValueError, "%s: %s (state %ld)", b->usage, b->if_not_finite,
+                             (long)(m / 6));
+                goto done;
+            }
+        }
+    }
     if (b->noutputs == 1) {
         result = outputs[0];
         outputs[0] = NULL;
@@ -201,6 +241,7 @@ static const binding fk_binding = {
     "fk(q, p=None)", 1, 0, fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
+NULL,
 };
 
 static PyObject *py_fk(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -220,6 +261,7 @@ static const binding position_binding = {
     "position(q, p=None)", 1, 0, position_adapter, 1,
     { 1 },
     { { 3, 0 } },
+NULL,
 };
 
 static PyObject *py_position(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -239,6 +281,7 @@ static const binding jacobian_binding = {
     "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
     { 2 },
     { { 6, 6 } },
+NULL,
 };
 
 static PyObject *py_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -258,6 +301,7 @@ static const binding position_jacobian_binding = {
     "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
     { 2 },
     { { 3, 6 } },
+NULL,
 };
 
 static PyObject *py_position_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -277,6 +321,7 @@ static const binding fk_jacobian_binding = {
     "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 6 } },
+NULL,
 };
 
 static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -296,6 +341,7 @@ static const binding det_binding = {
     "det(q, p=None)", 1, 0, det_adapter, 1,
     { 0 },
     { { 0, 0 } },
+NULL,
 };
 
 static PyObject *py_det(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -315,6 +361,7 @@ static const binding manipulability_binding = {
     "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
     { 0 },
     { { 0, 0 } },
+NULL,
 };
 
 static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -333,6 +380,7 @@ static const binding mass_matrix_binding = {
     "mass_matrix(q, p=None, pi=None)", 1, 1, mass_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
+NULL,
 };
 
 static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -351,6 +399,7 @@ static const binding gravity_binding = {
     "gravity(q, p=None, pi=None)", 1, 1, gravity_adapter, 1,
     { 1 },
     { { 6, 0 } },
+NULL,
 };
 
 static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -369,6 +418,7 @@ static const binding coriolis_binding = {
     "coriolis(q, dq, p=None, pi=None)", 2, 1, coriolis_adapter, 1,
     { 1 },
     { { 6, 0 } },
+NULL,
 };
 
 static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -387,6 +437,7 @@ static const binding coriolis_matrix_binding = {
     "coriolis_matrix(q, dq, p=None, pi=None)", 2, 1, coriolis_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
+NULL,
 };
 
 static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -405,6 +456,7 @@ static const binding inverse_dynamics_binding = {
     "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, 1, inverse_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
+NULL,
 };
 
 static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -426,6 +478,7 @@ static const binding forward_dynamics_binding = {
     "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, 1, forward_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
+"ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
 };
 
 static PyObject *py_forward_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)

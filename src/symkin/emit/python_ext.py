@@ -31,6 +31,7 @@ class Binding:
     takes_pi: bool
     outputs: tuple[tuple[str, tuple[int, ...]], ...]
     batched: bool = True
+    if_not_finite: str = ""  # the error raised when an output is NaN or infinite
 
     @property
     def signature(self) -> str:
@@ -68,6 +69,8 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 takes_pi=bool(forward["pi"]),
                 outputs=(("ddq", (robot.dof,)),),
                 batched=False,
+                if_not_finite="ddq is not finite: M(q) is not positive definite there "
+                "(non-physical inertial data?) or an input is not finite",
             )
         )
     return result
