@@ -14,9 +14,9 @@ In one run, on the same machine:
     its kernel (one CSE);
   - *Lagrange*: ``symkin.derive(robot).lagrange`` (M, C, c, G), under a CPU-time limit.
 
-  Each for several variants of the catalogue robot: inertial data as numbers (the PUMA's
-  catalogue file carries Corke's) or as symbols (``pi`` inputs of the generated code; the
-  Panda's file has none), and geometry as the file's parameter symbols (``p`` inputs) or
+  Each for several variants of the catalogue robot: inertial data as numbers (the catalogue
+  files carry Corke's for the PUMA and Gaz et al.'s for the Panda) or as symbols (``pi`` inputs
+  of the generated code), and geometry as the file's parameter symbols (``p`` inputs) or
   substituted by their values (as in the issue's SymPyBotics figures).
 * **Operation counts** of the generated kernels (``Kernel.operation_counts["total"]``, the
   figures in the generated files' headers), next to the issue's figures for SymPyBotics and
@@ -28,8 +28,8 @@ In one run, on the same machine:
   ``inverse_dynamics_function()``; both compiled with ``gcc -O2`` (symkin's extension flags).
   Three generated codes (``BUILDS``): the PUMA 560 with its parameters as input ``p``, the PUMA
   560 with numeric parameters (``Robot.with_parameter_values()``: no ``p``, base inertial
-  parameters; its torques are first checked against the code with ``p``), and the Panda, whose
-  inertial parameters are Robotics Toolbox's (``models.DH.Panda``).
+  parameters; its torques are first checked against the code with ``p``), and the Panda with
+  its parameters as input ``p`` (checked against Robotics Toolbox's ``models.DH.Panda``).
 * **Inverse dynamics per call from Python** (PUMA 560): symkin's generated CPython extension
   (compiled with ``symkin.build.build_extension``, as ``symkin derive`` does), symkin's C
   through ctypes, the generated NumPy module, CasADi (``Function`` call and its C through
@@ -114,15 +114,18 @@ BATCH = 10_000  # states in the batch measurements
 CHECK_STATES = 20
 TOLERANCE = 1e-9  # largest difference allowed, relative to the largest torque (at least 1)
 
-# (robot, inertial data, geometry): "numeric" inertia is the catalogue file's (the Panda's file
-# has none); "numeric" geometry substitutes the file's parameter values for its symbols.
+# (robot, inertial data, geometry): "numeric" inertia is the catalogue file's, "symbolic" has the
+# file's link data removed; "numeric" geometry substitutes the file's parameter values for its
+# symbols.
 VARIANTS = (
     ("puma560", "numeric", "symbolic"),
     ("puma560", "symbolic", "symbolic"),
     ("puma560", "symbolic", "numeric"),
     ("puma560", "numeric", "numeric"),
+    ("panda", "numeric", "symbolic"),
     ("panda", "symbolic", "symbolic"),
     ("panda", "symbolic", "numeric"),
+    ("panda", "numeric", "numeric"),
 )
 KERNELS = ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics")
 
@@ -136,10 +139,7 @@ BUILDS = {
         ("puma560", "numeric", "numeric"),
         "PUMA 560, numeric parameters (base parameters)",
     ),
-    "panda": (
-        ("panda", "symbolic", "symbolic"),
-        "Panda, parameters as input `p`, inertial data as input `pi`",
-    ),
+    "panda": (("panda", "numeric", "symbolic"), "Panda, parameters as input `p`"),
 }
 PUMA_BUILDS = ("puma560", "puma560-numeric")
 
@@ -292,7 +292,6 @@ class Built:
     label: str
     robot: object  # symkin.robot.Robot
     parameters: np.ndarray  # p, file order
-    inertial: np.ndarray | None  # pi, when the robot file has no inertial data
     numpy_module: object
     casadi_module: object
     loop_ours: Path
@@ -300,29 +299,6 @@ class Built:
     lib_ours: Path
     lib_casadi: Path
     directory: Path  # the generated files
-
-
-def panda_inertial_parameters() -> np.ndarray:
-    """``pi`` (m, c, I per link) of the Panda from Robotics Toolbox's ``models.DH.Panda``.
-
-    The toolbox folds the 0.107 m flange into d7 (its frame 7 sits at the flange) where symkin's
-    panda puts it in the tool: link 7's centre of mass moves by d7 along z7.
-    """
-    import roboticstoolbox as rtb
-
-    panda = rtb.models.DH.Panda()
-    values: list[float] = []
-    for i, link in enumerate(panda.links):
-        com = np.array(link.r, dtype=float)
-        if i == panda.n - 1:
-            com[2] += link.d
-        tensor = np.asarray(link.I, dtype=float)
-        values += [float(link.m), *com, *tensor[[0, 1, 2, 0, 0, 1], [0, 1, 2, 1, 2, 2]]]
-    return np.array(values)
-
-
-# Inertial parameters ``pi`` for the catalogue robots whose files have none.
-INERTIAL_PARAMETERS = {"panda": panda_inertial_parameters}
 
 
 def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
@@ -337,9 +313,8 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi", "python")))
     numpy_module = load_module(directory / "numpy" / f"{name}_kinematics.py")
     casadi_module = load_module(directory / "casadi" / f"{name}_casadi.py")
-    inertial = INERTIAL_PARAMETERS[name]() if name in INERTIAL_PARAMETERS else None
-    if inertial is None and any(j.link is None for j in robot.joints):
-        raise SystemExit(f"{name}: no inertial parameters to time it with")
+    if any(j.link is None for j in robot.joints):
+        raise SystemExit(f"{name}: no inertial data to time it with")
 
     casadi_dir = directory / "casadi_c"
     casadi_dir.mkdir()
@@ -347,14 +322,13 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     generator.add(casadi_module.inverse_dynamics_function())
     generator.generate(f"{casadi_dir}/")
 
-    n_p, n_pi = len(robot.parameters), 0 if inertial is None else len(inertial)
-    defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}", f"-DN_PI={n_pi}")
+    n_p = len(robot.parameters)
+    defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}", "-DN_PI=0")
     built = side_by_side(cc, flags, HARNESS, directory, name, *defines)
     return Built(
         label=label,
         robot=robot,
         parameters=np.array(list(robot.parameter_values().values()), dtype=float),
-        inertial=inertial,
         numpy_module=numpy_module,
         casadi_module=casadi_module,
         loop_ours=built.loop_ours,
@@ -378,8 +352,7 @@ def c_loop(builds: dict[str, Built], settings: Settings) -> dict[tuple[str, str]
     checksums: dict[tuple[str, str], float] = {}
     for round_ in range(settings.c_rounds):
         for name, b in builds.items():
-            values = [*b.parameters, *(() if b.inertial is None else b.inertial)]
-            arguments = [str(settings.c_calls), str(settings.c_repeats), *map(repr, values)]
+            arguments = [str(settings.c_calls), str(settings.c_repeats), *map(repr, b.parameters)]
             for impl, executable in (("symkin", b.loop_ours), ("casadi", b.loop_casadi)):
                 done = subprocess.run(
                     [str(executable), *arguments], capture_output=True, text=True, check=True
@@ -427,12 +400,11 @@ def symkin_c(b: Built):
     """symkin's ``<robot>_inverse_dynamics`` and its ``_batch`` twin through ctypes."""
     lib = ctypes.CDLL(str(b.lib_ours))
     name = b.robot.name
-    arrays = 4 if b.inertial is None else 5
     single = lib[f"{name}_inverse_dynamics"]
-    single.argtypes = [ctypes.c_void_p] * (arrays + 1)
+    single.argtypes = [ctypes.c_void_p] * 5
     single.restype = None
     batch = lib[f"{name}_inverse_dynamics_batch"]
-    batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * (arrays + 1)
+    batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * 5
     batch.restype = None
     return single, batch
 
@@ -455,18 +427,18 @@ def check_numeric_parameters(
 
 
 def check_panda(b: Built, rng: np.random.Generator, checked: Checked) -> None:
-    """The Panda's generated code against Robotics Toolbox's ``rne`` with the same data."""
+    """The Panda's generated code against Robotics Toolbox's ``rne``, whose ``models.DH.Panda``
+    carries the same inertial data (Gaz et al. 2019) as the catalogue file."""
     single, _ = symkin_c(b)
-    P, PI = b.parameters, b.inertial
-    assert PI is not None
+    P = b.parameters
     import roboticstoolbox as rtb
 
     panda = rtb.models.DH.Panda().nofriction(coulomb=True, viscous=True)
     for q, dq, ddq in random_states(rng, CHECK_STATES, b.robot.dof):
         tau = np.empty(b.robot.dof)
         pointers = (q.ctypes.data, dq.ctypes.data, ddq.ctypes.data, P.ctypes.data)
-        single(*pointers, PI.ctypes.data, tau.ctypes.data)
-        numpy_tau = b.numpy_module.inverse_dynamics(q, dq, ddq, P, PI)
+        single(*pointers, tau.ctypes.data)
+        numpy_tau = b.numpy_module.inverse_dynamics(q, dq, ddq, P)
         checked.compare("panda: symkin NumPy module", numpy_tau, tau)
         checked.compare("panda: Robotics Toolbox `DH.Panda().rne`", panda.rne(q, dq, ddq), tau)
 
@@ -730,8 +702,8 @@ def c_loop_table(
         "geometric parameters are an input array (the file's values passed at run time). "
         "*Numeric parameters* is the catalogue robot's `with_parameter_values()` (`symkin derive "
         "puma560 --numeric-parameters`): the numbers are folded into the code, `p` is NULL, and "
-        "the recursion runs on base inertial parameters. The Panda's code also takes its 70 "
-        "inertial parameters as an input array `pi` (Robotics Toolbox's values). The last column "
+        "the recursion runs on base inertial parameters. The Panda carries the inertial data of "
+        "Gaz et al. (2019), the values of Robotics Toolbox's `models.DH.Panda`. The last column "
         "is symkin C's median over that of the PUMA 560 with parameters as input `p`.",
         "",
         "| generated code | tau operations | **symkin C** [ns/call] | CasADi C [ns/call] "

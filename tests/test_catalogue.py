@@ -219,7 +219,8 @@ def test_file_follows_the_contract(name: str) -> None:
         if "limits" in joint:
             low, high = joint["limits"]
             assert low < high
-        assert "link" not in joint or name == "puma560"  # inertial data: PUMA 560 only
+        # Inertial data: the PUMA 560 (Corke) and the Panda (Gaz et al.), on every joint.
+        assert ("link" in joint) == (name in ("puma560", "panda")), (name, joint)
     for key in ("base", "tool"):
         if key in doc:
             assert set(doc[key]) <= FRAME_KEYS

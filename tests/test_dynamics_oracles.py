@@ -1,10 +1,15 @@
-"""Outside oracles for the dynamics: Robotics Toolbox for Python and Pinocchio on the PUMA 560.
+"""Outside oracles for the dynamics: Robotics Toolbox for Python and Pinocchio on the PUMA 560
+and the Panda.
 
 The catalogue's PUMA 560 carries Corke's inertial data (mdl_puma560.m) with the rotor inertias
 ``G^2 Jm`` as ``motor_inertia`` and no friction, so the toolbox's recursive Newton–Euler with its
 friction switched off must give the same joint torques as our generated inverse dynamics.
 The toolbox model has a 0.672 m pedestal (d1) that ours has not: a translation of the base
 along the vertical axis of joint 1 changes no joint torque, so the torques still agree.
+
+The catalogue's Panda (modified DH) carries the inertial data identified by Gaz et al. (2019);
+the toolbox's ``models.DH.Panda`` carries the same numbers with its frame 7 at the flange, so
+it is an outside check of the transcription, of the modified-DH recursion and of the frames.
 
 The toolbox is a test dependency (``roboticstoolbox-python==1.5.0``): if it cannot be imported
 these tests FAIL with a message instead of being skipped; so does Pinocchio (``pin``), also a
@@ -131,9 +136,13 @@ def test_coriolis_matches_robotics_toolbox(generated, toolbox_puma):
 
 
 def pinocchio_model(robot: symkin.Robot):
-    """A Pinocchio model built from the DH table: joint i's frame is DH frame i-1 turned by q_i,
-    the next joint sits at the fixed part Tz(d) Tx(a) Rx(alpha) of A_i, and link i's inertia is
-    given in DH frame i (= that fixed placement).  Rotor inertias are left out."""
+    """A Pinocchio model built from the DH table, rotor inertias left out.
+
+    Standard DH (A_i = Rz(theta) Tz(d) Tx(a) Rx(alpha)): joint i's frame is DH frame i-1 turned
+    by q_i, the next joint sits at the fixed part Tz(d) Tx(a) Rx(alpha) of A_i, and link i's
+    inertia is given in DH frame i (= that fixed placement).  Modified DH (A_i = Rx(alpha)
+    Tx(a) Rz(theta) Tz(d)): joint i sits at Rx(alpha) Tx(a) Tz(d) in frame i-1 and its frame,
+    turned by q_i, is DH frame i, where link i's inertia is given."""
     import pinocchio as pin  # a test dependency (pin): missing it is a failure, not a skip
 
     model = pin.Model()
@@ -142,19 +151,21 @@ def pinocchio_model(robot: symkin.Robot):
     params = {s: robot.parameter_values()[s.name] for s in robot.parameter_symbols}
     for i, joint in enumerate(robot.joints):
         assert joint.type == "revolute"
-        parent = model.addJoint(parent, pin.JointModelRZ(), placement, f"joint{i + 1}")
         d, a, alpha, offset = (
             float(joint.d.subs(params)),
             float(joint.a.subs(params)),
             float(joint.alpha.subs(params)),
             float(joint.theta.subs(params)),
         )
-        fixed = (
-            pin.SE3(pin.utils.rotate("z", offset), np.zeros(3))
-            * pin.SE3(np.eye(3), np.array([0.0, 0.0, d]))
-            * pin.SE3(np.eye(3), np.array([a, 0.0, 0.0]))
-            * pin.SE3(pin.utils.rotate("x", alpha), np.zeros(3))
-        )
+        twist = pin.SE3(pin.utils.rotate("x", alpha), np.zeros(3))
+        length = pin.SE3(np.eye(3), np.array([a, 0.0, 0.0]))
+        depth = pin.SE3(np.eye(3), np.array([0.0, 0.0, d]))
+        turn = pin.SE3(pin.utils.rotate("z", offset), np.zeros(3))
+        if robot.convention == "modified":
+            placement, fixed = placement * twist * length * depth * turn, pin.SE3.Identity()
+        else:
+            fixed = turn * depth * length * twist
+        parent = model.addJoint(parent, pin.JointModelRZ(), placement, f"joint{i + 1}")
         link = joint.link
         ixx, iyy, izz, ixy, ixz, iyz = (float(v) for v in link.inertia)
         tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
@@ -176,3 +187,57 @@ def test_inverse_dynamics_matches_pinocchio_rnea(puma, generated):
         expected = np.array(pin.rnea(model, data, state, rate, acceleration)) + rotor * acceleration
         ours = generated.inverse_dynamics(state, rate, acceleration)
         assert_torques_close(ours, expected, "tau vs pinocchio rnea")
+
+
+# ------------------------------------------------------------------------------ Panda
+
+# Gaz et al., RA-L 4(4) 2019, supplementary tables VIII and IX: link masses in kg.
+GAZ_MASSES = [4.970684, 0.646926, 3.228604, 3.587895, 1.225946, 1.666555, 0.735522]
+
+
+@pytest.fixture(scope="module")
+def panda() -> symkin.Robot:
+    return symkin.load_robot("panda")
+
+
+@pytest.fixture(scope="module")
+def generated_panda(panda, tmp_path_factory) -> ModuleType:
+    root = tmp_path_factory.mktemp("panda_oracle")
+    write_tree(root, files_for_robot(panda, ("numpy",)))
+    return import_path("generated_panda_oracle", Path(root / "numpy" / "panda_kinematics.py"))
+
+
+def panda_states(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    return (
+        rng.uniform(-np.pi, np.pi, (STATES, 7)),
+        rng.uniform(-2.0, 2.0, (STATES, 7)),
+        rng.uniform(-5.0, 5.0, (STATES, 7)),
+    )
+
+
+def test_panda_file_has_gaz_inertial_data(panda):
+    assert [float(j.link.mass) for j in panda.joints] == GAZ_MASSES  # type: ignore[union-attr]
+    assert all(j.link.motor_inertia == 0 for j in panda.joints)  # type: ignore[union-attr]
+
+
+def test_panda_matches_robotics_toolbox(generated_panda):
+    toolbox = _toolbox().models.DH.Panda()
+    assert [link.m for link in toolbox.links] == GAZ_MASSES
+    assert all(link.B == 0 and np.all(link.Tc == 0) and link.Jm == 0 for link in toolbox.links)
+    q, dq, ddq = panda_states(7)
+    ours = generated_panda.inverse_dynamics(q, dq, ddq)
+    theirs = np.array([toolbox.rne(*state) for state in zip(q, dq, ddq, strict=True)])
+    assert_torques_close(ours, theirs, "panda tau vs roboticstoolbox rne")
+    for state in q[:5]:
+        assert_torques_close(generated_panda.mass_matrix(state), toolbox.inertia(state), "M")
+        assert_torques_close(generated_panda.gravity(state), toolbox.gravload(state), "G")
+
+
+def test_panda_matches_pinocchio_rnea(panda, generated_panda):
+    pin, model = pinocchio_model(panda)
+    data = model.createData()
+    for state, rate, acceleration in zip(*panda_states(8), strict=True):
+        expected = np.array(pin.rnea(model, data, state, rate, acceleration))
+        ours = generated_panda.inverse_dynamics(state, rate, acceleration)
+        assert_torques_close(ours, expected, "panda tau vs pinocchio rnea")

@@ -9,11 +9,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1404 ops (593 additions, 799 multiplications, 12 trig)
- *   gravity: 211 ops (79 additions, 120 multiplications, 12 trig)
- *   coriolis: 728 ops (348 additions, 349 multiplications, 12 trig, 19 powers)
- *   coriolis_matrix: 5829 ops (2563 additions, 3246 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 774 ops (376 additions, 367 multiplications, 12 trig, 19 powers)
+ *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
+ *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
+ *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  */
 #include <stdio.h>
 

@@ -8,11 +8,11 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1404 ops (593 additions, 799 multiplications, 12 trig)
- *   gravity: 211 ops (79 additions, 120 multiplications, 12 trig)
- *   coriolis: 728 ops (348 additions, 349 multiplications, 12 trig, 19 powers)
- *   coriolis_matrix: 5829 ops (2563 additions, 3246 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 774 ops (376 additions, 367 multiplications, 12 trig, 19 powers)
+ *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
+ *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
+ *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -76,62 +76,57 @@ void panda_fk_jacobian(const double q[7], const double *p, double T[16], double 
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
 
-/* Mass matrix (1404 operations).
+/* Mass matrix (1340 operations).
  * M[49]: M(q) (7x7)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
- * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
  */
-void panda_mass_matrix(const double q[7], const double *p, const double *pi, double M[49]);
+void panda_mass_matrix(const double q[7], const double *p, double M[49]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+void panda_mass_matrix_batch(size_t count, const double *q, const double *p, double *M);
 
-/* Gravity torques (211 operations).
+/* Gravity torques (210 operations).
  * G[7]: G(q) (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
- * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
  */
-void panda_gravity(const double q[7], const double *p, const double *pi, double G[7]);
+void panda_gravity(const double q[7], const double *p, double G[7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+void panda_gravity_batch(size_t count, const double *q, const double *p, double *G);
 
-/* Coriolis and centrifugal torques (728 operations).
+/* Coriolis and centrifugal torques (700 operations).
  * c[7]: c = C(q, dq) dq (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
- * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
  */
-void panda_coriolis(const double q[7], const double dq[7], const double *p, const double *pi, double c[7]);
+void panda_coriolis(const double q[7], const double dq[7], const double *p, double c[7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c);
 
-/* Coriolis matrix (christoffel symbols) (5829 operations).
+/* Coriolis matrix (christoffel symbols) (5748 operations).
  * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
- * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
  */
-void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, const double *pi, double C[49]);
+void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[49]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C);
 
-/* Inverse dynamics (774 operations).
+/* Inverse dynamics (751 operations).
  * tau[7]: tau = M ddq + C dq + G + F (7x1)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[7]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7)
- * pi[70]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6, m7, cx7, cy7, cz7, ixx7, iyy7, izz7, ixy7, ixz7, iyz7)
  */
-void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, const double *pi, double tau[7]);
+void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
+void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[7] in place of ddq. */
-void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, const double *pi, double ddq[7]);
+void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, double ddq[7]);
 
 #endif /* PANDA_KINEMATICS_H */

@@ -8,17 +8,16 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
- *   mass_matrix: 1404 ops (593 additions, 799 multiplications, 12 trig)
- *   gravity: 211 ops (79 additions, 120 multiplications, 12 trig)
- *   coriolis: 728 ops (348 additions, 349 multiplications, 12 trig, 19 powers)
- *   coriolis_matrix: 5829 ops (2563 additions, 3246 multiplications, 8 divisions, 12 trig)
- *   inverse_dynamics: 774 ops (376 additions, 367 multiplications, 12 trig, 19 powers)
+ *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
+ *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
+ *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *
  * CPython extension 'panda_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
  * where it needs them), each of shape (7,) or (N, 7), then optionally p (the
- * parameters d1, d3, a4, a5, d5, a7) and the 70 inertial parameters pi the robot
- * file leaves out (required by the dynamics functions); p and pi may also be given by
+ * parameters d1, d3, a4, a5, d5, a7); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
  * Build: symkin derive panda --out DIR.
  */
@@ -26,16 +25,19 @@
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
 #include <numpy/arrayobject.h>
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "../c/panda.h"
 
 #define MAX_STATES 3
 #define MAX_OUTPUTS 2
-#define NUM_INERTIAL 70
+#define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
+#define STATE_SHAPES "every state input must be numbers of shape (7,) or (N, 7), the same for all"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -48,18 +50,45 @@ typedef struct {
     int noutputs;
     int ndims[MAX_OUTPUTS];
     npy_intp dims[MAX_OUTPUTS][2];
+    /* Set for forward dynamics: a NaN or infinite output is an error, not a result. */
+    const char *if_not_finite;
 } binding;
 
 static const double default_parameters[] = PANDA_DEFAULT_PARAMETERS;
+
+/* `value` as a C-contiguous array of 1 to `max_ndim` dimensions, or NULL with an error that
+ * names the argument (NumPy's own messages, "object too deep for desired array", do not). */
+static PyArrayObject *array_argument(PyObject *value, int max_ndim, const char *what,
+                                     const char *usage)
+{
+    PyArrayObject *array = (PyArrayObject *)PyArray_FROMANY(
+        value, NPY_FLOAT64, 0, 0, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    if (array == NULL) {
+        if (PyErr_ExceptionMatches(PyExc_ValueError) || PyErr_ExceptionMatches(PyExc_TypeError)) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "%s: %s", usage, what);
+        }
+        return NULL;
+    }
+    if (PyArray_NDIM(array) < 1 || PyArray_NDIM(array) > max_ndim) {
+        PyErr_Format(PyExc_ValueError, "%s: %s (got %d dimensions)", usage, what,
+                     PyArray_NDIM(array));
+        Py_DECREF(array);
+        return NULL;
+    }
+    return array;
+}
 
 /* A 1-D array of exactly `size` entries, or NULL with a Python error set. */
 static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char *name,
                                       const char *usage)
 {
-    PyArrayObject *array = (PyArrayObject *)PyArray_FROMANY(
-        value, NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    char what[64];
+    PyArrayObject *array;
+    snprintf(what, sizeof what, "%s must hold %d numbers", name, (int)size);
+    array = array_argument(value, 1, what, usage);
     if (array != NULL && PyArray_DIM(array, 0) != size) {
-        PyErr_Format(PyExc_ValueError, "%s: %s must hold %d values", usage, name, (int)size);
+        PyErr_Format(PyExc_ValueError, "%s: %s (got %d)", usage, what, (int)PyArray_DIM(array, 0));
         Py_DECREF(array);
         return NULL;
     }
@@ -67,7 +96,7 @@ static PyArrayObject *vector_argument(PyObject *value, npy_intp size, const char
 }
 
 /* Shared by every function: parse (states..., p=None, pi=None), check shapes, allocate the
- * outputs, run the batched C kernel with the GIL released. */
+ * outputs, run the batched C kernel (with the GIL released for large batches). */
 static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t nargs,
                              PyObject *kwnames)
 {
@@ -109,7 +138,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
     }
     for (i = 0; i < b->nstates; ++i) {
-        states[i] = (PyArrayObject *)PyArray_FROMANY(args[i], NPY_FLOAT64, 1, 2, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+        states[i] = array_argument(args[i], 2, STATE_SHAPES, b->usage);
         if (states[i] == NULL) {
             goto done;
         }
@@ -119,7 +148,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
         if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
             PyArray_DIM(states[i], batched) != 7 || (batched && PyArray_DIM(states[i], 0) != count)) {
-            PyErr_Format(PyExc_ValueError, "%s: every state input must have shape (7,) or (N, 7), the same for all", b->usage);
+            PyErr_Format(PyExc_ValueError, "%s: %s", b->usage, STATE_SHAPES);
             goto done;
         }
         state_data[i] = (const double *)PyArray_DATA(states[i]);
@@ -164,6 +193,16 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
     } else {
         b->kernel((size_t)count, state_data, p_data, pi_data, out_data);
     }
+    if (b->if_not_finite != NULL) {
+        npy_intp n = PyArray_SIZE((PyArrayObject *)outputs[0]), m;
+        for (m = 0; m < n; ++m) {
+            if (!isfinite(out_data[0][m])) {
+                PyErr_Format(PyExc_ValueError, "%s: %s (state %ld)", b->usage, b->if_not_finite,
+                             (long)(m / 7));
+                goto done;
+            }
+        }
+    }
     if (b->noutputs == 1) {
         result = outputs[0];
         outputs[0] = NULL;
@@ -199,6 +238,7 @@ static const binding fk_binding = {
     "fk(q, p=None)", 1, 0, fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
+NULL,
 };
 
 static PyObject *py_fk(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -218,6 +258,7 @@ static const binding position_binding = {
     "position(q, p=None)", 1, 0, position_adapter, 1,
     { 1 },
     { { 3, 0 } },
+NULL,
 };
 
 static PyObject *py_position(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -237,6 +278,7 @@ static const binding jacobian_binding = {
     "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
     { 2 },
     { { 6, 7 } },
+NULL,
 };
 
 static PyObject *py_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -256,6 +298,7 @@ static const binding position_jacobian_binding = {
     "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
     { 2 },
     { { 3, 7 } },
+NULL,
 };
 
 static PyObject *py_position_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -275,6 +318,7 @@ static const binding fk_jacobian_binding = {
     "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 7 } },
+NULL,
 };
 
 static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -286,13 +330,15 @@ static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_
 static void mass_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    panda_mass_matrix_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    panda_mass_matrix_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None, pi=None)", 1, 1, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, 0, mass_matrix_adapter, 1,
     { 2 },
     { { 7, 7 } },
+NULL,
 };
 
 static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -304,13 +350,15 @@ static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_
 static void gravity_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    panda_gravity_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    panda_gravity_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None, pi=None)", 1, 1, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, 0, gravity_adapter, 1,
     { 1 },
     { { 7, 0 } },
+NULL,
 };
 
 static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -322,13 +370,15 @@ static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t na
 static void coriolis_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    panda_coriolis_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    panda_coriolis_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None, pi=None)", 2, 1, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, 0, coriolis_adapter, 1,
     { 1 },
     { { 7, 0 } },
+NULL,
 };
 
 static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -340,13 +390,15 @@ static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t n
 static void coriolis_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    panda_coriolis_matrix_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    panda_coriolis_matrix_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None, pi=None)", 2, 1, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, 0, coriolis_matrix_adapter, 1,
     { 2 },
     { { 7, 7 } },
+NULL,
 };
 
 static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -358,13 +410,15 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    panda_inverse_dynamics_batch(count, states[0], states[1], states[2], p, pi, outputs[0]);
+    (void)pi;
+    panda_inverse_dynamics_batch(count, states[0], states[1], states[2], p, outputs[0]);
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, 1, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, 0, inverse_dynamics_adapter, 1,
     { 1 },
     { { 7, 0 } },
+NULL,
 };
 
 static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -376,16 +430,18 @@ static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_s
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
+    (void)pi;
     size_t i;
     for (i = 0; i < count; ++i) {
-        panda_forward_dynamics(states[0] + i * 7, states[1] + i * 7, states[2] + i * 7, p, pi, outputs[0] + i * 7);
+        panda_forward_dynamics(states[0] + i * 7, states[1] + i * 7, states[2] + i * 7, p, outputs[0] + i * 7);
     }
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, 1, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, 0, forward_dynamics_adapter, 1,
     { 1 },
     { { 7, 0 } },
+"ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
 };
 
 static PyObject *py_forward_dynamics(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
@@ -406,17 +462,17 @@ static PyMethodDef methods[] = {
     {"fk_jacobian", (PyCFunction)(void (*)(void))py_fk_jacobian, METH_FASTCALL | METH_KEYWORDS,
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
     {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "mass_matrix(q, p=None, pi=None): mass matrix; returns M."},
+     "mass_matrix(q, p=None): mass matrix; returns M."},
     {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL | METH_KEYWORDS,
-     "gravity(q, p=None, pi=None): gravity torques; returns G."},
+     "gravity(q, p=None): gravity torques; returns G."},
     {"coriolis", (PyCFunction)(void (*)(void))py_coriolis, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis(q, dq, p=None, pi=None): Coriolis and centrifugal torques; returns c."},
+     "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis_matrix(q, dq, p=None, pi=None): Coriolis matrix (Christoffel symbols); returns C."},
+     "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
+     "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
+     "forward_dynamics(q, dq, tau, p=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},
 };
 
