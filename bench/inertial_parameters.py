@@ -35,7 +35,7 @@ import sympy as sp
 
 from codegen_speed import write_docs
 from derivation_time import version
-from dynamics_speed import SYMPYBOTICS_OPERATIONS, robot_variant
+from dynamics_speed import DOCS, SYMPYBOTICS_OPERATIONS, robot_variant
 from symkin import derive
 from symkin.derive.base_parameters import (
     BarycentricParameters,
@@ -45,8 +45,6 @@ from symkin.derive.base_parameters import (
 from symkin.derive.newton_euler import Recorder, joint_torques
 from symkin.kernel import KernelInput, inertial_symbols, kernel_from_assignments, state_inputs
 
-ROOT = Path(__file__).resolve().parent.parent
-DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN = "<!-- inertial-parameters:begin -->"
 END = "<!-- inertial-parameters:end -->"
 FORMS = ("file form", "barycentric", "base parameters")
