@@ -336,6 +336,27 @@ def standard_dh_constant(joint, value: Callable) -> np.ndarray:
     )
 
 
+def casadi_c_function(library: Path, name: str):
+    """``name`` from C written by ``casadi.CodeGenerator``, through ctypes: its signature
+    ``(arg, res, iw, w, mem)``; it must need no work arrays (true of SX functions), so the
+    callers pass NULL for ``iw`` and ``w``."""
+    lib = ctypes.CDLL(str(library))
+    function = lib[name]
+    function.argtypes = [
+        ctypes.POINTER(ctypes.c_void_p),
+        ctypes.POINTER(ctypes.c_void_p),
+        ctypes.c_void_p,
+        ctypes.c_void_p,
+        ctypes.c_int,
+    ]
+    function.restype = ctypes.c_int
+    sizes = [ctypes.c_longlong() for _ in range(4)]  # sz_arg, sz_res, sz_iw, sz_w
+    lib[f"{name}_work"](*(ctypes.byref(s) for s in sizes))
+    if sizes[2].value or sizes[3].value:
+        raise CheckError(f"CasADi {name} needs work arrays {[s.value for s in sizes]}")
+    return function
+
+
 def pinocchio_model(robot, parameter_values: dict[str, float]):
     """A Pinocchio model of the same standard DH table, and the id of its tool frame.
 
@@ -409,20 +430,7 @@ def prepare_peers(b: Build, rng: np.random.Generator) -> Peers:
     ns["casadi_fk"] = f_fk
     if f_fk.sparsity_out(0).nnz() != 16:
         raise CheckError("CasADi fk output is not a dense 4x4")
-    lib_c = ctypes.CDLL(str(b.lib_casadi))
-    cas_fk = lib_c[f"{ROBOT}_fk"]
-    cas_fk.argtypes = [
-        ctypes.POINTER(ctypes.c_void_p),
-        ctypes.POINTER(ctypes.c_void_p),
-        ctypes.c_void_p,
-        ctypes.c_void_p,
-        ctypes.c_int,
-    ]
-    cas_fk.restype = ctypes.c_int
-    sizes = [ctypes.c_longlong() for _ in range(4)]
-    lib_c[f"{ROBOT}_fk_work"](*(ctypes.byref(s) for s in sizes))
-    if sizes[2].value or sizes[3].value:  # iw, w: none needed for this SX function
-        raise CheckError(f"CasADi fk needs work arrays {[s.value for s in sizes]}")
+    cas_fk = casadi_c_function(b.lib_casadi, f"{ROBOT}_fk")
     ns.update(
         cas_fk=cas_fk,
         cas_arg=(ctypes.c_void_p * 2)(None, P.ctypes.data),

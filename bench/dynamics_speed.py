@@ -80,6 +80,7 @@ from codegen_speed import (
     Peers,
     Result,
     Settings,
+    casadi_c_function,
     check_close,
     compiler,
     compiler_version,
@@ -480,20 +481,7 @@ def prepare_puma(b: Built, rng: np.random.Generator, checked: Checked) -> Peers:
 
     # CasADi: the generated module's Function, and its generated C through ctypes.
     f_id = b.casadi_module.inverse_dynamics_function()
-    lib_c = ctypes.CDLL(str(b.lib_casadi))
-    cas_id = lib_c[f"{b.robot.name}_inverse_dynamics"]
-    cas_id.argtypes = [
-        ctypes.POINTER(ctypes.c_void_p),
-        ctypes.POINTER(ctypes.c_void_p),
-        ctypes.c_void_p,
-        ctypes.c_void_p,
-        ctypes.c_int,
-    ]
-    cas_id.restype = ctypes.c_int
-    sizes = [ctypes.c_longlong() for _ in range(4)]
-    lib_c[f"{b.robot.name}_inverse_dynamics_work"](*(ctypes.byref(s) for s in sizes))
-    if sizes[2].value or sizes[3].value:  # iw, w: none needed for this SX function
-        raise CheckError(f"CasADi inverse dynamics needs work arrays {[s.value for s in sizes]}")
+    cas_id = casadi_c_function(b.lib_casadi, f"{b.robot.name}_inverse_dynamics")
     ns.update(
         casadi_id=f_id,
         cas_id=cas_id,

@@ -38,7 +38,7 @@ from derivation_time import version
 from dynamics_speed import DOCS, SYMPYBOTICS_OPERATIONS, robot_variant
 from symkin import derive
 from symkin.derive.base_parameters import (
-    BarycentricParameters,
+    barycentric_links,
     barycentric_symbols,
     symbolic_base_parameters,
 )
@@ -54,18 +54,11 @@ def tau_operations(name: str) -> dict[str, tuple[int, int]]:
     """``{form: (inertial inputs, operations of tau)}`` for one catalogue robot."""
     robot = robot_variant(name, "symbolic", "numeric")
     model = derive(robot)
-    n = robot.dof
-    delta = barycentric_symbols(n)
-    barycentric = tuple(
-        BarycentricParameters.from_values(
-            {s.name.rstrip("0123456789"): s for s in delta[10 * i : 10 * (i + 1)]}
-        )
-        for i in range(n)
-    )
+    delta = barycentric_symbols(robot.dof)
     base_links, definitions = symbolic_base_parameters(robot, model.kinematics)
     forms = {
         "file form": (None, list(inertial_symbols(model))),
-        "barycentric": (barycentric, list(delta)),
+        "barycentric": (barycentric_links(delta), list(delta)),
         "base parameters": (base_links, [s for s, _ in definitions]),
     }
     result = {}

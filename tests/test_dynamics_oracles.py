@@ -79,11 +79,11 @@ def toolbox_puma():
     return rtb.models.DH.Puma560().nofriction(coulomb=True, viscous=True)
 
 
-def random_states(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def random_states(seed: int, dof: int = 6) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
-    q = rng.uniform(-np.pi, np.pi, (STATES, 6))
-    dq = rng.uniform(-2.0, 2.0, (STATES, 6))
-    ddq = rng.uniform(-5.0, 5.0, (STATES, 6))
+    q = rng.uniform(-np.pi, np.pi, (STATES, dof))
+    dq = rng.uniform(-2.0, 2.0, (STATES, dof))
+    ddq = rng.uniform(-5.0, 5.0, (STATES, dof))
     return q, dq, ddq
 
 
@@ -207,15 +207,6 @@ def generated_panda(panda, tmp_path_factory) -> ModuleType:
     return import_path("generated_panda_oracle", Path(root / "numpy" / "panda_kinematics.py"))
 
 
-def panda_states(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    return (
-        rng.uniform(-np.pi, np.pi, (STATES, 7)),
-        rng.uniform(-2.0, 2.0, (STATES, 7)),
-        rng.uniform(-5.0, 5.0, (STATES, 7)),
-    )
-
-
 def test_panda_file_has_gaz_inertial_data(panda):
     assert [float(j.link.mass) for j in panda.joints] == GAZ_MASSES  # type: ignore[union-attr]
     assert all(j.link.motor_inertia == 0 for j in panda.joints)  # type: ignore[union-attr]
@@ -225,7 +216,7 @@ def test_panda_matches_robotics_toolbox(generated_panda):
     toolbox = _toolbox().models.DH.Panda()
     assert [link.m for link in toolbox.links] == GAZ_MASSES
     assert all(link.B == 0 and np.all(link.Tc == 0) and link.Jm == 0 for link in toolbox.links)
-    q, dq, ddq = panda_states(7)
+    q, dq, ddq = random_states(7, dof=7)
     ours = generated_panda.inverse_dynamics(q, dq, ddq)
     theirs = np.array([toolbox.rne(*state) for state in zip(q, dq, ddq, strict=True)])
     assert_torques_close(ours, theirs, "panda tau vs roboticstoolbox rne")
@@ -237,7 +228,7 @@ def test_panda_matches_robotics_toolbox(generated_panda):
 def test_panda_matches_pinocchio_rnea(panda, generated_panda):
     pin, model = pinocchio_model(panda)
     data = model.createData()
-    for state, rate, acceleration in zip(*panda_states(8), strict=True):
+    for state, rate, acceleration in zip(*random_states(8, dof=7), strict=True):
         expected = np.array(pin.rnea(model, data, state, rate, acceleration))
         ours = generated_panda.inverse_dynamics(state, rate, acceleration)
         assert_torques_close(ours, expected, "panda tau vs pinocchio rnea")

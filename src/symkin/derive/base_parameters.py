@@ -17,8 +17,9 @@ torques are unchanged (checked at fresh random states before the result is used)
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -121,18 +122,12 @@ def _regressor(robot: Robot, kinematics: Kinematics):
     from symkin.derive.newton_euler import Recorder, joint_torques
 
     n = robot.dof
-    symbols = [
-        [sp.Symbol(f"{name}{i + 1}", real=True) for name in PARAMETER_NAMES] for i in range(n)
-    ]
-    links = tuple(
-        BarycentricParameters.from_values(dict(zip(PARAMETER_NAMES, row, strict=True)))
-        for row in symbols
-    )
+    flat = barycentric_symbols(n)
     dq = sp.symbols(f"dq1:{n + 1}", real=True)
     ddq = sp.symbols(f"ddq1:{n + 1}", real=True)
     recorder = Recorder("b")
+    links = barycentric_links(flat)
     torque = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, links)
-    flat = [s for row in symbols for s in row]
     # All columns of Y in one call: the parameters are passed as the rows of the identity.
     regressor_of = sp.lambdify(
         [kinematics.q, dq, ddq, flat],
@@ -142,6 +137,8 @@ def _regressor(robot: Robot, kinematics: Kinematics):
     )
     identity = list(np.eye(len(flat)))
 
+    # Cached: the folding and the numeric base parameters both check at the same fresh states.
+    @cache
     def regressor(seed: int) -> np.ndarray:
         rng = np.random.default_rng(seed)
         rows = []
@@ -187,11 +184,10 @@ def base_parameters(
     folding = base_parameter_folding(robot, kinematics)
     if folding is None:
         return None
-    n = robot.dof
     delta = np.array(
         [
             barycentric_from_link(link_inertial_data(robot, i))[name]
-            for i in range(n)
+            for i in range(robot.dof)
             for name in PARAMETER_NAMES
         ]
     )
@@ -204,14 +200,7 @@ def base_parameters(
     if error > 1e-10 * max(1.0, np.max(np.abs(check @ delta))):
         return None
     negligible = 1e-12 * np.max(np.abs(beta))
-    rows = [
-        {
-            name: sp.Float(x) if abs(x) > negligible else sp.Integer(0)
-            for name, x in zip(PARAMETER_NAMES, row, strict=True)
-        }
-        for row in beta.reshape(n, len(PARAMETER_NAMES))
-    ]
-    return tuple(BarycentricParameters.from_values(row) for row in rows)
+    return barycentric_links([sp.Float(x) if abs(x) > negligible else sp.Integer(0) for x in beta])
 
 
 def barycentric_symbols(dof: int) -> tuple[sp.Symbol, ...]:
@@ -219,6 +208,17 @@ def barycentric_symbols(dof: int) -> tuple[sp.Symbol, ...]:
     :class:`Folding` (``PARAMETER_NAMES`` per link), inertia about the frame origin."""
     return tuple(
         sp.Symbol(f"{name}{i + 1}", real=True) for i in range(dof) for name in PARAMETER_NAMES
+    )
+
+
+def barycentric_links(values: Sequence[sp.Expr]) -> tuple[BarycentricParameters, ...]:
+    """Per-link parameters from a link-major list in the order of :func:`barycentric_symbols`."""
+    count = len(PARAMETER_NAMES)
+    return tuple(
+        BarycentricParameters.from_values(
+            dict(zip(PARAMETER_NAMES, values[start : start + count], strict=True))
+        )
+        for start in range(0, len(values), count)
     )
 
 
@@ -252,13 +252,7 @@ def symbolic_base_parameters(
         symbol = sp.Symbol(f"{PARAMETER_NAMES[name].upper()}{link + 1}{suffix}", real=True)
         values[k] = symbol
         definitions.append((symbol, delta[k] + sp.Add(*folded)))
-    links = tuple(
-        BarycentricParameters.from_values(
-            dict(zip(PARAMETER_NAMES, values[i * count : (i + 1) * count], strict=True))
-        )
-        for i in range(robot.dof)
-    )
-    return links, tuple(definitions)
+    return barycentric_links(values), tuple(definitions)
 
 
 def _coefficient(value: float) -> sp.Number:
