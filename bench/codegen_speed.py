@@ -241,11 +241,12 @@ def build(directory: Path) -> Build:
 
     from symkin import derive, load_robot
     from symkin.build import OPTIMISATION_FLAGS, build_extension, load_extension
-    from symkin.generate import files_for_robot, write_files
+    from symkin.generate import files_for_robot
     from symkin.kernel import kinematics_kernels
+    from symkin.output_folder import write_folder
 
     robot = load_robot(ROBOT)
-    write_files(directory, files_for_robot(robot))
+    write_folder(directory, files_for_robot(robot))
     ext = load_extension(
         build_extension(directory / "python" / f"{ROBOT}_ext.c", directory / "c" / f"{ROBOT}.c")
     )

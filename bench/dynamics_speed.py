@@ -306,12 +306,13 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     """The code of ``BUILDS[key]``, generated into ``directory`` and compiled."""
     import casadi
 
-    from symkin.generate import files_for_robot, write_files
+    from symkin.generate import files_for_robot
+    from symkin.output_folder import write_folder
 
     variant, label = BUILDS[key]
     robot = robot_variant(*variant)
     name = robot.name
-    write_files(directory, files_for_robot(robot, ("numpy", "c", "casadi", "python")))
+    write_folder(directory, files_for_robot(robot, ("numpy", "c", "casadi", "python")))
     numpy_module = load_module(directory / "numpy" / f"{name}_kinematics.py")
     casadi_module = load_module(directory / "casadi" / f"{name}_casadi.py")
     if any(j.link is None for j in robot.joints):

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 import symkin
-from symkin.generate import files_for_robot, write_files
+from symkin.generate import files_for_robot
 from symkin.kernel import inertial_symbols
+from symkin.output_folder import write_folder
 
 ROBOTS = ("planar_2r", "rpr", "puma560", "panda")
 STRICT = ["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"]
@@ -42,7 +43,7 @@ def _inertial_values(model, rng):
 def generated(request, tmp_path_factory):
     robot = symkin.load_robot(request.param)
     root = tmp_path_factory.mktemp(robot.name)
-    write_files(root, files_for_robot(robot, ("numpy", "c", "casadi")))
+    write_folder(root, files_for_robot(robot, ("numpy", "c", "casadi")))
     return robot, root
 
 

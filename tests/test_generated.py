@@ -100,11 +100,40 @@ def test_generate_check_fails_with_a_diff_after_an_edit(small_copy, capsys):
 
 def test_generate_check_reports_extra_and_missing_files(small_copy, capsys):
     (small_copy / "rpr" / "numpy" / "rpr_kinematics.py").unlink()
-    (small_copy / "rpr" / "stray.txt").write_text("left over\n", encoding="utf-8")
+    # A file of symkin's (in the manifest) that a fresh render no longer makes, and a file of
+    # the user's (not in it): the first is reported, the second is none of symkin's business.
+    manifest = small_copy / "rpr" / ".symkin-files"
+    manifest.write_text(manifest.read_text(encoding="utf-8") + "c/old.c\n", encoding="utf-8")
+    (small_copy / "rpr" / "c" / "old.c").write_text("left over\n", encoding="utf-8")
+    (small_copy / "rpr" / "stray.txt").write_text("the user's\n", encoding="utf-8")
     assert main(["generate", "--check", "--root", str(small_copy)]) == 2
     out = capsys.readouterr().out
     assert "rpr/numpy/rpr_kinematics.py" in out
-    assert "rpr/stray.txt" in out
+    assert "rpr/c/old.c" in out
+    assert "stray.txt" not in out
+
+
+def test_generate_deletes_only_its_own_stale_files(small_copy):
+    manifest = small_copy / "rpr" / ".symkin-files"
+    manifest.write_text(manifest.read_text(encoding="utf-8") + "c/old.c\n", encoding="utf-8")
+    (small_copy / "rpr" / "c" / "old.c").write_text("left over\n", encoding="utf-8")
+    notes = small_copy / "scara" / "notes.txt"  # the user's file in a robot folder
+    notes.write_text("my notes\n", encoding="utf-8")
+    assert main(["generate", "--root", str(small_copy)]) == 0
+    assert not (small_copy / "rpr" / "c" / "old.c").exists()
+    assert notes.read_text(encoding="utf-8") == "my notes\n"
+
+
+def test_generate_never_follows_a_symlinked_robot_folder(small_copy, tmp_path, capsys):
+    thesis = tmp_path / "thesis"
+    thesis.mkdir()
+    (thesis / "chapter1.tex").write_text("precious\n", encoding="utf-8")
+    shutil.rmtree(small_copy / "rpr")
+    (small_copy / "rpr").symlink_to(thesis, target_is_directory=True)
+    assert main(["generate", "--root", str(small_copy)]) == 2
+    assert "symbolic link" in capsys.readouterr().err
+    assert sorted(p.name for p in thesis.iterdir()) == ["chapter1.tex"]
+    assert (thesis / "chapter1.tex").read_text(encoding="utf-8") == "precious\n"
 
 
 def test_generate_writes_what_check_accepts(small_copy, tmp_path):
@@ -156,7 +185,8 @@ def header_of(path: Path) -> str:
 
 
 SUPPORT_FILES = ("example.c", "Makefile")  # written next to the kernels, not kernels themselves
-KERNEL_FILES = [p for p in generated_files() if p.name not in SUPPORT_FILES]
+MANIFEST = ".symkin-files"  # the list of what symkin wrote (docs/security.md)
+KERNEL_FILES = [p for p in generated_files() if p.name not in (*SUPPORT_FILES, MANIFEST)]
 
 
 @pytest.mark.parametrize("path", KERNEL_FILES, ids=lambda p: p.relative_to(GENERATED).as_posix())
@@ -183,10 +213,23 @@ def test_example_and_makefile_headers_name_source_and_command():
 # ---------------------------------------------------------------- derive options
 
 
+def test_manifest_lists_exactly_the_robot_folder_files():
+    for name in symkin.catalogue_names():
+        folder = GENERATED / name
+        listed = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()[1:]
+        on_disk = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+        assert [*listed, MANIFEST] == sorted([*listed, MANIFEST]) and set(on_disk) == {
+            *listed,
+            MANIFEST,
+        }
+
+
 def test_derive_latex_backend_writes_only_the_document_files(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["derive", "scara", "--out", str(out), "--emit", "latex"]) == 0
     written = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
+    assert ".symkin-files" in written  # the manifest of what derive wrote
+    written.remove(".symkin-files")
     assert "latex/scara.tex" in written
     assert all(path.startswith("latex/") for path in written)
     document = (out / "latex" / "scara.tex").read_text()
@@ -206,6 +249,7 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
     assert main(["derive", "scara", "--out", str(out), "--emit", "c", "--precision", "float"]) == 0
     written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
     assert written == [
+        ".symkin-files",
         "c/Makefile",
         "c/example.c",
         "c/scara.c",
@@ -231,7 +275,7 @@ def test_derive_default_precision_is_double_and_matches_generated(tmp_path):
     out = tmp_path / "out"
     assert main(["derive", "scara", "--out", str(out)]) == 0
     for path in (GENERATED / "scara").rglob("*"):
-        if path.is_file():
+        if path.is_file() and path.name != ".symkin-files":  # derive's also lists the build
             relative = path.relative_to(GENERATED / "scara")
             assert (out / relative).read_bytes() == path.read_bytes(), relative
 

@@ -809,7 +809,7 @@ def robot_document(draw: st.DrawFn) -> tuple[dict[str, Any], dict[str, Any]]:
         doc["angles"] = unit
     convention = draw(st.sampled_from(["standard", "modified"]))
     doc["convention"] = convention
-    doc["title"] = draw(st.text(max_size=20))
+    doc["title"] = draw(st.text(max_size=20).filter(str.isprintable))  # others: rejected
     if parameters:
         doc["parameters"] = parameters
     n = draw(st.integers(min_value=1, max_value=4))

@@ -9,7 +9,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
+import signal
 import sys
 import warnings
 from collections.abc import Sequence
@@ -39,7 +41,6 @@ from symkin.generate import (
     check_backends,
     files_for_robot,
     generate_catalogue,
-    write_files,
 )
 from symkin.ik.numeric import (
     DEFAULT_RESTARTS,
@@ -61,7 +62,9 @@ from symkin.ik.solutions import SolutionSet, all_solutions
 from symkin.ik.target import pose_from_target
 from symkin.io import catalogue_names, load_robot
 from symkin.latex_build import compile_pdf
+from symkin.output_folder import write_folder
 from symkin.robot import Robot
+from symkin.text import KEPT, printable
 from symkin.trajopt import (
     OBJECTIVES,
     TRANSCRIPTIONS,
@@ -73,6 +76,9 @@ from symkin.trajopt import (
 )
 
 DEFAULT_ROBOT = "scara"
+# Every command stops with an error past this (no hang); the largest catalogue derivation
+# takes well under a minute, a generic 6R arm about five.
+DEFAULT_TIME_LIMIT = 900.0
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
 VALUE_OPTIONS = frozenset(
     {
@@ -110,6 +116,17 @@ def number_from_text(text: str, what: str) -> float:
     if not math.isfinite(value):
         raise SymkinError(f"{what}: expected a finite number, got {text!r}")
     return value * scale
+
+
+def seed_from_text(text: str) -> int:
+    """A random seed: a whole number >= 0 (what NumPy's generators accept)."""
+    try:
+        seed = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
+    if seed < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
+    return seed
 
 
 def joint_values(text: str, option: str, robot: Robot) -> list[float]:
@@ -218,6 +235,36 @@ def join_negative_values(argv: Sequence[str]) -> list[str]:
 
 
 # ---------------------------------------------------------------- output
+
+
+def _first_non_finite(value: object, where: str = "") -> str | None:
+    """The JSON path of the first NaN or infinity in ``value``, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return where or "(the value)"
+    items = (
+        value.items()
+        if isinstance(value, dict)
+        else enumerate(value)
+        if isinstance(value, list | tuple)
+        else ()
+    )
+    for key, item in items:
+        found = _first_non_finite(item, f"{where}[{key!r}]" if where else str(key))
+        if found:
+            return found
+    return None
+
+
+def json_text(data: dict) -> str:
+    """Strict JSON (RFC 8259 has no NaN or Infinity): a result that is not a finite number is
+    an error naming it, not a silent ``NaN`` in the output."""
+    where = _first_non_finite(data)
+    if where:
+        raise SymkinError(
+            f"the result {where} is not a finite number: the inputs overflow double precision "
+            "or the configuration is at a pole of the formulas"
+        )
+    return json.dumps(data, indent=2, allow_nan=False)
 
 
 def text_matrix(matrix: sp.MatrixBase) -> str:
@@ -425,7 +472,7 @@ def command_show(args: argparse.Namespace) -> None:
     model = derive(load_robot(args.robot))
     rows = task_rows_from_text(args.task)
     if args.json:
-        print(json.dumps(show_json(model, rows) | dynamics_show_json(model, args), indent=2))
+        print(json_text(show_json(model, rows) | dynamics_show_json(model, args)))
     else:
         print(show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else ""))
 
@@ -452,9 +499,11 @@ def command_eval(args: argparse.Namespace) -> None:
         [point_from_text(p, robot) for p in args.point],
         task_rows_from_text(args.task),
     )
+    data = eval_json(state) | dynamics_json(dynamics)
     if args.json:
-        print(json.dumps(eval_json(state) | dynamics_json(dynamics), indent=2))
+        print(json_text(data))
     else:
+        json_text(data)  # the same check: no NaN or infinity printed as a result
         print(eval_text(state) + dynamics_text(dynamics))
 
 
@@ -475,16 +524,21 @@ def command_derive(args: argparse.Namespace) -> None:
     points = [point_from_text(p, robot) for p in args.point]
     files = files_for_robot(robot, backends, args.precision, points)
     out = Path(args.out)
-    write_files(out, files)
+    build = "python" in backends and not args.no_build
+
+    def compile_extension(staging: Path) -> list[str]:
+        progress("compiling the Python extension ...")
+        extension = build_extension(
+            staging / "python" / f"{extension_name(robot)}.c", staging / "c" / f"{robot.name}.c"
+        )
+        return [extension.relative_to(staging).as_posix()]
+
+    written = write_folder(out, files, finish=compile_extension if build else None)
     print(f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {out}/:")
     for relative in files:
         print(f"  {out / relative}")
-    if "python" in backends and not args.no_build:
-        progress("compiling the Python extension ...")
-        extension = build_extension(
-            out / "python" / f"{extension_name(robot)}.c", out / "c" / f"{robot.name}.c"
-        )
-        print(f"built {extension} (import it with symkin.build.load_extension)")
+    for relative in sorted(set(written) - set(files)):
+        print(f"built {out / relative} (import it with symkin.build.load_extension)")
     if "c" in backends or "python" in backends:
         print(f"compile and run the C example: make -C {out / 'c'} && {out / 'c' / 'example'}")
 
@@ -515,9 +569,8 @@ def command_latex(args: argparse.Namespace) -> None:
         text_width_cm=args.text_width,
     )
     out = Path(args.output or f"{robot.name}.tex")
-    write_files(
-        out.parent, {out.name: files.pop(f"{robot.name}.tex"), **files}
-    )  # snippets/ and <robot>-macros.tex beside the document
+    # snippets/ and <robot>-macros.tex beside the document
+    write_folder(out.parent, {out.name: files.pop(f"{robot.name}.tex"), **files}, document=out.stem)
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
@@ -656,11 +709,7 @@ def ik_path(model: Model, args: argparse.Namespace, q0: list[float] | None, over
             {"target": t.tolist(), **ik_result_json(r)}
             for t, r in zip(path.targets, path.results, strict=True)
         ]
-        print(
-            json.dumps(
-                {"robot": robot.name, "success": path.success, "waypoints": waypoints}, indent=2
-            )
-        )
+        print(json_text({"robot": robot.name, "success": path.success, "waypoints": waypoints}))
     else:
         print(
             f"{robot.name}: straight path in {args.steps} steps, each waypoint solved to "
@@ -718,7 +767,7 @@ def ik_table(
     )
     robot = model.robot
     if args.json:
-        print(json.dumps({"robot": robot.name, **path_table_json(path)}, indent=2))
+        print(json_text({"robot": robot.name, **path_table_json(path)}))
     else:
         corrections = len(path.rows) - args.steps - 1
         print(
@@ -775,15 +824,14 @@ def command_ik(args: argparse.Namespace) -> int:
                 for s in found.solutions
             ]
             print(
-                json.dumps(
+                json_text(
                     {
                         "robot": robot.name,
                         "method": found.method,
                         "description": found.description,
                         "complete": found.complete,
                         "solutions": solutions,
-                    },
-                    indent=2,
+                    }
                 )
             )
         else:
@@ -815,7 +863,7 @@ def command_ik(args: argparse.Namespace) -> int:
         **options,
     )
     if args.json:
-        print(json.dumps({"robot": robot.name, **ik_result_json(result)}, indent=2))
+        print(json_text({"robot": robot.name, **ik_result_json(result)}))
     else:
         print(f"{robot.name}: target {target_text(values)}")
         print(ik_result_text(robot, result, args.tolerance))
@@ -882,6 +930,13 @@ def build_parser() -> argparse.ArgumentParser:
         prog="symkin",
         description="Closed-form kinematics from Denavit-Hartenberg tables.",
         epilog="ROBOT is a built-in name (see 'symkin list') or a path to a .toml robot file.",
+    )
+    parser.add_argument(
+        "--time-limit",
+        type=float,
+        default=DEFAULT_TIME_LIMIT,
+        metavar="SECONDS",
+        help=f"stop with an error after this long (default {DEFAULT_TIME_LIMIT:g}; 0: no limit)",
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -1038,7 +1093,9 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help=f"random restarts after a failed attempt (default {DEFAULT_RESTARTS}; along a path 0)",
     )
-    ik.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the restarts")
+    ik.add_argument(
+        "--seed", type=seed_from_text, default=0, metavar="N", help="seed of the restarts (>= 0)"
+    )
     ik.add_argument("--path-from", metavar="X0", help="start of a straight path (as --target)")
     ik.add_argument("--to", metavar="X_END", help="end of the path")
     ik.add_argument("--steps", type=int, metavar="K", help="number of equal steps of the path")
@@ -1109,23 +1166,60 @@ def build_parser() -> argparse.ArgumentParser:
 
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:
     """One ``symkin: warning: ...`` line instead of Python's file-and-line format."""
-    print(f"symkin: warning: {message}", file=sys.stderr)
+    print(f"symkin: warning: {printable(str(message))}", file=sys.stderr)
+
+
+class TimeLimitReached(BaseException):
+    """Raised by the alarm; a BaseException, so SymPy's ``except Exception`` cannot swallow it."""
+
+
+def _stop_at_time_limit(seconds: float) -> None:
+    def expire(*_: object) -> None:
+        raise TimeLimitReached
+
+    if seconds > 0:
+        signal.signal(signal.SIGALRM, expire)
+        signal.setitimer(signal.ITIMER_REAL, seconds)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
     status = 0
+    subject = f"{args.command} {printable(getattr(args, 'robot', '') or '')}".rstrip()
     try:
+        _stop_at_time_limit(args.time_limit)
         with warnings.catch_warnings():
             warnings.showwarning = show_warning
             status = args.run(args) or 0  # ik: 1 when the target is not reached
     except SymkinError as error:
-        print(f"symkin: error: {error}", file=sys.stderr)
+        print(f"symkin: error: {printable(str(error), keep=KEPT)}", file=sys.stderr)
         return 2
+    except TimeLimitReached:
+        print(
+            f"symkin: error: {subject}: stopped at the time limit of {args.time_limit:g} s "
+            "(--time-limit SECONDS, 0 for none); the closed form is too large for this budget",
+            file=sys.stderr,
+        )
+        return 2
+    except KeyboardInterrupt:
+        print(f"symkin: {subject}: interrupted; no output folder was changed", file=sys.stderr)
+        return 130
     except BrokenPipeError:
         # Output piped into `head` and closed early: not an error of ours.
         sys.stderr.close()
+    except Exception as error:
+        if os.environ.get("SYMKIN_TRACEBACK"):
+            raise
+        print(
+            f"symkin: internal error: {subject}: {type(error).__name__}: "
+            f"{printable(str(error))[:300]} (a bug in symkin: please report it with the robot "
+            "file; SYMKIN_TRACEBACK=1 shows the traceback)",
+            file=sys.stderr,
+        )
+        return 3
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
     return status
 
 

@@ -1,6 +1,7 @@
 """Robot -> kernels -> backends -> files, or a comparison with files on disk (``--check``).
 
-Only this module and the command line write files.  Output is deterministic: the same robot
+Only this module and the command line write files, all through
+:func:`symkin.output_folder.write_folder`.  Output is deterministic: the same robot
 gives byte-identical text on every machine and under every ``PYTHONHASHSEED``.
 """
 
@@ -9,7 +10,7 @@ from __future__ import annotations
 import difflib
 import functools
 from collections.abc import Callable, Iterable, Sequence
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 from symkin.derive import Model, derive
 from symkin.emit.c import PRECISIONS, emit_c
@@ -22,6 +23,13 @@ from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
 from symkin.io import catalogue_names, load_robot
 from symkin.kernel import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.output_folder import (
+    check_no_symlink,
+    manifest_name,
+    manifest_text,
+    read_manifest,
+    write_folder,
+)
 from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
@@ -80,17 +88,6 @@ def files_for_robot(
     return dict(sorted(files.items()))
 
 
-def write_files(root: Path, files: dict[str, str]) -> None:
-    """Write ``{relative path: text}`` under ``root``; a file-system error is a user error."""
-    for relative, text in files.items():
-        path = root / relative
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(text, encoding="utf-8")
-        except OSError as error:
-            raise SymkinError(f"cannot write {path}: {error.strerror or error}") from None
-
-
 def _read_text(path: Path) -> str:
     try:
         return path.read_text(encoding="utf-8")
@@ -99,13 +96,20 @@ def _read_text(path: Path) -> str:
 
 
 def difference(root: Path, files: dict[str, str]) -> str:
-    """Unified diff between ``files`` and what is under ``root`` (extra files included)."""
-    chunks = []
-    on_disk = {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}
-    for relative in sorted(on_disk | set(files)):
+    """Unified diff between ``files`` (and their manifest) and what symkin wrote under ``root``.
+
+    Files the manifest does not list are the user's and are not compared; a manifest marked
+    incomplete (an interrupted run) shows as a difference.
+    """
+    manifest = manifest_name()
+    listed, complete = read_manifest(root, manifest)
+    expected = {**files, manifest: manifest_text(files)}
+    on_disk = {r for r in listed | {manifest} if (root / r).is_file()}
+    chunks = [] if complete else [f"{root.name}/{manifest}: a run stopped while writing\n"]
+    for relative in sorted(on_disk | set(expected)):
         path = root / relative
         old = _read_text(path) if relative in on_disk else ""
-        new = files.get(relative, "")
+        new = expected.get(relative, "")
         if old != new:
             chunks.extend(
                 difflib.unified_diff(
@@ -118,28 +122,23 @@ def difference(root: Path, files: dict[str, str]) -> str:
     return "".join(chunks)
 
 
-def _remove_stale_files(root: Path, files: dict[str, str]) -> None:
-    """Delete files under ``root`` that a fresh render no longer produces (so --check passes)."""
-    if root.is_dir():
-        for path in root.rglob("*"):
-            if path.is_file() and path.relative_to(root).as_posix() not in files:
-                path.unlink()
-
-
 def generate_catalogue(
     root: Path, check: bool = False, progress: Callable[[str], None] = lambda _: None
 ) -> str:
     """Render every catalogue robot into ``root/<robot>/``; with ``check``, only compare.
 
-    Returns the unified diff of what differs (empty when all is up to date or was written).
+    Each robot folder is written by :func:`~symkin.output_folder.write_folder`: a symlinked folder
+    is refused, and only files of the folder's manifest are ever deleted.
+
+        Returns the unified diff of what differs (empty when all is up to date or was written).
     """
     diffs = []
     for name in catalogue_names():
         progress(name)
         files = files_for_robot(load_robot(name))
         if check:
+            check_no_symlink(root, PurePosixPath(name, "x"))
             diffs.append(difference(root / name, files))
         else:
-            _remove_stale_files(root / name, files)
-            write_files(root / name, files)
+            write_folder(root / name, files)
     return "".join(diffs)

@@ -24,6 +24,7 @@ from typing import Literal
 import sympy as sp
 
 from symkin.errors import RobotError
+from symkin.text import unprintable_characters
 
 JointType = Literal["revolute", "prismatic"]
 Convention = Literal["standard", "modified"]
@@ -115,6 +116,13 @@ class Robot:
             raise RobotError(
                 f'\'convention\' must be "standard" or "modified", got {self.convention!r}'
             )
+        for key in ("title", "source"):
+            # Titles reach terminals, comments of generated files and TeX: one printable line.
+            bad = unprintable_characters(getattr(self, key))
+            if bad:
+                raise RobotError(
+                    f"{key!r} must be one line of printable text; it contains {', '.join(bad)}"
+                )
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "parameters", tuple((n, v) for n, v in self.parameters))
         object.__setattr__(self, "gravity", tuple(sp.sympify(g) for g in self.gravity))

@@ -10,6 +10,7 @@ import jinja2
 
 from symkin.kernel import Kernel
 from symkin.robot import Robot
+from symkin.text import printable
 
 REGENERATE_COMMAND = "symkin generate"
 
@@ -64,9 +65,10 @@ def counts_text(kernel: Kernel) -> str:
 
 
 def comment_text(text: str) -> str:
-    """``text`` on one line, safe inside a C block comment, a Python docstring and a Makefile
-    comment: no ``*/``, no triple quote, no backslash (an escape, or a line continuation)."""
-    one_line = " ".join(text.split())
+    """``text`` on one line, safe inside a C block comment, a Python docstring, a Makefile
+    comment and a TeX comment: only printable characters (no line break, NUL or bidirectional
+    control), no ``*/``, no triple quote, no backslash (an escape, or a line continuation)."""
+    one_line = " ".join(printable(text).split())
     return one_line.replace("*/", "* /").replace('"""', "'''").replace("\\", "/")
 
 

@@ -21,6 +21,7 @@ import json
 import keyword
 import math
 import re
+import stat
 import tomllib
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -33,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.errors import RobotError, RobotWarning
+from symkin.names import reserved_reason, robot_name_reason
 from symkin.robot import NAME_PATTERN, Joint, Link, Robot
 
 __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
@@ -63,31 +65,20 @@ JOINT_VARIABLE_PATTERN = re.compile(r"^(q|dq|ddq)[0-9]+$")
 # Symbols symkin invents for a link without inertial data (see derive/); a parameter named like
 # one of them would be the same SymPy symbol and silently couple two unrelated quantities.
 LINK_SYMBOL_PATTERN = re.compile(r"^(m|cx|cy|cz|ixx|iyy|izz|ixy|ixz|iyz)([0-9]+)$")
-# Names that read as SymPy constants/functions in generated code and printed formulas.
-RESERVED_NAMES = frozenset(
-    {
-        "pi", "E", "I", "S", "N", "O", "Q", "oo", "zoo", "nan", "inf",
-        "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "atan2",
-        "sinh", "cosh", "tanh", "exp", "log", "ln", "sqrt", "cbrt", "abs", "Abs",
-        "sign", "sgn", "min", "max", "Min", "Max", "floor", "ceiling", "re", "im",
-        # names the generated NumPy, C and CasADi code uses for its own variables
-        "q", "dq", "ddq", "p", "T", "J", "Jp", "p_tool", "det", "batch", "count",
-        "numpy", "casadi", "math", "symbol_type",
-        # C keywords and types a parameter name would collide with
-        "auto", "break", "case", "char", "const", "continue", "default", "do", "double",
-        "else", "enum", "extern", "float", "for", "goto", "if", "inline", "int", "long",
-        "register", "restrict", "return", "short", "signed", "sizeof", "static", "struct",
-        "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "size_t",
-    }
-)  # fmt: skip
-
 # Expressions are short formulas; the caps keep pathological input (deep nesting, 9**9**9)
 # from exhausting time or memory before it can be rejected.
 MAX_EXPRESSION_LENGTH = 500
 MAX_EXPONENT = 100
+# A power of a parameter expression is expanded by the derivations: (L1 + L2)**100 would not
+# finish.  Squares, cubes, square roots and the like are what robot geometry uses.
+MAX_SYMBOLIC_EXPONENT = 4
+# Integers beyond 2**53 are not exact in double precision and overflow C's integer literals.
+MAX_EXACT_INTEGER = 2**53
 MAX_MAGNITUDE = 1e300
 
 CATALOGUE_DIR = "robots"
+# A 100-joint robot with full inertial data is about 60 KiB.
+MAX_FILE_BYTES = 1024 * 1024
 
 
 # ---------------------------------------------------------------------------------------------
@@ -138,7 +129,7 @@ def _looks_like_path(name_or_path: str | Path) -> bool:
 
 def _load_path(path: Path, shown: str) -> Robot:
     try:
-        data = path.read_bytes()
+        data = _read_limited(path, shown)
     except OSError as exc:
         hint = ""
         if path.stem in catalogue_names() and not path.exists():
@@ -149,6 +140,22 @@ def _load_path(path: Path, shown: str) -> Robot:
     except UnicodeDecodeError:
         raise RobotError(f"{shown}: the file is not UTF-8 text") from None
     return robot_from_toml(text, shown)
+
+
+def _read_limited(path: Path, shown: str) -> bytes:
+    """The bytes of a regular file of at most :data:`MAX_FILE_BYTES` (``/dev/zero``, a pipe or
+    a folder would otherwise be read until memory runs out, or block)."""
+    info = path.stat()
+    if not stat.S_ISREG(info.st_mode):
+        raise RobotError(f"{shown}: not a regular file (a robot file is a .toml text file)")
+    with path.open("rb") as handle:
+        data = handle.read(MAX_FILE_BYTES + 1)
+    if len(data) > MAX_FILE_BYTES:
+        raise RobotError(
+            f"{shown}: the file is larger than {MAX_FILE_BYTES // 1024} KiB; "
+            "a robot file is a short text"
+        )
+    return data
 
 
 def _load_catalogue(name: str) -> Robot:
@@ -314,6 +321,9 @@ def _robot_name(document: Mapping[str, Any], ctx: _Context) -> str:
     name = document["name"]
     if not isinstance(name, str) or not NAME_PATTERN.match(name):
         raise ctx.error(f"'name' must match [a-z][a-z0-9_]*, got {_show(name)}")
+    reason = robot_name_reason(name)
+    if reason:
+        raise ctx.error(f"'name' {_show(name)} is reserved ({reason}); rename the robot")
     return name
 
 
@@ -341,11 +351,9 @@ def _parameter(name: str, value: Any, ctx: _Context) -> float | None:
 def _check_parameter_name(name: str, key: str, ctx: _Context) -> None:
     if not PARAMETER_PATTERN.match(name) or keyword.iskeyword(name):
         raise ctx.error(f"{key!r}: a parameter name must be an identifier, got {_show(name)}")
-    if name in RESERVED_NAMES:
-        raise ctx.error(
-            f"{key!r}: {name!r} is reserved "
-            "(a SymPy constant or function, a C keyword or a name generated code uses)"
-        )
+    reason = reserved_reason(name)
+    if reason:
+        raise ctx.error(f"{key!r}: {name!r} is reserved ({reason}); rename the parameter")
     if JOINT_VARIABLE_PATTERN.match(name):
         raise ctx.error(f"{key!r}: {name!r} is reserved for a joint variable (q<i>, dq<i>, ddq<i>)")
 
@@ -640,6 +648,8 @@ def _finite_number(value: int | float, key: str, ctx: _Context) -> int | float:
         raise ctx.error(f"{ctx.key(key)!r} must be a finite number, got {_show(value)}")
     if abs(value) > MAX_MAGNITUDE:
         raise ctx.error(f"{ctx.key(key)!r} is too large ({_show(value)}); the limit is 1e300")
+    if isinstance(value, int) and abs(value) > MAX_EXACT_INTEGER:
+        raise ctx.error(f"{ctx.key(key)!r}: {_INEXACT_INTEGER}, got {_show(value)}")
     return value
 
 
@@ -705,11 +715,29 @@ def _check_expression_value(expr: sp.Expr, shown: str, text: str, ctx: _Context)
     if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise ctx.error(f"{shown!r} is not finite (division by zero?): {_show(text)}")
     if not expr.is_number:
+        _check_value_at_defaults(expr, shown, text, ctx)
         return
     number = _finite_float(expr)
     if number is None or abs(number) > MAX_MAGNITUDE:
         raise ctx.error(
             f"{shown!r} is not a finite real number of magnitude <= 1e300: {_show(text)}"
+        )
+
+
+def _check_value_at_defaults(expr: sp.Expr, shown: str, text: str, ctx: _Context) -> None:
+    """A formula with a pole (or a complex value) at the parameters' own values gives NaN or
+    inf in every backend: reject it when all its parameters have values."""
+    values = ctx.values or {}
+    if any(values.get(s.name) is None for s in expr.free_symbols):
+        return
+    number = _numeric(expr, ctx)
+    if number is None or abs(number) > MAX_MAGNITUDE:
+        given = ", ".join(
+            f"{s.name} = {values[s.name]:g}" for s in sorted(expr.free_symbols, key=str)
+        )
+        raise ctx.error(
+            f"{shown!r} is not a finite real number at the parameters' values ({given}): "
+            f"{_show(text)}"
         )
 
 
@@ -719,6 +747,12 @@ _BINARY: Mapping[type[ast.operator], Callable[[sp.Expr, sp.Expr], sp.Expr]] = {
     ast.Mult: lambda x, y: x * y,
     ast.Div: lambda x, y: x / y,
 }
+
+
+_INEXACT_INTEGER = (
+    "integers beyond 2**53 are not exact in double precision; write the number as a float, "
+    "such as 1e30"
+)
 
 
 class _ExpressionError(Exception):
@@ -763,6 +797,8 @@ class _ExpressionBuilder:
             raise self.fail("contains a number that is not finite")
         if abs(value) > MAX_MAGNITUDE:
             raise self.fail("contains a number larger than 1e300")
+        if isinstance(value, int) and abs(value) > MAX_EXACT_INTEGER:
+            raise self.fail(f"contains an integer beyond 2**53 ({_INEXACT_INTEGER})")
         return _sympy_number(value)
 
     def _name(self, name: str) -> sp.Expr:
@@ -779,12 +815,19 @@ class _ExpressionBuilder:
 
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
         # Check numbers before SymPy evaluates them exactly: 9**9**9 would never finish.
-        if exponent.is_number:
-            size = _finite_float(exponent)
-            if size is None or abs(size) > MAX_EXPONENT:
-                raise self.fail(f"has an exponent outside [-{MAX_EXPONENT}, {MAX_EXPONENT}]")
-            if base.is_number:
-                self._check_numeric_power(base, size)
+        if not exponent.is_number:
+            # L1**L1 and towers: no closed form symkin can simplify, print or bound.
+            raise self.fail("has an exponent with parameters (exponents must be numbers)")
+        size = _finite_float(exponent)
+        if size is None or abs(size) > MAX_EXPONENT:
+            raise self.fail(f"has an exponent outside [-{MAX_EXPONENT}, {MAX_EXPONENT}]")
+        if base.is_number:
+            self._check_numeric_power(base, size)
+        elif abs(size) > MAX_SYMBOLIC_EXPONENT:
+            raise self.fail(
+                f"raises parameters to a power outside [-{MAX_SYMBOLIC_EXPONENT}, "
+                f"{MAX_SYMBOLIC_EXPONENT}]"
+            )
         return base**exponent
 
     def _check_numeric_power(self, base: sp.Expr, exponent: float) -> None:
