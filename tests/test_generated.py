@@ -218,10 +218,8 @@ def test_manifest_lists_exactly_the_robot_folder_files():
         folder = GENERATED / name
         listed = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()[1:]
         on_disk = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
-        assert [*listed, MANIFEST] == sorted([*listed, MANIFEST]) and set(on_disk) == {
-            *listed,
-            MANIFEST,
-        }
+        assert listed == sorted(listed)
+        assert set(on_disk) == {*listed, MANIFEST}
 
 
 def test_derive_latex_backend_writes_only_the_document_files(tmp_path, capsys):
