@@ -13,6 +13,7 @@ import os
 import re
 import signal
 import sys
+import threading
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -488,17 +489,13 @@ def command_eval(args: argparse.Namespace) -> None:
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
     q = joint_values(args.q, "--q", robot)
-    dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
     kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
-    state = kinematic_state(
-        model,
-        q,
-        dq,
-        ddq,
-        kinematic_overrides,
-        [point_from_text(p, robot) for p in args.point],
-        task_rows_from_text(args.task),
-    )
+    points = [point_from_text(p, robot) for p in args.point]
+    with np.errstate(all="ignore"):  # an overflow is reported once, by json_text below
+        dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+        state = kinematic_state(
+            model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
+        )
     data = eval_json(state) | dynamics_json(dynamics)
     if args.json:
         print(json_text(data))
@@ -1177,7 +1174,8 @@ def _stop_at_time_limit(seconds: float) -> None:
     def expire(*_: object) -> None:
         raise TimeLimitReached
 
-    if seconds > 0:
+    # Signals reach only the main thread (main() may be called from another, e.g. a GUI).
+    if seconds > 0 and threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGALRM, expire)
         signal.setitimer(signal.ITIMER_REAL, seconds)
 
@@ -1219,7 +1217,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         return 3
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        if threading.current_thread() is threading.main_thread():
+            signal.setitimer(signal.ITIMER_REAL, 0)
     return status
 
 
