@@ -1,0 +1,166 @@
+"""The one writer of output folders (symkin.output_folder): links, manifests, interruptions.
+
+Each test plants what the fuzzing run planted (a symlink where a file goes, a symlinked
+folder, a user's file) or interrupts a run, and checks the files on disk afterwards.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+import symkin.output_folder as output_folder
+from symkin.cli import main
+from symkin.errors import SymkinError
+from symkin.output_folder import read_manifest, write_folder
+
+FILES = {"c/arm.c": "int x;\n", "c/arm.h": "extern int x;\n", "numpy/arm.py": "X = 1\n"}
+
+
+def tree(root: Path) -> dict[str, str]:
+    """Every file under ``root`` (links not followed) with its text, links as ``-> target``."""
+    found = {}
+    for path in sorted(root.rglob("*")):
+        relative = path.relative_to(root).as_posix()
+        if path.is_symlink():
+            found[relative] = f"-> {os.readlink(path)}"
+        elif path.is_file():
+            found[relative] = path.read_text(encoding="utf-8")
+    return found
+
+
+def test_writes_the_files_and_a_manifest_of_them(tmp_path):
+    write_folder(tmp_path / "out", FILES)
+    assert tree(tmp_path / "out") == {
+        **FILES,
+        ".symkin-files": "\n".join([output_folder.MANIFEST_HEADER, *sorted(FILES)]) + "\n",
+    }
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no staging left
+
+
+def test_a_link_planted_at_a_file_is_replaced_and_its_target_untouched(tmp_path):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("precious\n", encoding="utf-8")
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    (out / "c" / "arm.c").unlink()
+    (out / "c" / "arm.c").symlink_to(secret)
+    (out / "mine.txt").write_text("the user's\n", encoding="utf-8")  # forces file-by-file
+    write_folder(out, FILES)
+    assert secret.read_text(encoding="utf-8") == "precious\n"
+    assert not (out / "c" / "arm.c").is_symlink()
+    assert (out / "c" / "arm.c").read_text(encoding="utf-8") == FILES["c/arm.c"]
+
+
+def test_a_symlinked_folder_inside_the_output_is_refused(tmp_path):
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "c").symlink_to(elsewhere, target_is_directory=True)
+    with pytest.raises(SymkinError, match="symbolic link"):
+        write_folder(out, FILES)
+    assert list(elsewhere.iterdir()) == []
+
+
+def test_a_symlinked_output_folder_is_refused(tmp_path):
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "thesis.tex").write_text("chapter 1\n", encoding="utf-8")
+    (tmp_path / "out").symlink_to(elsewhere, target_is_directory=True)
+    with pytest.raises(SymkinError, match="symbolic link"):
+        write_folder(tmp_path / "out", FILES)
+    assert tree(elsewhere) == {"thesis.tex": "chapter 1\n"}
+
+
+def test_only_files_of_the_manifest_are_deleted(tmp_path):
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    (out / "c" / "notes.txt").write_text("mine\n", encoding="utf-8")
+    write_folder(out, {"numpy/arm.py": "X = 2\n"})
+    assert tree(out) == {
+        ".symkin-files": f"{output_folder.MANIFEST_HEADER}\nnumpy/arm.py\n",
+        "c/notes.txt": "mine\n",
+        "numpy/arm.py": "X = 2\n",
+    }
+
+
+def test_an_emptied_folder_of_ours_is_removed_but_not_one_of_the_user(tmp_path):
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    (out / "empty_of_mine").mkdir()
+    write_folder(out, {"numpy/arm.py": "X = 2\n"})
+    assert not (out / "c").exists()
+    assert (out / "empty_of_mine").is_dir()
+
+
+def test_a_failure_while_building_leaves_the_old_folder_untouched(tmp_path):
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    before = tree(out)
+
+    def failing_build(staging: Path) -> list[str]:
+        assert (staging / "c" / "arm.c").read_text(encoding="utf-8") == "int y;\n"
+        raise KeyboardInterrupt  # Ctrl-C during the compile
+
+    with pytest.raises(KeyboardInterrupt):
+        write_folder(out, {**FILES, "c/arm.c": "int y;\n"}, finish=failing_build)
+    assert tree(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # the staging folder is gone
+
+
+def test_an_interrupted_file_by_file_commit_is_marked_incomplete(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    (out / "mine.txt").write_text("the user's\n", encoding="utf-8")
+    replace = output_folder._replace_file
+    calls = []
+
+    def replace_then_die(source: Path, root: Path, relative: str) -> None:
+        calls.append(relative)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        replace(source, root, relative)
+
+    monkeypatch.setattr(output_folder, "_replace_file", replace_then_die)
+    with pytest.raises(KeyboardInterrupt):
+        write_folder(out, {**FILES, "c/arm.c": "int y;\n"})
+    listed, complete = read_manifest(out, ".symkin-files")
+    assert not complete and listed == set(FILES)
+    monkeypatch.setattr(output_folder, "_replace_file", replace)
+    write_folder(out, {**FILES, "c/arm.c": "int y;\n"})
+    assert read_manifest(out, ".symkin-files") == (frozenset(FILES), True)
+    assert (out / "mine.txt").read_text(encoding="utf-8") == "the user's\n"
+
+
+@pytest.mark.parametrize("relative", ["../escape.c", "/etc/passwd", "c/../../x", ""])
+def test_paths_that_leave_the_folder_are_refused(tmp_path, relative):
+    with pytest.raises(SymkinError, match="plain relative path"):
+        write_folder(tmp_path / "out", {relative: "x"})
+
+
+def test_derive_without_build_removes_the_previous_extension(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["derive", "planar_2r", "--out", str(out), "--emit", "c,python"]) == 0
+    built = [p for p in (out / "python").iterdir() if p.suffix == ".so"]
+    assert len(built) == 1
+    assert main(["derive", "planar_2r", "--out", str(out), "--emit", "c,python", "--no-build"]) == 0
+    assert not built[0].exists()
+    assert (out / "python" / "planar_2r_ext.c").is_file()
+    capsys.readouterr()
+
+
+def test_derive_never_writes_through_a_planted_link(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["derive", "planar_2r", "--out", str(out), "--emit", "c"]) == 0
+    target = tmp_path / "victim.txt"
+    target.write_text("precious\n", encoding="utf-8")
+    planted = out / "c" / "planar_2r.c"
+    planted.unlink()
+    planted.symlink_to(target)
+    assert main(["derive", "planar_2r", "--out", str(out), "--emit", "c"]) == 0
+    assert target.read_text(encoding="utf-8") == "precious\n"
+    assert not planted.is_symlink() and "planar_2r_fk" in planted.read_text(encoding="utf-8")
+    capsys.readouterr()
