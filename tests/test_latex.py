@@ -44,7 +44,7 @@ from symkin.emit.latex import (
     macro_prefix,
 )
 from symkin.emit.latex_printer import Abbreviation, KinematicsLatexPrinter, latex_width
-from symkin.errors import SymkinError
+from symkin.errors import RobotError, SymkinError
 from symkin.evaluate import numeric_function
 from symkin.io import load_robot
 from symkin.latex_build import compile_pdf, log_problems
@@ -658,3 +658,61 @@ def test_macro_names_are_letters_only():
     assert macro_prefix("puma560") == "pumaFiveSixZero"
     assert macro_prefix("planar_2r") == "planarTwoR"
     assert macro_prefix("scara") == "scara"
+
+
+# ---------------------------------------------------------------- pdflatex locked down
+# A robot file from someone else ends up in the document; even a document that tries to read
+# or write files, or to run a command, must not manage to (docs/security.md).
+
+
+def _hostile_document(folder: Path, body: str) -> Path:
+    tex = folder / "hostile.tex"
+    tex.write_text(
+        "\\documentclass{article}\n\\begin{document}\nx\n" + body + "\n\\end{document}\n",
+        encoding="utf-8",
+    )
+    return tex
+
+
+def test_pdflatex_cannot_read_files_outside_the_document_folder(tmp_path):
+    secret = tmp_path / "secret.tex"
+    secret.write_text("SECRET-CONTENT\n", encoding="utf-8")
+    folder = tmp_path / "doc"
+    folder.mkdir()
+    tex = _hostile_document(folder, f"\\input{{{secret}}}")
+    with pytest.raises(SymkinError, match="not found"):
+        compile_pdf(tex)
+    relative = _hostile_document(folder, "\\input{../secret}")
+    with pytest.raises(SymkinError, match="not found"):
+        compile_pdf(relative)
+
+
+def test_pdflatex_cannot_write_files_or_run_commands(tmp_path):
+    target = tmp_path / "written.txt"
+    ran = tmp_path / "ran"
+    folder = tmp_path / "doc"
+    folder.mkdir()
+    tex = _hostile_document(
+        folder,
+        f"\\immediate\\write18{{touch {ran}}}\n"
+        f"\\immediate\\openout1={target}\n\\immediate\\write1{{x}}\n\\immediate\\closeout1\n",
+    )
+    with pytest.raises(SymkinError, match="can't write"):
+        compile_pdf(tex)
+    assert not target.exists() and not ran.exists()
+    # Only the log is left beside the document: pdflatex wrote into a temporary folder.
+    assert sorted(p.name for p in folder.iterdir()) == ["hostile.log", "hostile.tex"]
+
+
+def test_a_title_cannot_leave_its_tex_comment():
+    robot = load_robot("planar_2r")
+    hostile = "x\n\\AtBeginDocument{\\input{/etc/hostname}}\n% "
+    with pytest.raises(RobotError, match="printable"):
+        dataclasses.replace(robot, title=hostile)
+    # A robot that bypassed the check (object.__setattr__) is still written safely.
+    sneaky = dataclasses.replace(robot, title="ok")
+    object.__setattr__(sneaky, "title", hostile)
+    document = latex_files(derive(sneaky))["planar_2r.tex"]
+    for line in document.splitlines():
+        assert not line.startswith("\\AtBeginDocument"), line
+    assert "\\input{/etc/hostname}" not in document.replace("\\textbackslash{}", "/")

@@ -293,8 +293,8 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     robot = model.robot
     parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
     out = [
-        f"{robot.name}: {robot.title}",
-        f"source: {robot.source or '(not given)'}",
+        f"{robot.name}: {printable(robot.title)}",
+        f"source: {printable(robot.source) or '(not given)'}",
         f"{robot.dof} joints, {robot.convention} DH; parameters: {parameters or 'none'}",
         "",
         "DH table (angles in rad):",
