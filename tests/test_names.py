@@ -98,3 +98,16 @@ def test_allowed_unusual_names_give_the_hand_derived_numbers(tmp_path, first, se
         check=False,
     )
     assert compiled.returncode == 0, compiled.stderr
+
+
+def test_an_exception_inside_a_derivation_names_the_robot_and_the_quantity(monkeypatch):
+    from symkin.derive import jacobians
+
+    def broken(*_args, **_kwargs):
+        raise TypeError("cannot determine truth value of Relational")
+
+    monkeypatch.setattr(jacobians, "task_jacobian_determinant", broken)
+    robot = robot_from_toml(two_link("L1", "L2"), "arm.toml")
+    with pytest.raises(symkin.DerivationError, match=r"two_link: cannot derive the Jacobian "
+                       r"determinant: TypeError: cannot determine truth value"):  # fmt: skip
+        symkin.derive(robot).determinant()

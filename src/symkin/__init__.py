@@ -11,11 +11,12 @@ The public API::
                                        final_time=2.0))   # optimal control (CasADi + IPOPT)
 """
 
-from symkin.derive import Model, PointMotion, derive
+from symkin.derive import DerivationError, Model, PointMotion, derive
 from symkin.errors import RobotError, SymkinError
 from symkin.evaluate import KinematicState, PointState, kinematic_state, numeric_function
 from symkin.ik import IKResult, pose_from_target, solve_ik
 from symkin.io import catalogue_names, load_robot, robot_from_toml
+from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot, joint_symbols
 from symkin.trajopt import (
     InfeasibleTrajectoryError,
@@ -25,6 +26,7 @@ from symkin.trajopt import (
 )
 
 __all__ = [
+    "DerivationError",
     "IKResult",
     "InfeasibleTrajectoryError",
     "Joint",
@@ -48,4 +50,5 @@ __all__ = [
     "pose_from_target",
     "robot_from_toml",
     "solve_ik",
+    "write_folder",
 ]

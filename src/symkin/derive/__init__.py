@@ -6,9 +6,11 @@ use and cached on the model; :func:`derive` caches models per robot.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import functools
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
+from typing import Any, TypeVar
 
 import sympy as sp
 
@@ -18,9 +20,41 @@ from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_f
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
+from symkin.errors import SymkinError
 from symkin.robot import Robot, joint_symbols
 
-__all__ = ["Dynamics", "Model", "PointMotion", "derive"]
+__all__ = ["DerivationError", "Dynamics", "Model", "PointMotion", "derive"]
+
+Method = TypeVar("Method", bound=Callable[..., Any])
+
+
+class DerivationError(SymkinError):
+    """A derivation step failed inside SymPy/SymEngine; the message names the robot and the
+    quantity instead of a traceback from deep inside the algebra."""
+
+
+def derivation_step(quantity: str) -> Callable[[Method], Method]:
+    """Turn any exception of the algebra inside ``quantity``'s derivation into one
+    :class:`DerivationError` (the loader rejects the constructs known to cause them; this is
+    the net for the rest)."""
+
+    def decorate(method: Method) -> Method:
+        @functools.wraps(method)
+        def derive_quantity(self: Model, *args: Any, **kwargs: Any) -> Any:
+            try:
+                return method(self, *args, **kwargs)
+            except SymkinError:
+                raise
+            except (ArithmeticError, TypeError, ValueError, KeyError, RecursionError) as error:
+                raise DerivationError(
+                    f"{self.robot.name}: cannot derive {quantity}: {type(error).__name__}: "
+                    f"{str(error)[:200]} (an expression of the robot file symkin cannot handle; "
+                    "if the file is valid, please report it)"
+                ) from error
+
+        return derive_quantity  # type: ignore[return-value]
+
+    return decorate
 
 
 @dataclass(frozen=True)
@@ -35,6 +69,7 @@ class Model:
     simplified: bool = True
 
     @cached_property
+    @derivation_step("the link transforms and forward kinematics")
     def kinematics(self) -> Kinematics:
         return kinematics_from_robot(self.robot, self.simplified)
 
@@ -75,6 +110,7 @@ class Model:
         return self.kinematics.tool_position
 
     @cached_property
+    @derivation_step("the Z-Y-X Euler angles")
     def euler_zyx(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
         """``(psi, theta, phi)`` with ``R = Rz(psi) Ry(theta) Rx(phi)``."""
         return euler_zyx_of_tool(self.kinematics, "atan2")
@@ -85,6 +121,7 @@ class Model:
         return euler_zyx_of_tool(self.kinematics, "lecture")
 
     @cached_property
+    @derivation_step("the geometric Jacobian")
     def geometric_jacobian(self) -> sp.ImmutableMatrix:
         """6 x n, base frame, linear rows first."""
         return jacobians.geometric_jacobian(self.robot, self.kinematics)
@@ -124,12 +161,14 @@ class Model:
         return self._determinant(tuple(rows or self.task_rows))
 
     @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
+    @derivation_step("the Jacobian determinant")
     def _determinant(self, rows: tuple[str, ...]) -> sp.Expr | None:
         jacobians.rows_from_names(rows)
         return jacobians.task_jacobian_determinant(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
 
+    @derivation_step("the singular configurations")
     def singular_configurations(self, rows: Sequence[str] | None = None) -> tuple[sp.Eq, ...]:
         """Where the task Jacobian's determinant vanishes (empty when it is not square)."""
         determinant = self.determinant(rows)
@@ -146,6 +185,7 @@ class Model:
             self.kinematics, self.task_jacobian(rows), determinant
         )
 
+    @derivation_step("the manipulability")
     def manipulability(self, rows: Sequence[str] | None = None) -> sp.Expr:
         """Yoshikawa's ``sqrt(det(J J^T))`` of the task Jacobian (``|det J|`` when square)."""
         determinant = self.determinant(rows)
@@ -156,22 +196,26 @@ class Model:
         return sp.sqrt(gram.det(method="berkowitz"))
 
     @cached_property
+    @derivation_step("Lagrange's equations of motion")
     def lagrange(self) -> Dynamics:
         """Equations of motion by Lagrange (readable; for small robots)."""
         return lagrange_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
 
     @cached_property
+    @derivation_step("the Newton-Euler equations of motion")
     def newton_euler(self) -> Dynamics:
         """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
         return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
 
     @cached_property
+    @derivation_step("the Newton-Euler recursion")
     def inverse_dynamics_recursion(
         self,
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
         return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
 
+    @derivation_step("the point kinematics")
     def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:
         """Position, velocity and acceleration of a point fixed in ``link`` (base frame).
 
