@@ -413,7 +413,7 @@ def test_catalogue_file_name_as_path_hints_at_the_name(
 
 
 def test_directory_is_a_robot_error(tmp_path: Path) -> None:
-    with pytest.raises(RobotError, match="cannot read the file"):
+    with pytest.raises(RobotError, match="not a regular file"):
         load_robot(tmp_path)
 
 
