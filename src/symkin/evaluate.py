@@ -64,7 +64,14 @@ def numeric_function(
     overrides: Mapping[str, float] | None = None,
 ):
     """``f(q, dq, ddq) -> ndarray`` for a symbolic quantity of ``model``."""
-    substituted = sp.sympify(expr).xreplace(parameter_substitution(model, overrides))
+    values = parameter_substitution(model, overrides)
+    substituted = sp.sympify(expr).xreplace(values)
+    if substituted.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        given = ", ".join(f"{s.name} = {v:g}" for s, v in values.items())
+        raise SymkinError(
+            f"{model.robot.name}: a formula divides by zero at the parameter values ({given}); "
+            "choose other values with --set"
+        )
     function = sp.lambdify([model.q, model.dq, model.ddq], substituted, modules="numpy")
 
     def evaluate(q, dq=None, ddq=None) -> np.ndarray:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from functools import partial
 
+import sympy as sp
+
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
 from symkin.emit.render import (
@@ -12,6 +14,7 @@ from symkin.emit.render import (
     preamble_lines,
     render,
 )
+from symkin.errors import SymkinError
 from symkin.kernel import Kernel
 from symkin.robot import Robot
 
@@ -23,8 +26,33 @@ def c_literal(value: float, precision: str) -> str:
     return f"{text}F" if precision == "float" else text
 
 
+# IEEE single precision: the largest finite value and the smallest normal one.
+FLOAT_MAX = 3.4028234663852886e38
+FLOAT_MIN_NORMAL = 1.1754943508222875e-38
+
+
+def check_float_range(robot: Robot, kernels: tuple[Kernel, ...]) -> None:
+    """Every constant of the code (parameter values, numbers in the formulas) must be a
+    ``float`` when the C code is single precision; the compiler would otherwise truncate it
+    to zero or infinity (``-Werror=overflow``), and the numbers would be wrong."""
+    numbers = [v for _, v in robot.parameters if v is not None]
+    for kernel in kernels:
+        expressions = [e for _, e in kernel.assignments]
+        expressions += [e for output in kernel.outputs for e in output.matrix]
+        numbers += [float(n) for e in expressions for n in e.atoms(sp.Number)]
+    for number in numbers:
+        if abs(number) > FLOAT_MAX or 0 < abs(number) < FLOAT_MIN_NORMAL:
+            raise SymkinError(
+                f"--precision float: {robot.name} has the constant {number:g}, outside the "
+                f"range of float ({FLOAT_MIN_NORMAL:.3g} to {FLOAT_MAX:.3g}); "
+                "use --precision double"
+            )
+
+
 def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double") -> dict[str, str]:
     """``c/<robot>.h``, ``c/<robot>.c``, ``c/example.c`` and ``c/Makefile``."""
+    if precision == "float":
+        check_float_range(robot, kernels)
     header, source = f"{robot.name}.h", f"{robot.name}.c"
     context = {
         "robot": robot.name,

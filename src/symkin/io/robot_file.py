@@ -75,6 +75,8 @@ MAX_SYMBOLIC_EXPONENT = 4
 # Integers beyond 2**53 are not exact in double precision and overflow C's integer literals.
 MAX_EXACT_INTEGER = 2**53
 MAX_MAGNITUDE = 1e300
+# Constants closer to zero underflow in products and print as C constants truncated to zero.
+MIN_MAGNITUDE = 1e-300
 
 CATALOGUE_DIR = "robots"
 # A 100-joint robot with full inertial data is about 60 KiB.
@@ -650,6 +652,8 @@ def _finite_number(value: int | float, key: str, ctx: _Context) -> int | float:
         raise ctx.error(f"{ctx.key(key)!r} is too large ({_show(value)}); the limit is 1e300")
     if isinstance(value, int) and abs(value) > MAX_EXACT_INTEGER:
         raise ctx.error(f"{ctx.key(key)!r}: {_INEXACT_INTEGER}, got {_show(value)}")
+    if 0 < abs(value) < MIN_MAGNITUDE:
+        raise ctx.error(f"{ctx.key(key)!r} is too small ({_show(value)}); write 0 or >= 1e-300")
     return value
 
 
@@ -675,7 +679,7 @@ def _sympy_number(value: int | float) -> sp.Expr:
     """Integers (also 2.0) exactly; other floats as SymPy Floats of their shortest decimal text."""
     if isinstance(value, int):
         return sp.Integer(value)
-    if value.is_integer():
+    if value.is_integer() and abs(value) <= MAX_EXACT_INTEGER:
         return sp.Integer(int(value))
     return sp.Float(repr(value))
 
@@ -714,6 +718,15 @@ def _parse_expression(text: str, key: str, ctx: _Context) -> tuple[sp.Expr, froz
 def _check_expression_value(expr: sp.Expr, shown: str, text: str, ctx: _Context) -> None:
     if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise ctx.error(f"{shown!r} is not finite (division by zero?): {_show(text)}")
+    # SymPy folds the numbers of a product (L1*1e-300*1e-300 -> 1e-600*L1): every constant
+    # left in the formula must be a double, or the C compiler truncates or overflows it.
+    for number in expr.atoms(sp.Number):
+        magnitude = abs(number)  # compared exactly: float() would flush 1e-600 to 0
+        if magnitude > MAX_MAGNITUDE or (magnitude != 0 and magnitude < MIN_MAGNITUDE):
+            raise ctx.error(
+                f"{shown!r} holds the constant {sp.sstr(number.evalf(3))}, outside "
+                f"1e-300..1e300 in magnitude: {_show(text)}"
+            )
     if not expr.is_number:
         _check_value_at_defaults(expr, shown, text, ctx)
         return
