@@ -69,7 +69,9 @@ def comment_text(text: str) -> str:
     comment and a TeX comment: only printable characters (no line break, NUL or bidirectional
     control), no ``*/``, no triple quote, no backslash (an escape, or a line continuation)."""
     one_line = " ".join(printable(text).split())
-    return one_line.replace("*/", "* /").replace("/*", "/ *").replace('"""', "'''").replace("\\", "/")
+    return (
+        one_line.replace("*/", "* /").replace("/*", "/ *").replace('"""', "'''").replace("\\", "/")
+    )
 
 
 def preamble_lines(robot: Robot, kernels: tuple[Kernel, ...], what: str) -> list[str]:
