@@ -1,0 +1,56 @@
+"""Ctrl-C and the time limit, on the real command in a subprocess (the issue's reproductions:
+a KeyboardInterrupt traceback during ``derive``, a 20-joint chain that hangs ``show``)."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+SYMKIN = [sys.executable, "-m", "symkin.cli"]
+
+
+def test_ctrl_c_during_derive_is_one_line_exit_130_and_leaves_the_folder(tmp_path: Path):
+    out = tmp_path / "out"
+    assert subprocess.run([*SYMKIN, "derive", "planar_2r", "--out", str(out), "--emit", "c"],
+                          capture_output=True, check=False).returncode == 0  # fmt: skip
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    process = subprocess.Popen(
+        [*SYMKIN, "derive", "panda", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(6)  # in the middle of the Panda's derivation (about a minute in all)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    assert "Traceback" not in err
+    lines = [line for line in err.splitlines() if not line.startswith("symkin: deriving")]
+    assert len(lines) == 1 and "interrupted" in lines[0], err
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no staging folder left
+
+
+def test_time_limit_stops_a_derivation_too_large_for_it(tmp_path: Path):
+    lines = ['name = "chain20"', "[parameters]", *(f"L{i} = 0.1" for i in range(1, 21))]
+    for i in range(1, 21):
+        lines += ["[[joints]]", 'type = "revolute"', f'a = "L{i}"', f"alpha = {90 * (i % 2)}"]
+    robot = tmp_path / "chain20.toml"
+    robot.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    started = time.monotonic()
+    done = subprocess.run(
+        [*SYMKIN, "--time-limit", "3", "show", str(robot)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert time.monotonic() - started < 60
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.strip().splitlines() == [
+        f"symkin: error: show {robot}: stopped at the time limit of 3 s (--time-limit SECONDS, "
+        "0 for none); the closed form is too large for this budget"
+    ]
