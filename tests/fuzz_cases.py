@@ -1101,13 +1101,13 @@ SPECIAL_FILES = (
 
 
 SUITES: dict[str, tuple[Callable[[], st.SearchStrategy[Any]], int]] = {
-    "show_eval": (show_eval_cases, 20),
-    "derive": (derive_cases, 18),
-    "names": (name_cases, 16),
-    "latex": (latex_cases, 16),
-    "ik": (ik_cases, 12),
-    "arguments": (argument_cases, 30),
-    "raw_files": (raw_file_cases, 14),
+    "show_eval": (show_eval_cases, 16),  # two cases per example
+    "derive": (derive_cases, 16),
+    "names": (name_cases, 12),
+    "latex": (latex_cases, 14),
+    "ik": (ik_cases, 10),
+    "arguments": (argument_cases, 26),
+    "raw_files": (raw_file_cases, 12),
 }
 
 

@@ -297,6 +297,14 @@ def test_float_precision_with_huge_parameter() -> None:
     assert_clean(run_each(robot, (*derive_argv("c"), "--precision", "float")))
 
 
+def test_underflowing_constant_in_c() -> None:
+    """gravity = 1e-300*1e-300 (1e-600) put into the C code as a literal: -Werror=overflow
+    ("floating constant truncated to zero"), found by the derive suite."""
+    robot = robot_text(DYNAMIC_JOINT, count=2)
+    robot = robot.replace('name = "arm"', 'name = "arm"\ngravity = [0, "1e-300*1e-300", -9.81]')
+    assert_clean(run_each(robot, derive_argv(), (*derive_argv(), "--numeric-parameters")))
+
+
 def test_eval_json_overflow_gives_no_nan() -> None:
     """a = 1e300 is allowed, but det J = a1 a2 sin q2 overflows: no Infinity/NaN in the JSON."""
     robot = robot_text('type = "revolute"\na = 1e300', count=2)
