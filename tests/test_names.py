@@ -111,3 +111,15 @@ def test_an_exception_inside_a_derivation_names_the_robot_and_the_quantity(monke
     with pytest.raises(symkin.DerivationError, match=r"two_link: cannot derive the Jacobian "
                        r"determinant: TypeError: cannot determine truth value"):  # fmt: skip
         symkin.derive(robot).determinant()
+
+
+def test_a_robot_named_example_is_rejected_its_source_would_be_the_demo():
+    text = two_link("L1", "L2").replace('name = "two_link"', 'name = "example"')
+    with pytest.raises(RobotError, match="example.c"):
+        robot_from_toml(text, "arm.toml")
+
+
+def test_nested_powers_are_held_to_the_exponent_cap():
+    text = two_link("L1", "L2").replace('a = "L1"', 'a = "((((L1 + L2)/2)**4)**4)**4"')
+    with pytest.raises(RobotError, match=r"power 64, outside \[-4, 4\]"):
+        robot_from_toml(text, "arm.toml")

@@ -164,3 +164,45 @@ def test_derive_never_writes_through_a_planted_link(tmp_path, capsys):
     assert target.read_text(encoding="utf-8") == "precious\n"
     assert not planted.is_symlink() and "planar_2r_fk" in planted.read_text(encoding="utf-8")
     capsys.readouterr()
+
+
+def test_a_planted_manifest_cannot_delete_files_outside_the_folder(tmp_path):
+    victim = tmp_path / "victim.txt"
+    victim.write_text("precious\n", encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.txt").write_text("the user's\n", encoding="utf-8")
+    (out / ".symkin-files").write_text(
+        f"{output_folder.MANIFEST_HEADER}\n../victim.txt\n{victim}\n", encoding="utf-8"
+    )
+    write_folder(out, {"a.txt": "hi\n"})
+    assert victim.read_text(encoding="utf-8") == "precious\n"
+    assert read_manifest(out, ".symkin-files") == (frozenset({"a.txt"}), True)
+
+
+def test_an_interrupt_between_the_swap_renames_puts_the_old_folder_back(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    write_folder(out, FILES)
+    before = tree(out)
+    rename = os.rename
+    calls = []
+
+    def second_rename_interrupted(source, target):
+        calls.append(source)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        rename(source, target)
+
+    monkeypatch.setattr(output_folder.os, "rename", second_rename_interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_folder(out, {**FILES, "c/arm.c": "int y;\n"})
+    assert tree(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+@pytest.mark.parametrize("value", ["inf", "nan", "-1", "1e12", "soon"])
+def test_time_limit_must_be_a_finite_number_of_seconds(value, capsys):
+    with pytest.raises(SystemExit) as raised:
+        main(["--time-limit", value, "list"])
+    assert raised.value.code == 2
+    assert "--time-limit" in capsys.readouterr().err

@@ -80,6 +80,7 @@ DEFAULT_ROBOT = "scara"
 # Every command stops with an error past this (no hang); the largest catalogue derivation
 # takes well under a minute, a generic 6R arm about five.
 DEFAULT_TIME_LIMIT = 900.0
+MAX_TIME_LIMIT = 1e7
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
 VALUE_OPTIONS = frozenset(
     {
@@ -117,6 +118,19 @@ def number_from_text(text: str, what: str) -> float:
     if not math.isfinite(value):
         raise SymkinError(f"{what}: expected a finite number, got {text!r}")
     return value * scale
+
+
+def time_limit_from_text(text: str) -> float:
+    """Seconds for ``--time-limit``: a finite number from 0 (no limit) to about four months."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not 0 <= seconds <= MAX_TIME_LIMIT:
+        raise argparse.ArgumentTypeError(
+            f"expected seconds from 0 (no limit) to {MAX_TIME_LIMIT:g}, got {text!r}"
+        )
+    return seconds
 
 
 def seed_from_text(text: str) -> int:
@@ -930,7 +944,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument(
         "--time-limit",
-        type=float,
+        type=time_limit_from_text,
         default=DEFAULT_TIME_LIMIT,
         metavar="SECONDS",
         help=f"stop with an error after this long (default {DEFAULT_TIME_LIMIT:g}; 0: no limit)",
@@ -1201,7 +1215,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         return 2
     except KeyboardInterrupt:
-        print(f"symkin: {subject}: interrupted; no output folder was changed", file=sys.stderr)
+        print(f"symkin: {subject}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
         # Output piped into `head` and closed early: not an error of ours.

@@ -203,4 +203,6 @@ def robot_name_reason(name: str) -> str | None:
         return f"the generated C header {name}.h would hide the standard header <{name}.h>"
     if name in C_KEYWORDS or name in PYTHON_NAMES:
         return "a C or Python keyword"
+    if name == "example":
+        return "the C backend writes its demo program to example.c"
     return None

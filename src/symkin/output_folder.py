@@ -51,12 +51,24 @@ def read_manifest(root: Path, name: str) -> tuple[frozenset[str], bool]:
     if path.is_symlink() or not path.is_file():
         return frozenset(), True
     lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    listed = frozenset(line for line in lines if line and not line.startswith("#"))
+    # A manifest may come with a checkout or an archive: a line that leaves the folder
+    # (absolute, "..") is never taken as ours, so it can never be deleted or compared.
+    listed = frozenset(
+        line for line in lines if line and not line.startswith("#") and _is_plain(line)
+    )
     return listed, INCOMPLETE not in lines
 
 
+def _is_plain(relative: str) -> bool:
+    try:
+        check_relative(relative)
+    except SymkinError:
+        return False
+    return True
+
+
 def check_relative(relative: str) -> PurePosixPath:
-    """A generated file's path: relative, no ``..``, no empty or hidden parts."""
+    """A generated file's path: relative, no ``..``, no empty parts."""
     path = PurePosixPath(relative)
     if path.is_absolute() or not path.parts or any(p in ("", ".", "..") for p in path.parts):
         raise SymkinError(f"refusing to write {relative!r}: not a plain relative path")
@@ -177,7 +189,8 @@ def _commit(root: Path, staging: Path, own: str, written: list[str]) -> None:
     for relative in sorted(previous - keep):
         stale = root / relative
         check_no_symlink(root, PurePosixPath(relative))
-        if stale.is_symlink() or stale.is_file():
+        inside = stale.parent.resolve().is_relative_to(root.resolve())
+        if inside and (stale.is_symlink() or stale.is_file()):
             stale.unlink()
             _remove_empty_folders(root, stale.parent)
     _write_manifest(root, manifest_text(written), own)
@@ -227,7 +240,13 @@ def _swap(root: Path, staging: Path) -> None:
         return
     old = _sibling(root, "old")
     os.rename(root, old / "tree")
-    os.rename(staging, root)
+    try:
+        os.rename(staging, root)
+    except BaseException:
+        # Ctrl-C, the time limit or an error between the renames: put the old folder back.
+        os.rename(old / "tree", root)
+        old.rmdir()
+        raise
     staging.mkdir()
     shutil.rmtree(old, ignore_errors=True)
 

@@ -5,10 +5,12 @@ Plots are an extra (``pip install symkin[plot]``): the core never imports matplo
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 from types import ModuleType
 
 from symkin.errors import SymkinError
+from symkin.output_folder import replace_file
 
 
 def pyplot() -> ModuleType:
@@ -29,11 +31,9 @@ def save_figure(figure: object, path: str | Path) -> Path:
     """Write ``figure`` as a PNG at ``path`` (parent folders created) and close it."""
     path = Path(path)
     plt = pyplot()
+    image = io.BytesIO()
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        figure.savefig(path, dpi=110, bbox_inches="tight")
-    except OSError as error:
-        raise SymkinError(f"cannot write plot {path}: {error.strerror or error}") from error
+        figure.savefig(image, format="png", dpi=110, bbox_inches="tight")
     finally:
         plt.close(figure)
-    return path
+    return replace_file(path.parent, path.name, image.getvalue())  # never through a link

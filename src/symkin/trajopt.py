@@ -19,6 +19,7 @@ may converge slowly.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import time
@@ -39,6 +40,7 @@ from symkin.evaluate import (
     generated_numpy_module,
     parameter_substitution,
 )
+from symkin.output_folder import replace_file
 from symkin.robot import Joint, Robot
 
 Objective = Literal["effort", "time"]
@@ -672,12 +674,14 @@ def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False
     out = Path(out)
     header, rows = trajectory_rows(trajectory)
     paths = [out / "trajectory.csv", out / "trajectory.json"]
+    csv = io.StringIO()
+    np.savetxt(csv, rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        np.savetxt(paths[0], rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
-        paths[1].write_text(json.dumps(trajectory_json(trajectory), indent=2) + "\n")
-    except OSError as error:
-        raise SymkinError(f"cannot write to {out}: {error.strerror or error}") from error
+        text = json.dumps(trajectory_json(trajectory), indent=2, allow_nan=False) + "\n"
+    except ValueError:
+        raise SymkinError("the trajectory holds values that are not finite numbers") from None
+    replace_file(out, paths[0].name, csv.getvalue())  # never through a link (security.md)
+    replace_file(out, paths[1].name, text)
     if plot:
         from symkin.trajopt_plot import plot_trajectory
 

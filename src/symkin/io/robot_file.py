@@ -711,8 +711,20 @@ def _parse_expression(text: str, key: str, ctx: _Context) -> tuple[sp.Expr, froz
         raise ctx.error(f"{shown!r} is nested too deeply: {_show(text)}") from None
     except _ExpressionError as exc:
         raise ctx.error(str(exc)) from None
+    _check_nested_powers(expr, shown, text, ctx)
     _check_expression_value(expr, shown, text, ctx)
     return expr, frozenset(builder.names)
+
+
+def _check_nested_powers(expr: sp.Expr, shown: str, text: str, ctx: _Context) -> None:
+    """SymPy merges nested powers ((x**4)**4 -> x**16): the cap holds for the result too."""
+    for power in expr.atoms(sp.Pow):
+        if power.base.free_symbols and abs(float(power.exp)) > MAX_SYMBOLIC_EXPONENT:
+            raise ctx.error(
+                f"{shown!r} is not a valid expression: {_show(text)} raises parameters to the "
+                f"power {sp.sstr(power.exp)}, outside [-{MAX_SYMBOLIC_EXPONENT}, "
+                f"{MAX_SYMBOLIC_EXPONENT}]"
+            )
 
 
 def _check_expression_value(expr: sp.Expr, shown: str, text: str, ctx: _Context) -> None:
