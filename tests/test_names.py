@@ -115,7 +115,7 @@ def test_an_exception_inside_a_derivation_names_the_robot_and_the_quantity(monke
 
 def test_a_robot_named_example_is_rejected_its_source_would_be_the_demo():
     text = two_link("L1", "L2").replace('name = "two_link"', 'name = "example"')
-    with pytest.raises(RobotError, match="example.c"):
+    with pytest.raises(RobotError, match=r"example\.c"):
         robot_from_toml(text, "arm.toml")
 
 
