@@ -224,7 +224,7 @@ class Build:
     ext: ModuleType  # the CPython extension
     numpy_module: ModuleType
     casadi_module: ModuleType
-    kernels: dict  # name -> symkin.kernel.Kernel
+    kernels: dict  # name -> symkin.kernels.Kernel
     model: object  # symkin.derive.Model
     robot: object  # symkin.robot.Robot
     parameters: np.ndarray  # default parameter values, file order
@@ -240,10 +240,10 @@ def build(directory: Path) -> Build:
     import casadi
 
     from symkin import derive, load_robot
-    from symkin.build import OPTIMISATION_FLAGS, build_extension, load_extension
     from symkin.generate import files_for_robot
-    from symkin.kernel import kinematics_kernels
+    from symkin.kernels import kinematics_kernels
     from symkin.output_folder import write_folder
+    from symkin.runtime.extension import OPTIMISATION_FLAGS, build_extension, load_extension
 
     robot = load_robot(ROBOT)
     write_folder(directory, files_for_robot(robot))
@@ -713,7 +713,7 @@ def operation_counts(b: Build) -> dict:
         import spatialmath.base.symbolic as sym
         import sympy
 
-        from symkin.kernel import count_operations
+        from symkin.kernels import count_operations
     except Exception as error:
         result["rtb_error"] = _import_error(error)
         return result

@@ -7,7 +7,7 @@ In one run, on the same machine:
 * **Derivation time**, each repetition in a fresh Python process (``derivation_time.measure``),
   CPU seconds of the child:
 
-  - *full dynamics*: ``symkin.derive(robot)`` + ``symkin.kernel.dynamics_kernels(model)``
+  - *full dynamics*: ``symkin.derive(robot)`` + ``symkin.kernels.dynamics_kernels(model)``
     (M, G, c, C, tau), then the NumPy, C and CasADi modules of those kernels (which include
     forward dynamics) from ``emit_numpy``, ``emit_c``, ``emit_casadi``;
   - *the tau kernel alone*: the Newton–Euler recursion ``model.inverse_dynamics_recursion`` and
@@ -31,7 +31,7 @@ In one run, on the same machine:
   parameters; its torques are first checked against the code with ``p``), and the Panda with
   its parameters as input ``p`` (checked against Robotics Toolbox's ``models.DH.Panda``).
 * **Inverse dynamics per call from Python** (PUMA 560): symkin's generated CPython extension
-  (compiled with ``symkin.build.build_extension``, as ``symkin derive`` does), symkin's C
+  (compiled with ``symkin.runtime.extension.build_extension``, as ``symkin derive`` does), symkin's C
   through ctypes, the generated NumPy module, CasADi (``Function`` call and its C through
   ctypes), Pinocchio ``rnea`` on a model built from the same DH table and inertial data
   (``tests/test_dynamics_oracles.py``),
@@ -103,7 +103,7 @@ from derivation_time import (
     timing_cell,
     version,
 )
-from symkin.build import OPTIMISATION_FLAGS, build_extension, load_extension
+from symkin.runtime.extension import OPTIMISATION_FLAGS, build_extension, load_extension
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
@@ -215,7 +215,7 @@ def _child_full(robot) -> dict:
     from symkin.emit.c import emit_c
     from symkin.emit.casadi import emit_casadi
     from symkin.emit.numpy import emit_numpy
-    from symkin.kernel import dynamics_kernels
+    from symkin.kernels import dynamics_kernels
 
     start = CLOCK()
     kernels = dynamics_kernels(derive(robot))
@@ -234,7 +234,7 @@ def _child_full(robot) -> dict:
 
 def _child_tau(robot) -> dict:
     from symkin import derive
-    from symkin.kernel import dynamics_inputs, kernel_from_assignments
+    from symkin.kernels import dynamics_inputs, kernel_from_assignments
 
     start = CLOCK()
     model = derive(robot)

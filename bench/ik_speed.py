@@ -91,7 +91,7 @@ class Solver:
 def symkin_python(rest_posture: str | None) -> Callable[[object], Solve | None]:
     """``solve_ik`` with its defaults; without a rest posture only for redundant arms (on the
     others the posture never applies, so the row would repeat the first)."""
-    from symkin.ik.numeric import solve_ik
+    from symkin.solve.ik.numeric import solve_ik
 
     def prepare(model) -> Solve | None:
         if rest_posture is None and model.robot.dof <= 6:
@@ -107,7 +107,7 @@ def symkin_python(rest_posture: str | None) -> Callable[[object], Solve | None]:
 
 
 def symkin_closed_form(model) -> Solve | None:
-    from symkin.ik.closed_form import closed_form_ik, has_closed_form
+    from symkin.solve.ik.closed_form import closed_form_ik, has_closed_form
 
     if not has_closed_form(model.robot):
         return None
@@ -194,8 +194,8 @@ def rtb_puma_closed_form(model) -> Solve | None:
         return None
     import roboticstoolbox as rtb
 
-    from symkin.evaluate import generated_numpy_module
-    from symkin.ik.numeric import parameter_vector
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.ik.numeric import parameter_vector
 
     robot = rtb.models.DH.Puma560()
     lift = np.eye(4)
@@ -236,8 +236,8 @@ C_CLOSED_ROW = "symkin generated C `<robot>_ik_closed` (C loop, gcc -O2, all sol
 def success_check(model, tolerance: float = CHECK) -> Callable[[np.ndarray, np.ndarray], bool]:
     """``check(q, target)``: symkin's FK of ``q`` meets ``target`` to ``tolerance`` in m and in
     rad, and ``q`` is within the limits."""
-    from symkin.evaluate import generated_numpy_module
-    from symkin.ik.numeric import joint_bounds, parameter_vector
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.ik.numeric import joint_bounds, parameter_vector
 
     fk = generated_numpy_module(model, "kinematics").fk
     p = parameter_vector(model)
@@ -274,8 +274,8 @@ class Row:
 
 def poses(model, count: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """``count`` (target, seed) pairs from random joint values within the limits."""
-    from symkin.evaluate import generated_numpy_module
-    from symkin.ik.numeric import parameter_vector, random_configuration
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.ik.numeric import parameter_vector, random_configuration
 
     rng = np.random.default_rng(seed)
     fk = generated_numpy_module(model, "kinematics").fk
@@ -288,8 +288,8 @@ def poses(model, count: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
 
 def check_same_arm(model, solver_name: str) -> float:
     """Largest pose difference between symkin's FK and the RTB robot's at 20 random q."""
-    from symkin.evaluate import generated_numpy_module
-    from symkin.ik.numeric import parameter_vector, random_configuration
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.ik.numeric import parameter_vector, random_configuration
 
     robot = rtb_robot(model)
     fk = generated_numpy_module(model, "kinematics").fk
@@ -305,7 +305,7 @@ def check_same_arm(model, solver_name: str) -> float:
 
 def measure(name: str, count: int, seed: int, peers: bool) -> list[Row]:
     import symkin
-    from symkin.kernel import kinematics_kernels
+    from symkin.kernels import kinematics_kernels
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the PUMA file's lumped-inertia warning

@@ -3,7 +3,7 @@
 The issue compares symkin's ``tau`` with SymPyBotics' (962 operations for the PUMA 560, 860 for
 the Panda, numeric geometry and symbolic inertia) and asks for at most half.  This script
 measures, for both robots with numeric geometry, the operations of one ``tau`` kernel (the
-same recursion, the same kernel passes as ``symkin.kernel.dynamics_kernels``) with the inertial
+same recursion, the same kernel passes as ``symkin.kernels.dynamics_kernels``) with the inertial
 data as input in three forms:
 
 * **file form**: per link the mass, the centre of mass and the inertia about it (the robot
@@ -42,8 +42,8 @@ from symkin.derive.base_parameters import (
     barycentric_symbols,
     symbolic_base_parameters,
 )
-from symkin.derive.newton_euler import Recorder, joint_torques
-from symkin.kernel import KernelInput, inertial_symbols, kernel_from_assignments, state_inputs
+from symkin.derive.recursion import Recorder, joint_torques
+from symkin.kernels import KernelInput, inertial_symbols, kernel_from_assignments, state_inputs
 
 BEGIN = "<!-- inertial-parameters:begin -->"
 END = "<!-- inertial-parameters:end -->"

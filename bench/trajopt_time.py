@@ -6,7 +6,7 @@ In one run, on the same machine:
 * **The worked examples of docs/trajopt.md**: the two-link arm of ``examples/arm_2r.toml``
   swinging from hanging straight down to (30°, 45°), and the PUMA 560 moving between two
   configurations; each for minimum effort (fixed T) and minimum time, with multiple shooting
-  and with collocation.  Each is solved ``--repeat`` times with :func:`symkin.trajopt.
+  and with collocation.  Each is solved ``--repeat`` times with :func:`symkin.solve.trajopt.
   optimal_trajectory` (a fresh ``casadi.Opti`` every time; the rendered CasADi and NumPy
   modules are built once per robot beforehand and that time is reported on its own).  The
   table gives IPOPT's status and iterations, the median wall time of ``Opti.solve`` with its
@@ -104,7 +104,7 @@ EXAMPLES = (
 
 
 def problem(example: Example, objective: str, method: str, **changes):
-    from symkin.trajopt import TrajectoryProblem
+    from symkin.solve.trajopt import TrajectoryProblem
 
     return TrajectoryProblem(
         start=tuple(math.radians(v) for v in example.start),
@@ -209,7 +209,7 @@ def check_peer(model, peer) -> float:
     """Largest relative difference of the peer's ddq from symkin's at random states."""
     import casadi as ca
 
-    from symkin.trajopt import dynamics_arguments, generated_casadi_module
+    from symkin.solve.trajopt import dynamics_arguments, generated_casadi_module
 
     ours = generated_casadi_module(model).forward_dynamics_function(ca.SX)
     p = dynamics_arguments(model, {})["p"]
@@ -248,8 +248,8 @@ def replay_error(model, trajectory) -> float:
     """End state of the torques integrated by solve_ivp against the goal at rest."""
     from scipy.integrate import solve_ivp
 
-    from symkin.evaluate import generated_numpy_module
-    from symkin.trajopt import dynamics_arguments
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.trajopt import dynamics_arguments
 
     forward = generated_numpy_module(model).forward_dynamics
     args = dynamics_arguments(model, dict(trajectory.problem.overrides))
@@ -279,8 +279,8 @@ def progress(text: str) -> None:
 
 def measure(example: Example, repeat: int) -> dict:
     import symkin
-    from symkin.evaluate import generated_numpy_module
-    from symkin.trajopt import generated_casadi_module, optimal_trajectory
+    from symkin.runtime.modules import generated_numpy_module
+    from symkin.solve.trajopt import generated_casadi_module, optimal_trajectory
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the PUMA's published link-3 inertia
@@ -311,7 +311,7 @@ def measure(example: Example, repeat: int) -> dict:
     difference = check_peer(model, peer)
     stand_in = SimpleNamespace(forward_dynamics_function=lambda symbol_type=None: peer)
     peer_times, peer_costs = [], []
-    with mock.patch("symkin.trajopt.generated_casadi_module", return_value=stand_in):
+    with mock.patch("symkin.solve.trajopt.generated_casadi_module", return_value=stand_in):
         for k in range(repeat):
             result = optimal_trajectory(model, problem(example, "effort", "multiple-shooting"))
             peer_times.append(result.stats.solve_time)
@@ -346,7 +346,7 @@ def seconds(values: list[float]) -> str:
 
 
 def plot(results: list[dict]) -> list[Path]:
-    from symkin.trajopt_plot import plot_trajectory
+    from symkin.solve.trajopt.plot import plot_trajectory
 
     paths = []
     for result in results:

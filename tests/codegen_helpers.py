@@ -14,8 +14,8 @@ from types import ModuleType
 import numpy as np
 
 import symkin
-from symkin.evaluate import numeric_function
-from symkin.kernel import Kernel
+from symkin.derive.numeric import numeric_function
+from symkin.kernels import Kernel
 
 ROOT = Path(__file__).resolve().parents[1]
 CC = shutil.which("gcc") or shutil.which("cc") or "gcc"

@@ -23,9 +23,9 @@ from symkin.derive.base_parameters import (
     base_parameters,
     symbolic_base_parameters,
 )
-from symkin.derive.newton_euler import Recorder, joint_torques
+from symkin.derive.recursion import Recorder, joint_torques
 from symkin.errors import RobotWarning
-from symkin.kernel import dynamics_kernels
+from symkin.kernels import dynamics_kernels
 from symkin.robot import Link
 
 pytestmark = pytest.mark.slow

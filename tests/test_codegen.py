@@ -36,7 +36,7 @@ from codegen_helpers import (
     write_tree,
 )
 from symkin.generate import files_for_robot, robot_kernels
-from symkin.kernel import Kernel, kinematics_kernels
+from symkin.kernels import Kernel, kinematics_kernels
 
 NAMES = symkin.catalogue_names()
 STATES = 20

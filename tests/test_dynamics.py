@@ -23,7 +23,7 @@ from symkin.derive.newton_euler import newton_euler_dynamics
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
 from symkin.io import robot_from_toml
-from symkin.kernel import inertial_symbols
+from symkin.kernels import inertial_symbols
 
 SMALL = ("planar_2r", "rpr", "scara", "planar_3r")
 LARGE = ("puma560", "stanford", "ur5", "panda")

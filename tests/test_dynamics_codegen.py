@@ -23,7 +23,7 @@ from codegen_helpers import CC, SANITIZE, SHARED, STRICT, import_path, run_paral
 from symkin.derive.dynamics import Dynamics
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
-from symkin.kernel import Kernel, dynamics_kernels, inertial_symbols
+from symkin.kernels import Kernel, dynamics_kernels, inertial_symbols
 
 NAMES = ("planar_2r", "rpr", "puma560", "panda")
 STATES = 6

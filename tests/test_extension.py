@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import symkin
-from symkin.build import load_extension
 from symkin.cli import main
+from symkin.runtime.extension import load_extension
 
 ROBOTS = ("planar_2r", "scara", "puma560", "panda", "stanford")
 

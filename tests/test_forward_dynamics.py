@@ -15,7 +15,7 @@ import pytest
 
 import symkin
 from symkin.generate import files_for_robot
-from symkin.kernel import inertial_symbols
+from symkin.kernels import inertial_symbols
 from symkin.output_folder import write_folder
 
 ROBOTS = ("planar_2r", "rpr", "puma560", "panda")

@@ -6,7 +6,7 @@ Expected values come from two independent places:
   and tool of the hand-written robots built from their xyz/rpy numbers): every returned
   solution must reproduce the target, and the joint values the target was made from must be
   among the solutions;
-* the Python closed forms (``symkin.ik.closed_form.closed_form_ik``, whose own tests compare
+* the Python closed forms (``symkin.solve.ik.closed_form.closed_form_ik``, whose own tests compare
   with a multi-start numeric solve and Robotics Toolbox): the same solutions in the same order,
   with the same branch flags and limit flags.
 
@@ -43,10 +43,10 @@ from codegen_helpers import (
 from numeric_dh import NumericRobot, wrap
 from symkin.emit.c import emit_c
 from symkin.emit.ik_closed_c import BRANCH_BITS, emit_ik_closed_c
-from symkin.emit.ik_closed_constants import closed_form_plan
 from symkin.generate import files_for_robot
-from symkin.ik.closed_form import closed_form_ik, has_closed_form
-from symkin.kernel import Kernel, kernel_from_outputs, state_inputs
+from symkin.kernels import Kernel, kernel_from_outputs, state_inputs
+from symkin.kernels.ik.closed_form_constants import closed_form_plan
+from symkin.solve.ik.closed_form import closed_form_ik, has_closed_form
 from test_ik_closed_form import HAND, model, random_q, reference, robot, task_error
 
 CATALOGUE = (

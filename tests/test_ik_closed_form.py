@@ -1,4 +1,4 @@
-"""Closed-form inverse kinematics (``symkin.ik.closed_form``) against independent oracles.
+"""Closed-form inverse kinematics (``symkin.solve.ik.closed_form``) against independent oracles.
 
 * FK of every returned solution is evaluated with ``tests/numeric_dh.py`` (a naive product of
   elementary transforms written from the conventions text; base and tool of the hand-written
@@ -29,15 +29,15 @@ from scipy.optimize import least_squares
 from numeric_dh import NumericRobot, frame, wrap
 from symkin.derive import Model, derive
 from symkin.errors import SymkinError
-from symkin.ik.closed_form import (
+from symkin.io.robot_file import load_robot, robot_from_toml
+from symkin.robot import Robot
+from symkin.solve.ik.closed_form import (
     ClosedFormSolution,
     batched_forward_kinematics,
     closed_form_family,
     closed_form_ik,
     has_closed_form,
 )
-from symkin.io.robot_file import load_robot, robot_from_toml
-from symkin.robot import Robot
 
 DEG = math.pi / 180
 TOL = 1e-9  # FK of a solution vs. the target (metres, rotation entries, radians)

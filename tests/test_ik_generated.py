@@ -3,7 +3,7 @@ under sanitizers), the NumPy batch twin and the CasADi/IPOPT program.
 
 Every solution is judged by the independent forward kinematics of ``numeric_dh`` (products of
 elementary transforms), never by the solvers' own error.  Expected values otherwise come from
-Python's solver (:mod:`symkin.ik.numeric`, a different algorithm) and from a hand derivation
+Python's solver (:mod:`symkin.solve.ik.numeric`, a different algorithm) and from a hand derivation
 for the planar arm held at a joint limit.
 """
 
@@ -37,10 +37,11 @@ from numeric_dh import NumericRobot, vee
 from symkin.emit.c import emit_c
 from symkin.emit.ik_c import emit_ik_c
 from symkin.generate import files_for_robot
-from symkin.ik.batch import DampedLeastSquares, pose_errors, solve_ik_batch
-from symkin.ik.casadi_ik import solve_ik_casadi
-from symkin.ik.numeric import solve_ik
-from symkin.kernel import kinematics_kernels
+from symkin.kernels import kinematics_kernels
+from symkin.kernels.ik.settings import DampedLeastSquares
+from symkin.solve.ik.batch import pose_errors, solve_ik_batch
+from symkin.solve.ik.casadi_ik import solve_ik_casadi
+from symkin.solve.ik.numeric import solve_ik
 
 TOLERANCE = 1e-9  # the issue's success criterion, in m and rad
 FLOAT_TOLERANCE = 3e-5  # float solver stops at 1e-5; its float FK differs from ours by ~1e-6

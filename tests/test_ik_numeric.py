@@ -1,4 +1,4 @@
-"""Numeric IK (``symkin.ik.numeric``) against an independent forward kinematics.
+"""Numeric IK (``symkin.solve.ik.numeric``) against an independent forward kinematics.
 
 Every solution is checked with ``tests/numeric_dh.py`` (a product of elementary transforms
 written from the conventions text, with the Jacobian by complex-step differentiation), never
@@ -19,7 +19,7 @@ from scipy.spatial.transform import Rotation
 from numeric_dh import Rx, Ry, Rz, reference, robot, vee
 from symkin import derive
 from symkin.errors import SymkinError
-from symkin.ik.numeric import (
+from symkin.solve.ik.numeric import (
     IKResult,
     joint_bounds,
     random_configuration,
@@ -27,7 +27,7 @@ from symkin.ik.numeric import (
     solve_ik,
     task_errors,
 )
-from symkin.ik.target import pose_from_target
+from symkin.solve.ik.target import pose_from_target
 
 TOL = 1e-10
 CHECK = 1e-9  # what the independent FK must confirm (rounding differs between the two FKs)

@@ -1,4 +1,4 @@
-"""The lecture's Newton path table and the Cartesian path follower (``symkin.ik.path``).
+"""The lecture's Newton path table and the Cartesian path follower (``symkin.solve.ik.path``).
 
 The table is recomputed here step by step from its definition, with the forward kinematics
 and the Jacobian of ``tests/numeric_dh.py`` (an independent product of elementary transforms;
@@ -15,7 +15,7 @@ import pytest
 from numeric_dh import NumericRobot, reference, robot, vee
 from symkin import derive
 from symkin.errors import SymkinError
-from symkin.ik.path import (
+from symkin.solve.ik.path import (
     correction_label,
     follow_path,
     newton_path_table,
@@ -23,7 +23,7 @@ from symkin.ik.path import (
     path_table_text,
     waypoint_poses,
 )
-from symkin.ik.target import pose_from_target
+from symkin.solve.ik.target import pose_from_target
 
 ROWS = {"x": 0, "y": 1, "z": 2}
 

@@ -14,7 +14,7 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from symkin.kernel import KernelInput, count_operations, kernel_from_assignments
+from symkin.kernels import KernelInput, count_operations, kernel_from_assignments
 
 X = sp.symbols("x0:4", real=True)
 INPUTS = (KernelInput("q", X, "inputs"),)

@@ -10,7 +10,7 @@
   legend is checked too.
 * The legend lists exactly the abbreviations the document uses.
 * Snippets and macros compile when ``\\input`` into a minimal host document.
-* With ``q``, the numbers printed equal :func:`symkin.evaluate.numeric_function`.
+* With ``q``, the numbers printed equal :func:`symkin.derive.numeric.numeric_function`.
 * The dynamics section: ``M``, ``C`` and ``G`` of Spong's two-link arm parsed back equal the
   textbook's closed form; those of the planar 2R arm with symbolic inertia equal the
   Newton–Euler equations (another method); both documents compile, in English and German.
@@ -36,6 +36,7 @@ from sympy.core.function import AppliedUndef
 from sympy.parsing.latex import parse_latex
 
 from symkin.derive import Model, derive
+from symkin.derive.numeric import numeric_function
 from symkin.emit.latex import (
     SECTIONS,
     check_sections,
@@ -45,9 +46,8 @@ from symkin.emit.latex import (
 )
 from symkin.emit.latex_printer import Abbreviation, KinematicsLatexPrinter, latex_width
 from symkin.errors import RobotError, SymkinError
-from symkin.evaluate import numeric_function
 from symkin.io import load_robot
-from symkin.latex_build import compile_pdf, log_problems
+from symkin.runtime.latex_build import compile_pdf, log_problems
 
 MAX_OVERFULL_HBOXES = 1
 MAX_OVERFULL_PT = 3.0
@@ -290,7 +290,7 @@ def test_compile_pdf_reports_latex_errors(tmp_path):
 
 
 def test_compile_pdf_says_how_to_install_pdflatex(tmp_path, monkeypatch):
-    import symkin.latex_build as latex_build
+    import symkin.runtime.latex_build as latex_build
 
     monkeypatch.setattr(latex_build, "pdflatex_path", lambda: None)
     (tmp_path / "x.tex").write_text("\\documentclass{article}\n")

@@ -21,7 +21,7 @@ from symkin.derive import derive
 from symkin.errors import RobotError
 from symkin.generate import files_for_robot, robot_kernels
 from symkin.io import robot_from_toml
-from symkin.kernel import point_kernels
+from symkin.kernels import point_kernels
 from symkin.names import reserved_reason, robot_name_reason
 
 

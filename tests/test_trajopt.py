@@ -1,4 +1,4 @@
-"""Trajectory optimisation (``symkin.trajopt``, ``symkin trajopt``) against independent oracles.
+"""Trajectory optimisation (``symkin.solve.trajopt``, ``symkin trajopt``) against independent oracles.
 
 * **Re-simulation.** The optimal torques, held constant on each interval exactly as the
   transcriptions assume, are integrated with SciPy's ``solve_ivp`` (DOP853, rtol = atol = 1e-10)
@@ -25,7 +25,7 @@ from scipy.integrate import solve_ivp
 import symkin
 from symkin.cli import main
 from symkin.errors import SymkinError
-from symkin.trajopt import (
+from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
     Trajectory,
     TrajectoryProblem,
@@ -47,7 +47,7 @@ ALLOTTED_TIME = 1.5
 # 2e-4 (Radau collocation) on this 40-interval grid (h = 37.5 ms); the arm swings at up to
 # 8 rad/s and amplifies the transcription's integration error open loop.
 RESIMULATION_TOLERANCE = 1e-3
-LIMIT_SLACK = 1e-6  # the solver's feasibility tolerance (symkin.trajopt asks IPOPT for 1e-8)
+LIMIT_SLACK = 1e-6  # the solver's feasibility tolerance (symkin.solve.trajopt asks IPOPT for 1e-8)
 
 
 # ---------------------------------------------------------------- independent dynamics

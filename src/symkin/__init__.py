@@ -12,18 +12,20 @@ The public API::
 """
 
 from symkin.derive import DerivationError, Model, PointMotion, derive
+from symkin.derive.numeric import numeric_function
 from symkin.errors import RobotError, SymkinError
-from symkin.evaluate import KinematicState, PointState, kinematic_state, numeric_function
-from symkin.ik import IKResult, pose_from_target, solve_ik
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
-from symkin.robot import Joint, Link, Robot, joint_symbols
-from symkin.trajopt import (
+from symkin.robot import Joint, Link, Robot
+from symkin.solve.evaluate import KinematicState, PointState, kinematic_state
+from symkin.solve.ik import IKResult, pose_from_target, solve_ik
+from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
     Trajectory,
     TrajectoryProblem,
     optimal_trajectory,
 )
+from symkin.symbols import joint_symbols
 
 __all__ = [
     "DerivationError",

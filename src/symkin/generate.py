@@ -22,7 +22,7 @@ from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import SymkinError
 from symkin.io import catalogue_names, load_robot
-from symkin.kernel import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.kernels import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,

@@ -116,7 +116,7 @@ PYTHON_NAMES = frozenset(
     {*keyword.kwlist, *keyword.softkwlist, *dir(builtins), "numpy", "casadi", "math", "np", "ca"}
 )
 
-# What the kernel layer names its functions, inputs and outputs (symkin.kernel), and the
+# What the kernel layer names its functions, inputs and outputs (symkin.kernels), and the
 # locals the templates declare in a kernel's scope (templates/*/).
 KERNEL_NAMES = frozenset(
     {
@@ -137,7 +137,7 @@ TEMPLATE_LOCALS = frozenset(
         "SX", "MX", "DM", "Function",
     }
 )  # fmt: skip
-# Point kernels are named point1, point2, ... (symkin.kernel.point_kernels).
+# Point kernels are named point1, point2, ... (symkin.kernels.point_kernels).
 GENERATED_PATTERN = re.compile(r"point[0-9]+")
 
 # A robot's name becomes a file name: <name>.h must not shadow a standard C header.

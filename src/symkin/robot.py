@@ -17,13 +17,14 @@ Conventions (docs/conventions.md):
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Literal
 
 import sympy as sp
 
 from symkin.errors import RobotError
+from symkin.symbols import parameter_symbol
 from symkin.text import unprintable_characters
 
 JointType = Literal["revolute", "prismatic"]
@@ -143,7 +144,7 @@ class Robot:
     @property
     def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
         """The parameters as real SymPy symbols, in file order."""
-        return tuple(sp.Symbol(n, real=True) for n, _ in self.parameters)
+        return tuple(parameter_symbol(n) for n, _ in self.parameters)
 
     def parameter_values(self, overrides: Mapping[str, float] | None = None) -> dict[str, float]:
         """Numeric value of every parameter, ``overrides`` taking precedence.
@@ -167,7 +168,7 @@ class Robot:
         """The same robot with every parameter replaced by its number: a robot without
         parameters, whose generated code has no ``p`` input and folds the constants
         (``symkin derive --numeric-parameters``)."""
-        values = {sp.Symbol(n, real=True): v for n, v in self.parameter_values(overrides).items()}
+        values = {parameter_symbol(n): v for n, v in self.parameter_values(overrides).items()}
 
         def numbers(item: object) -> object:
             if isinstance(item, sp.Basic):
@@ -188,17 +189,3 @@ class Robot:
             base=numbers(self.base),
             tool=numbers(self.tool),
         )
-
-
-def joint_symbols(n: int, prefix: str = "q") -> tuple[sp.Symbol, ...]:
-    """Joint variables ``q1..qn`` (or ``dq1..``, ``ddq1..`` with another prefix), real."""
-    return tuple(sp.Symbol(f"{prefix}{i}", real=True) for i in range(1, n + 1))
-
-
-def unused_prefix(prefix: str, names: Iterable[str]) -> str:
-    """``prefix``, with ``_`` appended until no name is ``<prefix><digits>``: a safe prefix
-    for numbered intermediates next to the robot's own symbols."""
-    names = set(names)
-    while any(n.startswith(prefix) and n[len(prefix) :].isdigit() for n in names):
-        prefix += "_"
-    return prefix

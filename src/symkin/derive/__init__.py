@@ -21,7 +21,8 @@ from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
 from symkin.errors import SymkinError
-from symkin.robot import Robot, joint_symbols
+from symkin.robot import Robot
+from symkin.symbols import joint_symbols
 
 __all__ = ["DerivationError", "Dynamics", "Model", "PointMotion", "derive"]
 

@@ -26,7 +26,13 @@ import sympy as sp
 
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
-from symkin.robot import Link, Robot
+from symkin.derive.recursion import (
+    BarycentricParameters,
+    Recorder,
+    barycentric_from_link,
+    joint_torques,
+)
+from symkin.robot import Robot
 
 # Order in which columns are offered to the basis: a parameter is dropped (folded into the
 # ones before it) when its column depends on earlier ones.  Inner links come first, and within
@@ -36,44 +42,6 @@ from symkin.robot import Link, Robot
 PARAMETER_NAMES = ("zz", "yy", "xx", "yz", "xz", "xy", "m", "mz", "my", "mx")
 SAMPLES = 15
 RANK_TOLERANCE = 1e-8
-
-
-@dataclass(frozen=True)
-class BarycentricParameters:
-    """One link's inertia about its frame origin, first moment ``m c`` and mass (frame-i axes)."""
-
-    inertia: sp.ImmutableMatrix
-    first_moment: sp.ImmutableMatrix
-    mass: sp.Expr
-
-    @classmethod
-    def from_values(cls, values: dict[str, sp.Expr]) -> BarycentricParameters:
-        v = values
-        return cls(
-            inertia=sp.ImmutableMatrix(
-                [
-                    [v["xx"], v["xy"], v["xz"]],
-                    [v["xy"], v["yy"], v["yz"]],
-                    [v["xz"], v["yz"], v["zz"]],
-                ]
-            ),
-            first_moment=sp.ImmutableMatrix([v["mx"], v["my"], v["mz"]]),
-            mass=v["m"],
-        )
-
-
-def barycentric_from_link(link: Link) -> dict[str, float]:
-    """Parallel-axis theorem: ``I_o = I_c + m (c.c E - c c^T)``, ``m c``, ``m`` (floats)."""
-    mass = float(link.mass)
-    com = np.array([float(c) for c in link.com])
-    inertia = np.array(link.inertia_matrix, dtype=float)
-    inertia = inertia + mass * (com @ com * np.eye(3) - np.outer(com, com))
-    first = mass * com
-    return {
-        "xx": inertia[0, 0], "yy": inertia[1, 1], "zz": inertia[2, 2],
-        "xy": inertia[0, 1], "xz": inertia[0, 2], "yz": inertia[1, 2],
-        "mx": first[0], "my": first[1], "mz": first[2], "m": mass,
-    }  # fmt: skip
 
 
 def has_numeric_geometry(robot: Robot, kinematics: Kinematics) -> bool:
@@ -119,7 +87,6 @@ class Folding:
 def _regressor(robot: Robot, kinematics: Kinematics):
     """``seed -> Y``: the regressor's columns (one per barycentric parameter) stacked over
     ``SAMPLES`` random states drawn from ``seed``."""
-    from symkin.derive.newton_euler import Recorder, joint_torques
 
     n = robot.dof
     flat = barycentric_symbols(n)

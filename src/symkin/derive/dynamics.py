@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from symkin.robot import Link, Robot
+from symkin.symbols import link_inertial_symbols
 
 
 def link_inertial_data(robot: Robot, index: int) -> Link:
@@ -27,22 +28,11 @@ def link_inertial_data(robot: Robot, index: int) -> Link:
     link = robot.joints[index].link
     if link is not None:
         return link
-    i = index + 1
-
-    def symbol(name: str, **assumptions: bool) -> sp.Symbol:
-        return sp.Symbol(f"{name}{i}", real=True, **assumptions)
-
+    s = link_inertial_symbols(index + 1)
     return Link(
-        mass=symbol("m", positive=True),
-        com=(symbol("cx"), symbol("cy"), symbol("cz")),
-        inertia=(
-            symbol("ixx", nonnegative=True),
-            symbol("iyy", nonnegative=True),
-            symbol("izz", nonnegative=True),
-            symbol("ixy"),
-            symbol("ixz"),
-            symbol("iyz"),
-        ),
+        mass=s["m"],
+        com=(s["cx"], s["cy"], s["cz"]),
+        inertia=(s["ixx"], s["iyy"], s["izz"], s["ixy"], s["ixz"], s["iyz"]),
     )
 
 

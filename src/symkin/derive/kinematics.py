@@ -22,8 +22,9 @@ from dataclasses import dataclass
 import sympy as sp
 
 from symkin.derive.simplify import contract_matrix
-from symkin.robot import Joint, Robot, joint_symbols
+from symkin.robot import Joint, Robot
 from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z
+from symkin.symbols import joint_symbols
 
 
 def joint_dh_values(joint: Joint, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:

@@ -27,7 +27,8 @@ from symkin.derive.dynamics import (
 )
 from symkin.derive.kinematics import Kinematics
 from symkin.derive.simplify import reduce_trig
-from symkin.robot import Robot, unused_prefix
+from symkin.robot import Robot
+from symkin.symbols import unused_prefix
 
 # Up to this many joints the results are expanded and contracted into readable sums.
 READABLE_DOF = 3

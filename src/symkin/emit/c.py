@@ -15,7 +15,7 @@ from symkin.emit.render import (
     render,
 )
 from symkin.errors import SymkinError
-from symkin.kernel import Kernel
+from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 PRECISIONS = ("double", "float")

@@ -10,7 +10,7 @@ from symkin.emit.render import (
     preamble_lines,
     render,
 )
-from symkin.kernel import Kernel
+from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 

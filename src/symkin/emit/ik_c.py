@@ -1,7 +1,8 @@
 """Generated numeric IK in C: ``c/<robot>_ik.h`` and ``c/<robot>_ik.c`` beside the kernels.
 
 The solver (damped least squares on the generated ``fk_jacobian`` kernel, restarts, limits) is
-the one :mod:`symkin.ik.batch` runs in NumPy; its default settings come from there.
+the one :mod:`symkin.solve.ik.batch` runs in NumPy; both read their settings from
+:mod:`symkin.kernels.ik.settings`.
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from dataclasses import asdict
 
 from symkin.emit.c import c_literal
 from symkin.emit.render import preamble_lines, render
-from symkin.ik.batch import (
+from symkin.kernels import Kernel
+from symkin.kernels.ik.settings import (
     FALLBACK_SEED,
     FLOAT_SETTINGS,
     PRISMATIC_SPAN,
@@ -20,7 +22,6 @@ from symkin.ik.batch import (
     STALL_WINDOW,
     DampedLeastSquares,
 )
-from symkin.kernel import Kernel
 from symkin.robot import Robot
 
 # A target rotation further than this from orthonormal (|R^T R - I|, entry by entry) is

@@ -1,6 +1,6 @@
 """Generated closed-form IK in C: ``c/<robot>_ik_closed.h`` and ``c/<robot>_ik_closed.c``.
 
-Only for robots with a closed form (``symkin.ik.closed_form.has_closed_form``).  One template
+Only for robots with a closed form (``symkin.kernels.ik.plan.has_closed_form``).  One template
 per family (``templates/c/ik_closed_{planar,wrist,parallel}.c.j2``) holds the per-pose formulas
 of the Python solver; the constants those formulas need come from ``p`` through the
 ``closed_form_constants`` kernel (:mod:`symkin.emit.ik_closed_constants`).  Every candidate is
@@ -13,14 +13,14 @@ import math
 
 from symkin.emit.c import c_literal
 from symkin.emit.ik_c import _limit_literals
-from symkin.emit.ik_closed_constants import ClosedFormPlan, closed_form_plan
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
 from symkin.emit.render import preamble_lines, render
-from symkin.ik.closed_form import DUPLICATE_TOL, RIGID_TOL, VERIFY_TOL
-from symkin.ik.closed_form_planar import REACH_TOL
-from symkin.ik.closed_form_wrist import WRIST_SINGULAR
-from symkin.kernel import Kernel
+from symkin.kernels import Kernel
+from symkin.kernels.ik.closed_form_constants import ClosedFormPlan, closed_form_plan
+from symkin.kernels.ik.closed_form_planar import REACH_TOL
+from symkin.kernels.ik.closed_form_wrist import WRIST_SINGULAR
+from symkin.kernels.ik.plan import DUPLICATE_TOL, RIGID_TOL, VERIFY_TOL
 from symkin.robot import Robot
 
 #: ``branch`` bit of each flag value (the same on every robot) and its meaning.
@@ -36,7 +36,7 @@ BRANCH_BITS: dict[tuple[str, str], tuple[int, str]] = {
     ("wrist", "singular"): (0x100, "sin(theta_5) = 0: one solution, with {free} = 0"),
 }
 
-#: Tolerances of the checks.  ``double``: those of ``symkin.ik.closed_form``; ``float`` rounds a
+#: Tolerances of the checks.  ``double``: those of ``symkin.solve.ik.closed_form``; ``float`` rounds a
 #: 1 m arm's pose to about 1e-7, a stretched elbow's cosine to about 1e-6.
 TOLERANCES = {
     "double": {

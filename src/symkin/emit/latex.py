@@ -29,10 +29,10 @@ from symkin.derive import Model
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
 from symkin.derive.lagrange import READABLE_DOF
+from symkin.derive.numeric import numeric_function
 from symkin.emit.latex_printer import KinematicsLatexPrinter, latex_width
 from symkin.emit.render import comment_text, render
 from symkin.errors import SymkinError
-from symkin.evaluate import numeric_function
 from symkin.robot import Robot
 from symkin.text import printable
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.kernel import Kernel, KernelOutput
+from symkin.kernels import Kernel, KernelOutput
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from symkin.emit.layout import STATE_INPUTS, kernel_layout
 from symkin.emit.render import forward_dynamics_context, preamble_lines, render
-from symkin.kernel import Kernel
+from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}

@@ -8,7 +8,7 @@ from importlib import resources
 
 import jinja2
 
-from symkin.kernel import Kernel
+from symkin.kernels import Kernel
 from symkin.robot import Robot
 from symkin.text import printable
 

@@ -36,6 +36,7 @@ import sympy as sp
 from symkin.errors import RobotError, RobotWarning
 from symkin.names import reserved_reason, robot_name_reason
 from symkin.robot import NAME_PATTERN, Joint, Link, Robot
+from symkin.symbols import parameter_symbol
 
 __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
 
@@ -291,7 +292,7 @@ def _robot_from_document(document: dict[str, Any], file: str) -> Robot:
     ctx = replace(
         ctx,
         angles=angles,
-        symbols={n: sp.Symbol(n, real=True) for n, _ in parameters},
+        symbols={n: parameter_symbol(n) for n, _ in parameters},
         values=dict(parameters),
     )
     joints = _joints(document, ctx)

@@ -8,15 +8,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
-from types import ModuleType
 
 import numpy as np
-import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.numeric import numeric_function
 from symkin.errors import SymkinError
-from symkin.kernel import inertial_symbols
+from symkin.kernels import inertial_symbols
+from symkin.runtime.modules import generated_numpy_module
 from symkin.spatial import euler_zyx_from_rotation
 
 
@@ -48,39 +47,6 @@ class KinematicState:
     determinant: float | None
     manipulability: float
     points: tuple[PointState, ...]
-
-
-def parameter_substitution(
-    model: Model, overrides: Mapping[str, float] | None = None
-) -> dict[sp.Symbol, float]:
-    """Parameter symbols mapped to their numbers (file values, ``overrides`` first)."""
-    values = model.robot.parameter_values(overrides)
-    return {s: values[s.name] for s in model.robot.parameter_symbols}
-
-
-def numeric_function(
-    model: Model,
-    expr: sp.MatrixBase | sp.Expr,
-    overrides: Mapping[str, float] | None = None,
-):
-    """``f(q, dq, ddq) -> ndarray`` for a symbolic quantity of ``model``."""
-    values = parameter_substitution(model, overrides)
-    substituted = sp.sympify(expr).xreplace(values)
-    if substituted.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
-        given = ", ".join(f"{s.name} = {v:g}" for s, v in values.items())
-        raise SymkinError(
-            f"{model.robot.name}: a formula divides by zero at the parameter values ({given}); "
-            "choose other values with --set"
-        )
-    function = sp.lambdify([model.q, model.dq, model.ddq], substituted, modules="numpy")
-
-    def evaluate(q, dq=None, ddq=None) -> np.ndarray:
-        zeros = np.zeros(model.robot.dof)
-        dq = zeros if dq is None else dq
-        ddq = zeros if ddq is None else ddq
-        return np.asarray(function(q, dq, ddq), dtype=float)
-
-    return evaluate
 
 
 def _check_lengths(model: Model, *states: Sequence[float] | None) -> None:
@@ -210,35 +176,3 @@ def dynamic_state(
         coriolis=None if dq is None else module.coriolis(q, dq, **shared),
         torque=None if dq is None or ddq is None else module.inverse_dynamics(q, dq, ddq, **shared),
     )
-
-
-@lru_cache(maxsize=16)
-def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
-    """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and loaded in
-    memory, once per model: the fast numeric path for solvers (IK, simulation, trajectories).
-    The generated code is checked against the symbolic model in the test suite."""
-    return _generated_module(model, "numpy", kind)
-
-
-@lru_cache(maxsize=16)
-def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
-    """The CasADi backend's ``kind`` kernels, loaded the same way: ``fk_function``,
-    ``forward_dynamics_function`` and the others build ``casadi.Function`` objects for
-    optimisation (trajectories, IK through IPOPT)."""
-    return _generated_module(model, "casadi", kind)
-
-
-def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
-    # Imported here, not at the top: ``import symkin`` should not load the code generators.
-    from symkin.emit.casadi import emit_casadi
-    from symkin.emit.numpy import emit_numpy
-    from symkin.kernel import dynamics_kernels, kinematics_kernels
-
-    kernels = {"kinematics": kinematics_kernels, "dynamics": dynamics_kernels}
-    if kind not in kernels:
-        raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(kernels)}")
-    emit = {"numpy": emit_numpy, "casadi": emit_casadi}[backend]
-    (source,) = emit(model.robot, kernels[kind](model)).values()
-    module = ModuleType(f"{model.robot.name}_{backend}_{kind}")
-    exec(compile(source, module.__name__, "exec"), module.__dict__)  # our own generated code
-    return module

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from symkin.ik.closed_form_table import (
+from symkin.kernels.ik.closed_form_table import (
     NumericChain,
     homogeneous,
     is_parallel,

@@ -52,7 +52,7 @@ import numpy as np
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
 from symkin.errors import SymkinError
-from symkin.evaluate import generated_numpy_module
+from symkin.runtime.modules import generated_numpy_module
 from symkin.spatial import axis_angle_from_rotation
 
 METHODS = ("lm", "newton")

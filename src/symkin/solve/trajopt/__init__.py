@@ -32,16 +32,12 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.numeric import parameter_substitution
 from symkin.errors import SymkinError
-from symkin.evaluate import (
-    dynamic_state,
-    dynamics_arguments,
-    generated_casadi_module,
-    generated_numpy_module,
-    parameter_substitution,
-)
 from symkin.output_folder import replace_file
 from symkin.robot import Joint, Robot
+from symkin.runtime.modules import generated_casadi_module, generated_numpy_module
+from symkin.solve.evaluate import dynamic_state, dynamics_arguments
 
 Objective = Literal["effort", "time"]
 Method = Literal["multiple-shooting", "collocation"]
@@ -683,7 +679,7 @@ def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False
     replace_file(out, paths[0].name, csv.getvalue())  # never through a link (security.md)
     replace_file(out, paths[1].name, text)
     if plot:
-        from symkin.trajopt_plot import plot_trajectory
+        from symkin.solve.trajopt.plot import plot_trajectory
 
         paths.append(plot_trajectory(trajectory, out / "trajectory.png"))
     return paths

@@ -8,18 +8,18 @@
   scheme and a path follower that solves every waypoint;
 * :func:`all_solutions` (``solutions``): every solution, in closed form where the robot has
   one (``closed_form``), else from many numeric seeds;
-* plots in ``symkin.ik.plot`` (matplotlib);
-* ``symkin.ik.batch.solve_ik_batch`` (the generated C solver's algorithm on NumPy batches) and
-  ``symkin.ik.casadi_ik.solve_ik_casadi`` (IPOPT with joint limits as bounds): imported from
+* plots in ``symkin.solve.ik.plot`` (matplotlib);
+* ``symkin.solve.ik.batch.solve_ik_batch`` (the generated C solver's algorithm on NumPy batches) and
+  ``symkin.solve.ik.casadi_ik.solve_ik_casadi`` (IPOPT with joint limits as bounds): imported from
   their modules, so that ``import symkin`` loads neither CasADi nor the code generators.
 
 Conventions and examples: ``docs/ik.md``.
 """
 
-from symkin.ik.numeric import IKResult, solve_ik, task_errors
-from symkin.ik.path import CartesianPath, NewtonPath, PathRow, follow_path, newton_path_table
-from symkin.ik.solutions import Solution, SolutionSet, all_solutions
-from symkin.ik.target import pose_from_target
+from symkin.solve.ik.numeric import IKResult, solve_ik, task_errors
+from symkin.solve.ik.path import CartesianPath, NewtonPath, PathRow, follow_path, newton_path_table
+from symkin.solve.ik.solutions import Solution, SolutionSet, all_solutions
+from symkin.solve.ik.target import pose_from_target
 
 __all__ = [
     "CartesianPath",

@@ -6,13 +6,13 @@ a leading batch axis).  Every pose runs its own iteration on its own random stre
 batch gives the same answer as solving each pose alone.
 
 * Error (base frame): ``e = [p_t - p; r]`` with ``r`` the rotation vector of ``R_t R^T``
-  (:func:`symkin.ik.numeric.rotation_vector`), ``E = e^T e / 2`` over the matched rows
+  (:func:`symkin.solve.ik.numeric.rotation_vector`), ``E = e^T e / 2`` over the matched rows
   (``x y z`` when ``position_only``, all six otherwise).
 * Step: ``(J^T J + lambda I) dq = J^T e`` with ``lambda = error_damping * E + damping``:
   Sugihara's ``lambda = E + lambda_bar`` (IEEE Trans. Robotics 27(5), 2011) with ``E``
   weighted.  Every step is taken.  A weight of 0.1 instead of Sugihara's 1 halves the
   iterations on random PUMA 560 and Panda targets; rejecting steps that raise ``E``
-  (Marquardt's rule, :mod:`symkin.ik.numeric`) costs two to four times as many iterations.
+  (Marquardt's rule, :mod:`symkin.solve.ik.numeric`) costs two to four times as many iterations.
 * Limits: a revolute joint outside its limits first moves by the multiple of ``2 pi`` that
   brings it nearest the middle of its range, then every joint is clamped.
 * Restarts: an attempt ends after ``max_iterations`` steps, or when it stalls (``E`` above
@@ -34,56 +34,16 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
-from symkin.evaluate import generated_numpy_module
-from symkin.ik.numeric import joint_bounds, parameter_vector
-
-# An attempt has stalled when E is above STALL_FACTOR times its value STALL_WINDOW steps ago.
-STALL_WINDOW = 5
-STALL_FACTOR = 0.5
-# Restart range of a joint without a limit: its width for revolute and prismatic joints.
-REVOLUTE_SPAN = 2 * math.pi
-PRISMATIC_SPAN = 2.0
-# xorshift64 must not start from 0 (it would stay 0); seed 0 means this state instead.
-FALLBACK_SEED = 0x9E3779B97F4A7C15
-
-
-@dataclass(frozen=True)
-class DampedLeastSquares:
-    """Settings of the damped-least-squares solver (C: ``<robot>_ik_options``).
-
-    The defaults are those of the double-precision C code; :data:`FLOAT_SETTINGS` holds the
-    single-precision ones.
-    """
-
-    max_iterations: int = 100
-    max_restarts: int = 50
-    position_tolerance: float = 1e-10
-    rotation_tolerance: float = 1e-10
-    damping: float = 1e-9
-    error_damping: float = 0.1
-    seed: int = 1
-
-    def __post_init__(self) -> None:
-        if self.max_iterations < 0 or self.max_restarts < 0:
-            raise SymkinError(
-                "max_iterations and max_restarts must be >= 0, got "
-                f"{self.max_iterations} and {self.max_restarts}"
-            )
-        if not (self.position_tolerance > 0 and self.rotation_tolerance > 0):
-            raise SymkinError(
-                "the tolerances must be positive, got "
-                f"{self.position_tolerance} and {self.rotation_tolerance}"
-            )
-        if not (0 <= self.damping < math.inf and 0 <= self.error_damping < math.inf):
-            raise SymkinError(
-                f"damping and error_damping must be finite and >= 0, got {self.damping} "
-                f"and {self.error_damping}"
-            )
-        if not 0 <= self.seed < 2**64:
-            raise SymkinError(f"the seed must be an unsigned 64-bit integer, got {self.seed}")
-
-
-FLOAT_SETTINGS = DampedLeastSquares(position_tolerance=1e-5, rotation_tolerance=1e-5, damping=1e-6)
+from symkin.kernels.ik.settings import (
+    FALLBACK_SEED,
+    PRISMATIC_SPAN,
+    REVOLUTE_SPAN,
+    STALL_FACTOR,
+    STALL_WINDOW,
+    DampedLeastSquares,
+)
+from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.ik.numeric import joint_bounds, parameter_vector
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,6 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from symkin.build import build_extension
 from symkin.derive import Model, derive
 from symkin.derive.kinematics import joint_dh_values
 from symkin.derive.lagrange import READABLE_DOF
@@ -36,21 +35,20 @@ from symkin.emit.latex import (
 )
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
-from symkin.evaluate import DynamicState, KinematicState, dynamic_state, kinematic_state
 from symkin.generate import (
     BACKENDS,
     check_backends,
     files_for_robot,
     generate_catalogue,
 )
-from symkin.ik.numeric import (
-    DEFAULT_RESTARTS,
-    DEFAULT_TOLERANCE,
-    METHODS,
-    IKResult,
-    solve_ik,
-)
-from symkin.ik.path import (
+from symkin.io import catalogue_names, load_robot
+from symkin.output_folder import write_folder
+from symkin.robot import Robot
+from symkin.runtime.extension import build_extension
+from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.evaluate import DynamicState, KinematicState, dynamic_state, kinematic_state
+from symkin.solve.ik.numeric import DEFAULT_RESTARTS, DEFAULT_TOLERANCE, METHODS, IKResult, solve_ik
+from symkin.solve.ik.path import (
     CartesianPath,
     NewtonPath,
     follow_path,
@@ -58,15 +56,10 @@ from symkin.ik.path import (
     path_table_json,
     path_table_text,
 )
-from symkin.ik.plot import plot_path, plot_solutions
-from symkin.ik.solutions import SolutionSet, all_solutions
-from symkin.ik.target import pose_from_target
-from symkin.io import catalogue_names, load_robot
-from symkin.latex_build import compile_pdf
-from symkin.output_folder import write_folder
-from symkin.robot import Robot
-from symkin.text import KEPT, printable
-from symkin.trajopt import (
+from symkin.solve.ik.plot import plot_path, plot_solutions
+from symkin.solve.ik.solutions import SolutionSet, all_solutions
+from symkin.solve.ik.target import pose_from_target
+from symkin.solve.trajopt import (
     OBJECTIVES,
     TRANSCRIPTIONS,
     TrajectoryProblem,
@@ -75,6 +68,7 @@ from symkin.trajopt import (
     summary_text,
     write_trajectory,
 )
+from symkin.text import KEPT, printable
 
 DEFAULT_ROBOT = "scara"
 # Every command stops with an error past this (no hang); the largest catalogue derivation
@@ -549,7 +543,7 @@ def command_derive(args: argparse.Namespace) -> None:
     for relative in files:
         print(f"  {out / relative}")
     for relative in sorted(set(written) - set(files)):
-        print(f"built {out / relative} (import it with symkin.build.load_extension)")
+        print(f"built {out / relative} (import it with symkin.runtime.extension.load_extension)")
     if "c" in backends or "python" in backends:
         print(f"compile and run the C example: make -C {out / 'c'} && {out / 'c' / 'example'}")
 

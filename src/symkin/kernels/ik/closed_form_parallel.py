@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from symkin.ik.closed_form_planar import Candidate, polar, two_link
-from symkin.ik.closed_form_table import (
+from symkin.kernels.ik.closed_form_planar import Candidate, polar, two_link
+from symkin.kernels.ik.closed_form_table import (
     NumericChain,
     is_parallel,
     rigid_inverse,
@@ -38,7 +38,7 @@ from symkin.ik.closed_form_table import (
     rot_z,
     twist_sign,
 )
-from symkin.ik.closed_form_wrist import (
+from symkin.kernels.ik.closed_form_wrist import (
     WRIST_SINGULAR,
     elbow_flag,
     shoulder,

@@ -20,7 +20,7 @@ the correction still to be made; zero in row 0).  The step from row ``i`` is the
 ``J^-1 (X_{i+1} - X_i + delta_i)``.
 
 **The path follower** (:func:`follow_path`) solves every waypoint to tolerance with
-:func:`symkin.ik.numeric.solve_ik`, each seeded with the previous solution; positions are
+:func:`symkin.solve.ik.numeric.solve_ik`, each seeded with the previous solution; positions are
 interpolated linearly and orientations along the shortest rotation (``R_i = R_0 exp(i/k r)``,
 ``r`` the rotation vector of ``R_0^T R_end``).
 """
@@ -37,8 +37,8 @@ import numpy as np
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
 from symkin.errors import SymkinError
-from symkin.evaluate import generated_numpy_module
-from symkin.ik.numeric import (
+from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
     IKResult,
     newton_step,
@@ -253,7 +253,7 @@ def follow_path(
     The first waypoint is seeded with ``q0``, each later one with the previous solution, so
     the arm stays on one branch.  ``restarts`` defaults to 0 for the same reason: a random
     restart could jump to another branch mid-path.  Other options go to
-    :func:`symkin.ik.numeric.solve_ik` (``position_only``, ``task``, ``tolerance``, ...).
+    :func:`symkin.solve.ik.numeric.solve_ik` (``position_only``, ``task``, ``tolerance``, ...).
     """
     targets = waypoint_poses(start, end, steps)
     results: list[IKResult] = []

@@ -4,7 +4,7 @@ The arm is drawn as a stick figure through the origins of the frames ``T_0_0 (ba
 ..., T_0_n`` and the tool point, in 2D (x-y plane) for a planar arm (its Jacobian has no
 ``z``, ``wx``, ``wy`` rows) and in 3D otherwise.  A path plot shows the targets against the
 points reached and, beside it, the joint values over the waypoints: the lecture's figure of
-the Newton path.  Needs matplotlib (:func:`symkin.plotting.pyplot`).
+the Newton path.  Needs matplotlib (:func:`symkin.solve.plotting.pyplot`).
 """
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.evaluate import numeric_function
-from symkin.plotting import pyplot, save_figure
+from symkin.derive.numeric import numeric_function
+from symkin.solve.plotting import pyplot, save_figure
 
 PLANAR_ZERO_ROWS = (2, 3, 4)  # z, wx, wy
 

@@ -1,6 +1,6 @@
 """All IK solutions of a target: the closed form where the robot has one, else a numeric search.
 
-The closed forms (:mod:`symkin.ik.closed_form`) give every solution with its branch flags.
+The closed forms (:mod:`symkin.solve.ik.closed_form`) give every solution with its branch flags.
 Without one, the numeric solver runs from many seeds and the distinct solutions it finds are
 collected: a sample, not a proof that no other solution exists (``SolutionSet.complete`` is
 False and the command line says so).
@@ -15,7 +15,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
-from symkin.ik.numeric import (
+from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
     random_configuration,
     solve_ik,
@@ -71,7 +71,7 @@ def all_solutions(
     overrides: Mapping[str, float] | None = None,
 ) -> SolutionSet:
     """Every solution for ``target`` (4x4) on the task rows (as in
-    :func:`symkin.ik.numeric.solve_ik`).
+    :func:`symkin.solve.ik.numeric.solve_ik`).
 
     The closed form is used when the robot has one and the rows include the robot's own task
     rows (its closed form solves those); each of its solutions is kept if it also meets any
@@ -79,7 +79,7 @@ def all_solutions(
     from ``q0`` if given, the others from random configurations) give the distinct solutions.
     A task with fewer rows than joints has infinitely many solutions and is rejected.
     """
-    from symkin.ik.closed_form import closed_form_family, closed_form_ik, has_closed_form
+    from symkin.solve.ik.closed_form import closed_form_family, closed_form_ik, has_closed_form
 
     rows = task_rows_for(model, task, position_only)
     robot = model.robot

@@ -1,6 +1,6 @@
 """The closed-form IK solver's constants as SymPy expressions of the robot's parameters.
 
-:mod:`symkin.ik.closed_form` recognises the joint structure from the numeric DH table and
+:mod:`symkin.solve.ik.closed_form` recognises the joint structure from the numeric DH table and
 builds one frozen solver per robot and parameter set, with every constant of the formulas as a
 float.  Generated C takes the parameter vector ``p`` at run time, so here each of those
 constants is built again, by the same formulas, as an expression of the parameter symbols
@@ -24,11 +24,11 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.ik.closed_form import _solver
-from symkin.ik.closed_form_parallel import ParallelAxesSolver
-from symkin.ik.closed_form_planar import PlanarSolver, planar_links
-from symkin.ik.closed_form_table import chain_from_robot, twist_sign
-from symkin.ik.closed_form_wrist import (
+from symkin.kernels import Kernel, KernelInput, kernel_from_outputs
+from symkin.kernels.ik.closed_form_parallel import ParallelAxesSolver
+from symkin.kernels.ik.closed_form_planar import PlanarSolver, planar_links
+from symkin.kernels.ik.closed_form_table import chain_from_robot, twist_sign
+from symkin.kernels.ik.closed_form_wrist import (
     Arm,
     ArticulatedArm,
     CylindricalArm,
@@ -36,7 +36,7 @@ from symkin.ik.closed_form_wrist import (
     SphericalWristSolver,
     wrist_centre_in_frame2,
 )
-from symkin.kernel import Kernel, KernelInput, kernel_from_outputs
+from symkin.kernels.ik.plan import closed_form_solver
 from symkin.robot import Robot
 from symkin.spatial import rot_x, transform_from_rotation_translation, transform_inverse
 
@@ -49,7 +49,7 @@ Constant = tuple[str, Sequence[sp.Expr], str]
 
 @dataclass(frozen=True)
 class SymbolicChain:
-    """:class:`symkin.ik.closed_form_table.NumericChain` with SymPy entries: standard DH,
+    """:class:`symkin.kernels.ik.closed_form_table.NumericChain` with SymPy entries: standard DH,
     ``T = base A_1 .. A_n tool``, a modified table rewritten the same way."""
 
     kinds: tuple[str, ...]
@@ -279,7 +279,7 @@ def _kernel(robot: Robot, constants: list[Constant]) -> Kernel:
 def closed_form_plan(robot: Robot) -> ClosedFormPlan | None:
     """The plan of ``robot``'s generated closed form, or None where
     ``has_closed_form(robot)`` is False."""
-    solver = _solver(robot, None, generic=True)
+    solver = closed_form_solver(robot, None, generic=True)
     if solver is None:
         return None
     chain = symbolic_chain(robot)

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from symkin.plotting import pyplot, save_figure
-from symkin.trajopt import Trajectory, units
+from symkin.solve.plotting import pyplot, save_figure
+from symkin.solve.trajopt import Trajectory, units
 
 
 def trajectory_figure(trajectory: Trajectory) -> object:

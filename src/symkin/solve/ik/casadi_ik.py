@@ -8,7 +8,7 @@ solved by IPOPT through ``casadi.nlpsol``; ``p(q)``, ``R(q)`` come from the CasA
 smooth everywhere and ``angle^2 / 2`` near the solution, so the objective matches the
 ``E = e^T e / 2`` of the damped-least-squares solvers there.  Joint limits are bounds on
 ``q`` (IPOPT's bound relaxation is switched off, so the returned ``q`` never leaves them).
-The result is judged like :func:`symkin.ik.numeric.solve_ik`'s: by the forward kinematics of
+The result is judged like :func:`symkin.solve.ik.numeric.solve_ik`'s: by the forward kinematics of
 the returned ``q`` (position error in m, rotation angle in rad, both at most ``tolerance``).
 """
 
@@ -23,9 +23,9 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
-from symkin.evaluate import generated_casadi_module, generated_numpy_module
-from symkin.ik.batch import pose_errors, sample_ranges
-from symkin.ik.numeric import (
+from symkin.runtime.modules import generated_casadi_module, generated_numpy_module
+from symkin.solve.ik.batch import pose_errors, sample_ranges
+from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
     IKResult,
     joint_bounds,

@@ -27,20 +27,24 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from functools import lru_cache
 from types import MappingProxyType
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.numeric import parameter_substitution
 from symkin.errors import SymkinError
-from symkin.evaluate import parameter_substitution
-from symkin.ik.closed_form_parallel import ParallelAxesSolver, parallel_axes_solver
-from symkin.ik.closed_form_planar import Candidate, PlanarSolver, planar_solver
-from symkin.ik.closed_form_table import chain_from_robot
-from symkin.ik.closed_form_wrist import SphericalWristSolver, spherical_wrist_solver
-from symkin.robot import Robot
+from symkin.kernels.ik.closed_form_planar import Candidate
+from symkin.kernels.ik.plan import (
+    DUPLICATE_TOL,
+    RIGID_TOL,
+    VERIFY_TOL,
+    Solver,
+    closed_form_family,
+    closed_form_solver,
+    has_closed_form,
+)
 
 __all__ = [
     "VERIFY_TOL",
@@ -50,16 +54,6 @@ __all__ = [
     "closed_form_ik",
     "has_closed_form",
 ]
-
-#: A solution is returned only if its FK reproduces the target to this tolerance: rotation
-#: entries absolutely, positions relative to the robot's size (at least 1 m).
-VERIFY_TOL = 1e-9
-#: Two solutions closer than this in every joint (angles modulo 2 pi) are one solution.
-DUPLICATE_TOL = 1e-9
-#: A target's rotation block may be off orthonormal by this much (rounding, not a mistake).
-RIGID_TOL = 1e-6
-
-Solver = PlanarSolver | SphericalWristSolver | ParallelAxesSolver
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,23 +78,6 @@ class ClosedFormSolution:
         q.flags.writeable = False
         object.__setattr__(self, "q", q)
         object.__setattr__(self, "branch", MappingProxyType(dict(self.branch)))
-
-
-@lru_cache(maxsize=64)
-def _cached_solver(robot: Robot, overrides: tuple, generic: bool) -> Solver | None:
-    """The first family whose recogniser accepts the robot's numeric table, or None."""
-    chain = chain_from_robot(robot, dict(overrides), generic)
-    for recognise in (planar_solver, spherical_wrist_solver, parallel_axes_solver):
-        solver = recognise(chain)
-        if solver is not None:
-            return solver
-    return None
-
-
-def _solver(
-    robot: Robot, overrides: Mapping[str, float] | None, generic: bool = False
-) -> Solver | None:
-    return _cached_solver(robot, tuple(sorted((overrides or {}).items())), generic)
 
 
 def batched_forward_kinematics(
@@ -153,7 +130,7 @@ def _prepared(model: Model, overrides: Mapping[str, float] | None) -> _Prepared:
     if entry is not None and entry[0] is model:
         return entry[1]
     robot = model.robot
-    solver = _solver(robot, overrides)
+    solver = closed_form_solver(robot, overrides)
     if solver is None:
         raise SymkinError(
             f"{robot.name}: no closed-form inverse kinematics for this {robot.dof}-joint "
@@ -177,21 +154,6 @@ def _prepared(model: Model, overrides: Mapping[str, float] | None) -> _Prepared:
         _PREPARED.pop(next(iter(_PREPARED)))
     _PREPARED[key] = (model, prepared)
     return prepared
-
-
-def has_closed_form(robot: Robot, overrides: Mapping[str, float] | None = None) -> bool:
-    """True if :func:`closed_form_ik` can solve ``robot`` (module docstring for the families).
-
-    Judged from the DH table with the parameter values (``overrides`` first); a parameter
-    without a value counts as a generic non-zero length.
-    """
-    return _solver(robot, overrides, generic=True) is not None
-
-
-def closed_form_family(robot: Robot, overrides: Mapping[str, float] | None = None) -> str | None:
-    """The recognised family, e.g. ``"spherical wrist, articulated RRR arm"``, or None."""
-    solver = _solver(robot, overrides, generic=True)
-    return None if solver is None else solver.family
 
 
 def _check_target(target: np.ndarray) -> np.ndarray:

@@ -40,8 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from symkin.ik.closed_form_planar import Candidate, clamped_sqrt, polar, two_link
-from symkin.ik.closed_form_table import (
+from symkin.kernels.ik.closed_form_planar import Candidate, clamped_sqrt, polar, two_link
+from symkin.kernels.ik.closed_form_table import (
     NumericChain,
     homogeneous,
     is_parallel,

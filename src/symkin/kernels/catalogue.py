@@ -1,0 +1,198 @@
+"""The catalogue of kernels a robot gets: kinematics, points fixed in links, dynamics.
+
+Each kernel is built from the derived :class:`~symkin.derive.Model`; the backends print them
+all the same way.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+
+from symkin.derive import Model
+from symkin.derive.dynamics import link_inertial_data
+from symkin.kernels.passes import kernel_from_assignments
+from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
+
+
+def state_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
+    """``q``, the chosen rates (``dq``, ``ddq``), then the parameters ``p`` in file order."""
+    descriptions = {
+        "dq": (model.dq, "joint velocities (rad/s or m/s)"),
+        "ddq": (model.ddq, "joint accelerations (rad/s^2 or m/s^2)"),
+    }
+    inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
+    inputs += [KernelInput(r, *descriptions[r]) for r in rates]
+    names = ", ".join(n for n, _ in model.robot.parameters) or "none"
+    inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
+    return tuple(inputs)
+
+
+def _shortest_kernel(
+    name: str,
+    description: str,
+    inputs: Sequence[KernelInput],
+    outputs_by_form: Sequence[Sequence[tuple[str, sp.MatrixBase, str]]],
+) -> Kernel:
+    """The kernel with the fewest operations among equivalent forms of the same outputs.
+
+    The contracted form wins on short chains (``cos(q1 + q2)``), the raw product form on long
+    ones (a 7-DOF Jacobian expanded is ten times longer than its product form after CSE).
+    Ties go to the first form.
+    """
+    candidates = [kernel_from_outputs(name, description, inputs, o) for o in outputs_by_form]
+    return min(candidates, key=lambda k: k.operation_counts["total"])
+
+
+def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
+    """The kinematics kernels of one robot, in a fixed order.
+
+    ``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
+    ``position_jacobian`` (dp/dq, 3 x n), ``fk_jacobian`` (T and J in one pass, the kernel
+    controllers call) and, when the task Jacobian is square, ``det`` and ``manipulability``.
+    Each comes from the simplified or the raw product form of the model, whichever is shorter.
+    """
+    inputs = state_inputs(model)
+    n = model.robot.dof
+    forms = (model, model.product_form)
+
+    def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
+        table = {
+            "T": lambda m: ("T", m.forward_kinematics, "pose of the tool in the base frame (4x4)"),
+            "p": lambda m: (
+                "p_tool",
+                m.tool_position,
+                "tool position in the base frame (3x1)",
+                "vector",
+            ),
+            "J": lambda m: (
+                "J",
+                m.geometric_jacobian,
+                f"geometric Jacobian (6x{n}, rows x y z wx wy wz, base frame)",
+            ),
+            "Jp": lambda m: ("Jp", m.position_jacobian, f"dp/dq (3x{n})"),
+        }
+        return [[table[key](form) for key in keys] for form in forms]
+
+    kernels = [
+        _shortest_kernel("fk", "forward kinematics", inputs, outputs("T")),
+        _shortest_kernel("position", "tool position", inputs, outputs("p")),
+        _shortest_kernel("jacobian", "geometric Jacobian", inputs, outputs("J")),
+        _shortest_kernel("position_jacobian", "analytic position Jacobian", inputs, outputs("Jp")),
+        _shortest_kernel(
+            "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
+        ),
+    ]
+    determinant = model.determinant()
+    if determinant is not None:
+        rows = ", ".join(model.task_rows)
+        kernels.append(
+            kernel_from_outputs(
+                "det",
+                f"determinant of the task Jacobian (rows {rows})",
+                inputs,
+                [("det", sp.Matrix([[determinant]]), "det J", "scalar")],
+            )
+        )
+        kernels.append(
+            kernel_from_outputs(
+                "manipulability",
+                "Yoshikawa manipulability of the task Jacobian (|det J| when square)",
+                inputs,
+                [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar")],
+            )
+        )
+    return tuple(kernels)
+
+
+def point_kernels(
+    model: Model, points: Sequence[tuple[int, Sequence[float]]]
+) -> tuple[Kernel, ...]:
+    """``point1, point2, ...``: position, velocity and acceleration of points fixed in links
+    (U-matrix method), each point given as ``(link, (x, y, z))`` in the link's frame."""
+    kernels = []
+    for k, (link, point) in enumerate(points, start=1):
+        motion = model.point_motion(link, point)
+        where = f"({', '.join(f'{c:g}' for c in point)}) in frame {link}"
+        kernels.append(
+            kernel_from_outputs(
+                f"point{k}",
+                f"motion of the point {where}",
+                state_inputs(model, "dq", "ddq"),
+                [
+                    ("p_point", motion.position, "position, base frame", "vector"),
+                    ("v_point", motion.velocity, "velocity, base frame", "vector"),
+                    ("a_point", motion.acceleration, "acceleration, base frame", "vector"),
+                ],
+            )
+        )
+    return tuple(kernels)
+
+
+def inertial_symbols(model: Model) -> tuple[sp.Symbol, ...]:
+    """Symbols of the inertial data the robot file leaves out (``m1, cx1, ..., iyz1, m2, ...``)."""
+    symbols: list[sp.Symbol] = []
+    for i, joint in enumerate(model.robot.joints):
+        if joint.link is None:
+            link = link_inertial_data(model.robot, i)
+            symbols += [link.mass, *link.com, *link.inertia]
+    return tuple(symbols)
+
+
+def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
+    """:func:`state_inputs`, then the inertial symbols ``pi`` the robot file leaves out."""
+    inputs = list(state_inputs(model, *rates))
+    inertial = inertial_symbols(model)
+    if inertial:
+        names = ", ".join(s.name for s in inertial)
+        inputs.append(KernelInput("pi", inertial, f"inertial parameters ({names})"))
+    return tuple(inputs)
+
+
+def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
+    """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
+    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler."""
+    n = model.robot.dof
+    dynamics = model.newton_euler
+    torque_assignments, torque = model.inverse_dynamics_recursion
+    steps = [
+        ("mass_matrix", "mass matrix", ("",), "M", dynamics.mass_matrix, f"M(q) ({n}x{n})"),
+        ("gravity", "gravity torques", ("",), "G", dynamics.gravity_vector, f"G(q) ({n}x1)"),
+        (
+            "coriolis",
+            "Coriolis and centrifugal torques",
+            ("dq",),
+            "c",
+            dynamics.coriolis_vector,
+            f"c = C(q, dq) dq ({n}x1)",
+        ),
+        (
+            "coriolis_matrix",
+            "Coriolis matrix (Christoffel symbols)",
+            ("dq",),
+            "C",
+            dynamics.coriolis_matrix,
+            f"C(q, dq) ({n}x{n}), dM/dt - 2C skew-symmetric",
+        ),
+    ]
+    kernels = [
+        kernel_from_assignments(
+            name,
+            description,
+            dynamics_inputs(model, *(r for r in rates if r)),
+            dynamics.assignments,
+            [(output, matrix, output_description, "vector" if output in ("G", "c") else "matrix")],
+        )
+        for name, description, rates, output, matrix, output_description in steps
+    ]
+    kernels.append(
+        kernel_from_assignments(
+            "inverse_dynamics",
+            "inverse dynamics",
+            dynamics_inputs(model, "dq", "ddq"),
+            torque_assignments,
+            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector")],
+        )
+    )
+    return tuple(kernels)
