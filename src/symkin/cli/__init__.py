@@ -1229,6 +1229,3 @@ def main(argv: Sequence[str] | None = None) -> int:
             signal.setitimer(signal.ITIMER_REAL, 0)
     return status
 
-
-if __name__ == "__main__":
-    sys.exit(main())

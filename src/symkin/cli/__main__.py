@@ -1,0 +1,7 @@
+"""``python -m symkin.cli``: the same as the ``symkin`` command."""
+
+import sys
+
+from symkin.cli import main
+
+sys.exit(main())
