@@ -2,35 +2,49 @@
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+# pip's own notices (and a machine's index warnings) are not ours to show; errors still are.
+PIP := $(BIN)/python -m pip --quiet --quiet --disable-pip-version-check
+RUN_STAMP := $(VENV)/.installed-run
+TEST_STAMP := $(VENV)/.installed-test
+# The edit-test loop: everything but the slow, LaTeX and outside-oracle tests.
+FAST := not slow and not needs_latex and not oracle
 
-.PHONY: run test lint bench clean generate
+.PHONY: run test test-fast lint bench clean generate
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(PIP) install --upgrade pip
 
-$(STAMP): $(BIN)/python pyproject.toml
-	$(BIN)/python -m pip install --quiet -e '.[test]'
-	touch $(STAMP)
+# `make run` needs the runtime dependencies and plots only, not the test stack.
+$(RUN_STAMP): $(BIN)/python pyproject.toml
+	$(PIP) install -e '.[plot]'
+	touch $(RUN_STAMP)
 
-run: $(STAMP)
+$(TEST_STAMP): $(BIN)/python pyproject.toml
+	$(PIP) install -e '.[test]'
+	touch $(RUN_STAMP) $(TEST_STAMP)
+
+run: $(RUN_STAMP)
 	$(BIN)/symkin show scara
 	$(BIN)/symkin derive scara --out out/scara
 
-generate: $(STAMP)
+generate: $(RUN_STAMP)
 	$(BIN)/symkin generate
 
-test: $(STAMP)
-	sh scripts/install-latex.sh
+lint: $(TEST_STAMP)
 	$(BIN)/ruff check src tests bench
+	$(BIN)/lint-imports
+
+test: $(TEST_STAMP)
+	sh scripts/install-latex.sh
+	$(MAKE) --no-print-directory lint
 	$(BIN)/python -m pytest -q
 
-lint: $(STAMP)
-	$(BIN)/ruff check src tests bench
+test-fast: $(TEST_STAMP)
+	$(BIN)/python -m pytest -q -m "$(FAST)"
 
-bench: $(STAMP)
-	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
+bench: $(TEST_STAMP)
+	$(PIP) install -e '.[test,bench]'
 	$(BIN)/python bench/derivation_time.py
 	$(BIN)/python bench/codegen_speed.py
 	$(BIN)/python bench/dynamics_speed.py
