@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -118,3 +119,24 @@ def test_random_chains_keep_their_values(chain, numbers):
     assignments, outputs = chain
     result = kernel(assignments, outputs)
     assert_same_values(assignments, outputs, result, dict(zip(X, numbers, strict=True)))
+
+
+def test_a_kernel_refuses_a_symbol_it_never_defines():
+    from symkin.kernels import Kernel, KernelInput, KernelOutput
+
+    x, t0, t1, stray = sp.symbols("x t0 t1 stray", real=True)
+    inputs = (KernelInput("x", (x,), "input"),)
+
+    def kernel(assignments, output):
+        return Kernel("k", "test", inputs, (KernelOutput("y", sp.ImmutableMatrix([output]), "y"),),
+                      tuple(assignments))  # fmt: skip
+
+    assert kernel([(t0, x**2), (t1, t0 + x)], t1).name == "k"  # well formed
+    with pytest.raises(ValueError, match="stray"):
+        kernel([(t0, x * stray)], t0)  # not an input
+    with pytest.raises(ValueError, match="t1"):
+        kernel([(t0, t1 + x), (t1, x)], t0)  # used before it is defined
+    with pytest.raises(ValueError, match="defined twice"):
+        kernel([(t0, x), (t0, 2 * x)], t0)
+    with pytest.raises(ValueError, match="y uses stray"):
+        kernel([(t0, x)], t0 + stray)  # an output naming an unknown symbol

@@ -67,12 +67,32 @@ class Kernel:
     outputs: tuple[KernelOutput, ...]
     assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
 
+    def __post_init__(self) -> None:
+        """Every symbol used is an input or an intermediate defined before its use, and each
+        intermediate is defined once: otherwise a backend would print an undefined name."""
+        known = {s for kernel_input in self.inputs for s in kernel_input.symbols}
+        for symbol, expr in self.assignments:
+            _check_defined(self.name, symbol.name, expr, known)
+            if symbol in known:
+                raise ValueError(f"kernel {self.name}: {symbol.name} is defined twice")
+            known.add(symbol)
+        for output in self.outputs:
+            for expr in output.matrix:
+                _check_defined(self.name, output.name, expr, known)
+
     @cached_property
     def operation_counts(self) -> dict[str, int]:
         """Operations by kind over all assignments and outputs, plus ``total``."""
         expressions = [e for _, e in self.assignments]
         expressions += [e for output in self.outputs for e in output.matrix]
         return count_operations(expressions)
+
+
+def _check_defined(kernel: str, where: str, expr: sp.Expr, known: set[sp.Symbol]) -> None:
+    unknown = expr.free_symbols - known
+    if unknown:
+        names = ", ".join(sorted(s.name for s in unknown))
+        raise ValueError(f"kernel {kernel}: {where} uses {names}, not an input or earlier result")
 
 
 def _sqrt_count(expr: sp.Expr) -> int:
