@@ -1,0 +1,22 @@
+"""Shared fixtures.
+
+Deriving a robot is the costly part of most tests, so one model per robot is derived once per
+session: the ``model`` fixture is :func:`numeric_dh.model` (cached), which covers the built-in
+robots and the two hand-written test robots.  Module-level helpers that need a model outside a
+test function import ``numeric_dh.model`` directly; it is the same cache.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from numeric_dh import model as cached_model
+from symkin.derive import Model
+
+
+@pytest.fixture(scope="session")
+def model_of() -> Callable[[str], Model]:
+    """``model_of("puma560")``: the session's derived model of a built-in or test robot."""
+    return cached_model
