@@ -273,24 +273,16 @@ def _barycentric_wrench(
     return force, inertia * motion.dw + motion.gyroscopic(inertia) + first.cross(dv)
 
 
-def joint_torques(
-    robot: Robot,
-    kinematics: Kinematics,
+def _outward(
+    geometry: Sequence[_JointGeometry],
     recorder: Recorder,
     dq: Sequence[sp.Expr],
     ddq: Sequence[sp.Expr],
-    gravity: Sequence[sp.Expr],
-    inertial: Sequence[BarycentricParameters] | None = None,
-) -> list[sp.Expr]:
-    """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia).
-
-    The links carry the robot file's data (mass, centre of mass, inertia about it) unless
-    ``inertial`` gives each link's barycentric parameters (the base parameters, say).
-    """
-    geometry = _joint_geometry(robot, kinematics)
-    base_rotation = sp.Matrix(robot.base[:3, :3])
+    dv: sp.Matrix,
+) -> list[tuple[_LinkMotion, sp.Matrix]]:
+    """The outward pass: each link's motion (``w``, ``dw``, ``U``) and its origin's
+    acceleration ``dv`` in its own frame, from the base's ``dv_0 = -g`` (module docstring)."""
     motion = _AT_REST
-    dv = recorder.vector(-base_rotation.T * sp.Matrix(gravity))
     states = []
     for i, joint in enumerate(geometry):
         back = joint.rotation.T
@@ -310,6 +302,27 @@ def joint_torques(
             dv_new = origin + 2 * moved.w.cross(joint.axis) * dq[i] + joint.axis * ddq[i]
         motion, dv = moved, recorder.vector(dv_new)
         states.append((motion, dv))
+    return states
+
+
+def joint_torques(
+    robot: Robot,
+    kinematics: Kinematics,
+    recorder: Recorder,
+    dq: Sequence[sp.Expr],
+    ddq: Sequence[sp.Expr],
+    gravity: Sequence[sp.Expr],
+    inertial: Sequence[BarycentricParameters] | None = None,
+) -> list[sp.Expr]:
+    """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia).
+
+    The links carry the robot file's data (mass, centre of mass, inertia about it) unless
+    ``inertial`` gives each link's barycentric parameters (the base parameters, say).
+    """
+    geometry = _joint_geometry(robot, kinematics)
+    base_rotation = sp.Matrix(robot.base[:3, :3])
+    dv = recorder.vector(-base_rotation.T * sp.Matrix(gravity))
+    states = _outward(geometry, recorder, dq, ddq, dv)
 
     force = sp.zeros(3, 1)
     about_joint = sp.zeros(3, 1)
