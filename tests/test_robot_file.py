@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from symkin.errors import RobotError, RobotWarning
-from symkin.io import catalogue_names, load_robot, robot_file, robot_from_toml
+from symkin.io import catalogue_names, load_robot, robot_file, robot_from_toml, robot_tables
 from symkin.robot import Robot
 
 FILE = "robots/arm.toml"
@@ -683,7 +683,7 @@ def test_joint_constructor_errors_are_prefixed(monkeypatch: pytest.MonkeyPatch) 
     def failing_joint(**_: Any) -> Any:
         raise RobotError("bad joint")
 
-    monkeypatch.setattr(robot_file, "Joint", failing_joint)
+    monkeypatch.setattr(robot_tables, "Joint", failing_joint)
     assert error_of(HEADER + REV + REV) == f"{FILE}: joint 1: bad joint"
 
 
@@ -881,9 +881,9 @@ def test_well_formed_files_load_to_the_generated_values(case: tuple[dict, dict])
 
 ALL_KEYS = sorted(
     {
-        *robot_file.TOP_KEYS, *robot_file.JOINT_KEYS, *robot_file.FRAME_KEYS,
-        *robot_file.LINK_KEYS, *robot_file.INERTIA_KEYS, *robot_file.FRICTION_KEYS,
-        *robot_file.STRIBECK_KEYS, *PARAMETER_POOL, "q1", "m1", "pi", "symbol",
+        *robot_file.TOP_KEYS, *robot_tables.JOINT_KEYS, *robot_tables.FRAME_KEYS,
+        *robot_tables.LINK_KEYS, *robot_tables.INERTIA_KEYS, *robot_tables.FRICTION_KEYS,
+        *robot_tables.STRIBECK_KEYS, *PARAMETER_POOL, "q1", "m1", "pi", "symbol",
     }
 )  # fmt: skip
 
