@@ -209,7 +209,8 @@ def check_peer(model, peer) -> float:
     """Largest relative difference of the peer's ddq from symkin's at random states."""
     import casadi as ca
 
-    from symkin.solve.trajopt import dynamics_arguments, generated_casadi_module
+    from symkin.runtime.modules import generated_casadi_module
+    from symkin.solve.evaluate import dynamics_arguments
 
     ours = generated_casadi_module(model).forward_dynamics_function(ca.SX)
     p = dynamics_arguments(model, {})["p"]
@@ -249,7 +250,7 @@ def replay_error(model, trajectory) -> float:
     from scipy.integrate import solve_ivp
 
     from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.trajopt import dynamics_arguments
+    from symkin.solve.evaluate import dynamics_arguments
 
     forward = generated_numpy_module(model).forward_dynamics
     args = dynamics_arguments(model, dict(trajectory.problem.overrides))
@@ -279,8 +280,8 @@ def progress(text: str) -> None:
 
 def measure(example: Example, repeat: int) -> dict:
     import symkin
-    from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.trajopt import generated_casadi_module, optimal_trajectory
+    from symkin.runtime.modules import generated_casadi_module, generated_numpy_module
+    from symkin.solve.trajopt import optimal_trajectory
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the PUMA's published link-3 inertia
@@ -311,7 +312,7 @@ def measure(example: Example, repeat: int) -> dict:
     difference = check_peer(model, peer)
     stand_in = SimpleNamespace(forward_dynamics_function=lambda symbol_type=None: peer)
     peer_times, peer_costs = [], []
-    with mock.patch("symkin.solve.trajopt.generated_casadi_module", return_value=stand_in):
+    with mock.patch("symkin.solve.trajopt.solve.generated_casadi_module", return_value=stand_in):
         for k in range(repeat):
             result = optimal_trajectory(model, problem(example, "effort", "multiple-shooting"))
             peer_times.append(result.stats.solve_time)

@@ -1,4 +1,4 @@
-"""Trajectory optimisation (``symkin.solve.trajopt``, ``symkin trajopt``) against independent oracles.
+"""Trajectory optimisation (``symkin.solve.trajopt``, ``symkin trajopt``) against oracles.
 
 * **Re-simulation.** The optimal torques, held constant on each interval exactly as the
   transcriptions assume, are integrated with SciPy's ``solve_ivp`` (DOP853, rtol = atol = 1e-10)
@@ -24,7 +24,7 @@ from scipy.integrate import solve_ivp
 
 import symkin
 from symkin.cli import main
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, SymkinError
 from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
     Trajectory,
@@ -240,7 +240,7 @@ def test_inertial_data_from_overrides(tmp_path) -> None:
         trajectory, lambda q, dq, tau: two_link_acceleration(q, dq, tau, gravity=0.0, length=1.0)
     )
     assert np.abs(states[-1] - [1.0, -0.5, 0.0, 0.0]).max() < RESIMULATION_TOLERANCE
-    with pytest.raises(SymkinError, match=r"no inertial data for .*--set"):
+    with pytest.raises(ParameterError, match=r"no inertial data for .* with overrides"):
         optimal_trajectory(model, TrajectoryProblem(start=(0, 0), goal=(1, 0), final_time=1.0))
 
 
@@ -288,6 +288,23 @@ def test_obvious_infeasibility_is_caught_before_solving(arm, changes, message) -
 def test_malformed_problems_are_rejected(arm, changes, message) -> None:
     with pytest.raises(SymkinError, match=message):
         optimal_trajectory(arm, swing(**changes))
+
+
+@pytest.mark.parametrize(
+    ("changes", "parameter"),
+    [
+        ({"final_time": None}, "final_time"),
+        ({"objective": "time"}, "final_time"),
+        ({"objective": "time", "final_time": None, "torque_limits": None}, "torque_limits"),
+    ],
+)
+def test_duration_errors_name_the_problem_field(arm, changes, parameter) -> None:
+    """The library names the field of TrajectoryProblem; a front end spells it its own way."""
+    with pytest.raises(ParameterError) as error:
+        optimal_trajectory(arm, swing(**changes))
+    assert error.value.parameters == (parameter,)
+    assert f"({parameter}" in str(error.value) and "--" not in str(error.value)
+    assert "(--flag" in error.value.message_for({parameter: "--flag"})
 
 
 def test_radau_coefficients_differentiate_cubics_exactly() -> None:

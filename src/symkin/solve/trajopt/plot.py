@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from symkin.solve.plotting import pyplot, save_figure
-from symkin.solve.trajopt import Trajectory, units
+from symkin.solve.trajopt.problem import units
+from symkin.solve.trajopt.solve import Trajectory
 
 
 def trajectory_figure(trajectory: Trajectory) -> object:

@@ -1,0 +1,84 @@
+"""An optimal trajectory as text and files: the summary printed by ``symkin trajopt``, CSV rows,
+a JSON object, and the files written into an output folder."""
+
+from __future__ import annotations
+
+import io
+import json
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from symkin.errors import SymkinError
+from symkin.output_folder import replace_file
+from symkin.solve.trajopt.plot import plot_trajectory
+from symkin.solve.trajopt.solve import Trajectory
+
+COST_NAMES = {"effort": "integral of tau^2", "time": "final time"}
+
+
+def trajectory_rows(trajectory: Trajectory) -> tuple[list[str], np.ndarray]:
+    """CSV header and rows ``t, q1..qn, dq1..dqn, tau1..taun`` at the N+1 nodes.
+
+    ``tau`` at node k is the torque held on ``[t_k, t_k+1)``; the last node repeats the last
+    interval's torque.
+    """
+    n = trajectory.robot.dof
+    header = ["t"] + [f"{name}{i}" for name in ("q", "dq", "tau") for i in range(1, n + 1)]
+    tau = np.vstack([trajectory.tau, trajectory.tau[-1:]])
+    rows = np.column_stack([trajectory.t, trajectory.q, trajectory.dq, tau])
+    return header, rows
+
+
+def trajectory_json(trajectory: Trajectory) -> dict:
+    """Problem settings, solver statistics and the trajectory, as JSON-ready values."""
+    return {
+        "robot": trajectory.robot.name,
+        "problem": asdict(trajectory.problem) | {"overrides": dict(trajectory.problem.overrides)},
+        "solver": asdict(trajectory.stats),
+        "final_time": trajectory.final_time,
+        "cost": trajectory.cost,
+        "effort": trajectory.effort,
+        "max_violation": trajectory.max_violation,
+        "t": trajectory.t.tolist(),
+        "q": trajectory.q.tolist(),
+        "dq": trajectory.dq.tolist(),
+        "tau": trajectory.tau.tolist(),
+    }
+
+
+def summary_text(trajectory: Trajectory) -> str:
+    """A few lines: the problem, IPOPT's status and iterations, solve time, T and the cost."""
+    problem, stats = trajectory.problem, trajectory.stats
+    objective = {"effort": "minimum effort", "time": "minimum time"}[problem.objective]
+    method = problem.method.replace("-", " ")
+    return "\n".join(
+        [
+            f"{trajectory.robot.name}: {objective}, {method}, {problem.intervals} intervals",
+            f"IPOPT: {stats.status}, {stats.iterations} iterations",
+            f"solve time: {stats.solve_time:.3f} s",
+            f"final time T = {trajectory.final_time:.6g} s",
+            f"cost = {trajectory.cost:.6g} ({COST_NAMES[problem.objective]})",
+            f"effort = {trajectory.effort:.6g}",
+            f"max constraint violation = {trajectory.max_violation:.1e}",
+        ]
+    )
+
+
+def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False) -> list[Path]:
+    """``trajectory.csv``, ``trajectory.json`` and, with ``plot``, ``trajectory.png`` in ``out``."""
+    out = Path(out)
+    header, rows = trajectory_rows(trajectory)
+    paths = [out / "trajectory.csv", out / "trajectory.json"]
+    csv = io.StringIO()
+    np.savetxt(csv, rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    try:
+        text = json.dumps(trajectory_json(trajectory), indent=2, allow_nan=False) + "\n"
+    except ValueError:
+        raise SymkinError("the trajectory holds values that are not finite numbers") from None
+    replace_file(out, paths[0].name, csv.getvalue())  # never through a link (security.md)
+    replace_file(out, paths[1].name, text)
+    if plot:
+        paths.append(plot_trajectory(trajectory, out / "trajectory.png"))
+    return paths
