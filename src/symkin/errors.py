@@ -41,3 +41,9 @@ class ParameterError(SymkinError):
     def message_for(self, spellings: Mapping[str, str]) -> str:
         """The message with each parameter spelled as ``spellings`` says (else its name)."""
         return self.template.format(**{name: spellings.get(name, name) for name in self.parameters})
+
+
+def literal(value: object) -> str:
+    """``str(value)`` for a :class:`ParameterError` template: braces doubled, so a value a user
+    typed (``'{x}'``) prints as given instead of being read as a parameter name."""
+    return str(value).replace("{", "{{").replace("}", "}}")

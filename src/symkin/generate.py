@@ -20,7 +20,7 @@ from symkin.emit.ik_closed_c import emit_ik_closed_c
 from symkin.emit.latex import latex_files
 from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, literal
 from symkin.io import catalogue_names, load_robot
 from symkin.kernels import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
 from symkin.output_folder import (
@@ -38,15 +38,17 @@ BACKENDS = ("numpy", "c", "python", "casadi")
 OPTIONAL_BACKENDS = ("latex",)
 
 
-def check_backends(names: Iterable[str]) -> tuple[str, ...]:
-    """Validate backend names from the command line."""
-    chosen = tuple(dict.fromkeys(n.strip() for n in names if n.strip()))
+def check_backends(backends: Iterable[str]) -> tuple[str, ...]:
+    """Validate backend names (blank ones are dropped, repeats kept once, order kept)."""
+    chosen = tuple(dict.fromkeys(n.strip() for n in backends if n.strip()))
     for name in chosen:
         if name not in BACKENDS + OPTIONAL_BACKENDS:
             choices = ", ".join(BACKENDS + OPTIONAL_BACKENDS)
-            raise SymkinError(f"--emit: unknown backend {name!r}; choose from {choices}")
+            raise ParameterError(
+                f"{{backends}}: unknown backend {literal(repr(name))}; choose from {choices}"
+            )
     if not chosen:
-        raise SymkinError(f"--emit: name at least one backend of {', '.join(BACKENDS)}")
+        raise ParameterError(f"{{backends}}: name at least one backend of {', '.join(BACKENDS)}")
     return chosen
 
 
@@ -63,7 +65,9 @@ def files_for_robot(
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot."""
     if precision not in PRECISIONS:
-        raise SymkinError(f"--precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
+        raise ParameterError(
+            f"{{precision}} must be one of {', '.join(PRECISIONS)}, got {literal(repr(precision))}"
+        )
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     kernels = functools.cache(
         lambda: robot_kernels(derive(robot)) + point_kernels(derive(robot), points)

@@ -23,7 +23,7 @@ from typing import Literal
 
 import sympy as sp
 
-from symkin.errors import RobotError
+from symkin.errors import ParameterError, RobotError
 from symkin.symbols import parameter_symbol
 from symkin.text import unprintable_characters
 
@@ -149,7 +149,8 @@ class Robot:
     def parameter_values(self, overrides: Mapping[str, float] | None = None) -> dict[str, float]:
         """Numeric value of every parameter, ``overrides`` taking precedence.
 
-        Raises :class:`RobotError` naming the parameters that have no value.
+        Raises :class:`RobotError` for an unknown name in ``overrides`` and
+        :class:`ParameterError` naming the parameters that have no value.
         """
         overrides = dict(overrides or {})
         unknown = sorted(set(overrides) - {n for n, _ in self.parameters})
@@ -159,8 +160,8 @@ class Robot:
         values = {n: overrides.get(n, v) for n, v in self.parameters}
         missing = [n for n, v in values.items() if v is None]
         if missing:
-            raise RobotError(
-                f"parameter(s) {', '.join(missing)} have no value; give one with --set NAME=VALUE"
+            raise ParameterError(
+                f"parameter(s) {', '.join(missing)} have no value; give one with {{overrides}}"
             )
         return {n: float(v) for n, v in values.items()}  # type: ignore[arg-type]
 

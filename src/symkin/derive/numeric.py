@@ -11,7 +11,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError
 
 
 def parameter_substitution(
@@ -32,9 +32,9 @@ def numeric_function(
     substituted = sp.sympify(expr).xreplace(values)
     if substituted.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         given = ", ".join(f"{s.name} = {v:g}" for s, v in values.items())
-        raise SymkinError(
+        raise ParameterError(
             f"{model.robot.name}: a formula divides by zero at the parameter values ({given}); "
-            "choose other values with --set"
+            "choose other values with {overrides}"
         )
     function = sp.lambdify([model.q, model.dq, model.ddq], substituted, modules="numpy")
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.numeric import numeric_function
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError
 from symkin.kernels import inertial_symbols
 from symkin.runtime.modules import generated_numpy_module
 from symkin.spatial import euler_zyx_from_rotation
@@ -52,9 +52,9 @@ class KinematicState:
 def _check_lengths(model: Model, *states: Sequence[float] | None) -> None:
     """``q``, ``dq``, ``ddq`` (those given) hold one value per joint."""
     n = model.robot.dof
-    for name, values in zip(("--q", "--dq", "--ddq"), states, strict=False):
+    for name, values in zip(("q", "dq", "ddq"), states, strict=False):
         if values is not None and len(values) != n:
-            raise SymkinError(f"{name} needs {n} values (one per joint), got {len(values)}")
+            raise ParameterError(f"{{{name}}} needs {n} values (one per joint), got {len(values)}")
 
 
 def kinematic_state(
@@ -144,9 +144,9 @@ def dynamics_arguments(
     inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
     missing = [name for name in inertial_names if name not in inertial]
     if missing:
-        raise SymkinError(
+        raise ParameterError(
             f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
-            "the robot file ([joints.link]) or with --set NAME=VALUE"
+            "the robot file ([joints.link]) or with {overrides}"
         )
     values = model.robot.parameter_values(overrides)
     arguments = {"p": np.array([values[name] for name, _ in model.robot.parameters])}

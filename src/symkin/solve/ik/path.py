@@ -36,7 +36,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
@@ -95,8 +95,8 @@ def path_task_rows(model: Model, task: Sequence[str] | None = None) -> tuple[str
         rows = tuple(task)
         rows_from_names(rows)
         if not rows or any(r not in POSITION_ROWS for r in rows):
-            raise SymkinError(
-                f"--task: the path interpolates positions; choose rows from x, y, z, got "
+            raise ParameterError(
+                f"{{task}}: the path interpolates positions; choose rows from x, y, z, got "
                 f"{','.join(rows) or 'none'}"
             )
     return rows
@@ -128,7 +128,7 @@ def newton_path_table(
         _values(q0, n, "q0"),
     )
     if steps < 1:
-        raise SymkinError(f"--steps: need at least 1 step, got {steps}")
+        raise ParameterError(f"{{steps}}: need at least 1 step, got {steps}")
     fk_jacobian = generated_numpy_module(model, "kinematics").fk_jacobian
     p = parameter_vector(model, overrides)
 
@@ -211,7 +211,7 @@ def waypoint_poses(start: np.ndarray, end: np.ndarray, steps: int) -> tuple[np.n
     """``steps + 1`` poses from ``start`` to ``end`` (4x4): positions on the straight segment,
     orientations along the shortest rotation between the two."""
     if steps < 1:
-        raise SymkinError(f"--steps: need at least 1 step, got {steps}")
+        raise ParameterError(f"{{steps}}: need at least 1 step, got {steps}")
     start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     rotation = rotation_vector(start[:3, :3].T @ end[:3, :3])
     angle = float(np.linalg.norm(rotation))

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from symkin.derive import Model
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError
 from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
     random_configuration,
@@ -84,8 +84,8 @@ def all_solutions(
     rows = task_rows_for(model, task, position_only)
     robot = model.robot
     if len(rows) < robot.dof:
-        raise SymkinError(
-            f"--all: the task rows {','.join(rows)} leave {robot.dof - len(rows)} of "
+        raise ParameterError(
+            f"{{all_solutions}}: the task rows {','.join(rows)} leave {robot.dof - len(rows)} of "
             f"{robot.name}'s {robot.dof} joints free: infinitely many solutions"
         )
     if has_closed_form(robot, overrides) and set(model.task_rows) <= set(rows):

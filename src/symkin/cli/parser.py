@@ -1,0 +1,308 @@
+"""The ``symkin`` argument parser: global options, then one sub-parser per command, each
+bound to its function in :mod:`symkin.cli.commands` or :mod:`symkin.cli.commands_ik`.
+
+Joint values are strings here; the commands parse them (:mod:`symkin.cli.values`) once the
+robot, and so the number and kind of its joints, is known.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from symkin.cli.commands import (
+    command_derive,
+    command_eval,
+    command_generate,
+    command_latex,
+    command_list,
+    command_show,
+    command_trajopt,
+)
+from symkin.cli.commands_ik import command_ik
+from symkin.cli.values import DEFAULT_TIME_LIMIT, seed_from_text, time_limit_from_text
+from symkin.emit.c import PRECISIONS
+from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
+from symkin.generate import BACKENDS
+from symkin.solve.ik.numeric import DEFAULT_RESTARTS, DEFAULT_TOLERANCE, METHODS
+from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
+
+# argparse's (private) type of the object that add_subparsers returns
+Commands = argparse._SubParsersAction
+TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
+
+
+def add_set_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
+    )
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="symkin",
+        description="Closed-form kinematics from Denavit-Hartenberg tables.",
+        epilog="ROBOT is a built-in name (see 'symkin list') or a path to a .toml robot file.",
+    )
+    parser.add_argument(
+        "--time-limit",
+        type=time_limit_from_text,
+        default=DEFAULT_TIME_LIMIT,
+        metavar="SECONDS",
+        help=f"stop with an error after this long (default {DEFAULT_TIME_LIMIT:g}; 0: no limit)",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    add_list(commands)
+    add_show(commands)
+    add_eval(commands)
+    add_derive(commands)
+    add_latex(commands)
+    add_generate(commands)
+    add_ik(commands)
+    add_trajopt(commands)
+    return parser
+
+
+def add_list(commands: Commands) -> None:
+    """``symkin list``."""
+    listing = commands.add_parser("list", help="list the built-in robots")
+    listing.set_defaults(run=command_list)
+
+
+def add_show(commands: Commands) -> None:
+    """``symkin show ROBOT``."""
+    show = commands.add_parser(
+        "show", help="DH table, transforms, Jacobian determinant and singularities"
+    )
+    show.add_argument("robot", metavar="ROBOT")
+    show.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
+    show.add_argument("--task", metavar="ROWS", help=TASK_HELP)
+    show.add_argument(
+        "--dynamics", action="store_true", help="also print the equations of motion (M, C, G)"
+    )
+    show.set_defaults(run=command_show)
+
+
+def add_eval(commands: Commands) -> None:
+    """``symkin eval ROBOT --q ...``."""
+    evaluate = commands.add_parser(
+        "eval",
+        help="numbers at one configuration",
+        description="Evaluate pose, Jacobian, determinant and point motion at one state. "
+        "Values are radians (or metres for prismatic joints); append 'deg' for degrees.",
+    )
+    evaluate.add_argument("robot", metavar="ROBOT")
+    evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
+    evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
+    evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
+    add_set_option(evaluate)
+    evaluate.add_argument(
+        "--point",
+        action="append",
+        default=[],
+        metavar="LINK:X,Y,Z",
+        help="a point fixed in link LINK (0 = base), coordinates in that link's frame",
+    )
+    evaluate.add_argument("--task", metavar="ROWS", help=TASK_HELP)
+    evaluate.add_argument(
+        "--dynamics",
+        action="store_true",
+        help="add M, c, G and tau (c needs --dq, tau --dq and --ddq); links without inertial "
+        "data need --set m1=...,cx1=...",
+    )
+    evaluate.add_argument("--json", action="store_true", help="print a JSON object")
+    evaluate.set_defaults(run=command_eval)
+
+
+def add_derive(commands: Commands) -> None:
+    """``symkin derive ROBOT --out DIR``."""
+    derive_parser = commands.add_parser(
+        "derive", help="write generated code (NumPy, C, CasADi) for one robot"
+    )
+    derive_parser.add_argument("robot", metavar="ROBOT")
+    derive_parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    derive_parser.add_argument(
+        "--emit",
+        default=",".join(BACKENDS),
+        metavar="LIST",
+        help=f"backends, comma-separated (default: {','.join(BACKENDS)}; also: latex)",
+    )
+    derive_parser.add_argument(
+        "--precision", choices=PRECISIONS, default="double", help="C floating-point type"
+    )
+    derive_parser.add_argument(
+        "--no-build", action="store_true", help="do not compile the Python extension"
+    )
+    derive_parser.add_argument(
+        "--point",
+        action="append",
+        default=[],
+        metavar="LINK:X,Y,Z",
+        help="also a kernel pointK for a point fixed in link LINK (position, velocity, "
+        "acceleration)",
+    )
+    derive_parser.add_argument(
+        "--numeric-parameters",
+        action="store_true",
+        help="put the parameter values (file values, or --set) into the code: no p input, "
+        "constants folded, and for robots with full inertial data the dynamics run on base "
+        "parameters (fewer operations)",
+    )
+    add_set_option(derive_parser)
+    derive_parser.set_defaults(run=command_derive)
+
+
+def add_latex(commands: Commands) -> None:
+    """``symkin latex ROBOT``."""
+    latex = commands.add_parser(
+        "latex",
+        help="the derivation as a LaTeX document and snippets (optionally a PDF)",
+        description="Write the DH table, transforms, Jacobian, determinant and singularities "
+        "as LaTeX: a standalone document plus snippets and macros to \\input into notes.",
+    )
+    latex.add_argument("robot", metavar="ROBOT")
+    latex.add_argument("-o", "--output", metavar="FILE", help="document path (default ROBOT.tex)")
+    latex.add_argument("--pdf", action="store_true", help="compile with pdflatex as well")
+    latex.add_argument("--shorthand", action="store_true", help="c_1, s_12, ... with a legend")
+    latex.add_argument("--lang", choices=LANGUAGES, default="en", help="headings (default: en)")
+    latex.add_argument("--q", metavar="V1,V2,...", help="also show numbers at this configuration")
+    add_set_option(latex)
+    latex.add_argument(
+        "--sections",
+        default=",".join(DEFAULT_SECTIONS),
+        metavar="LIST",
+        help=f"comma-separated, from {','.join(SECTIONS)} (default: all but dynamics, which "
+        "prints M, C and G by Lagrange up to three joints)",
+    )
+    latex.add_argument(
+        "--text-width",
+        type=float,
+        default=TEXT_WIDTH_CM,
+        metavar="CM",
+        help=f"text width that decides where matrices split (default {TEXT_WIDTH_CM})",
+    )
+    latex.set_defaults(run=command_latex)
+
+
+def add_generate(commands: Commands) -> None:
+    """``symkin generate``."""
+    generate = commands.add_parser(
+        "generate", help="regenerate generated/<robot>/ for every built-in robot"
+    )
+    generate.add_argument("--check", action="store_true", help="compare only; exit 2 on a diff")
+    generate.add_argument("--root", default="generated", metavar="DIR", help="default: generated")
+    generate.set_defaults(run=command_generate)
+
+
+def add_ik(commands: Commands) -> None:
+    """``symkin ik ROBOT --target ...`` or ``--path-from ... --to ... --steps K``."""
+    ik = commands.add_parser(
+        "ik",
+        help="inverse kinematics: joint values for a tool pose, or along a straight path",
+        description="Solve for joint values that put the tool at a target (numeric "
+        "Levenberg-Marquardt or Newton; --all: every solution, in closed form where the robot "
+        "has one), or along a straight path (--path-from, --to, --steps; --table prints the "
+        "lecture's Newton path table). A target is x,y,z[,rx,ry,rz]: metres, then Z-Y-X "
+        "Euler angles, R = Rz(rz) Ry(ry) Rx(rx), in rad or with 'deg'; x,y matches only the "
+        "x and y rows. Exit status 1 when the target is not reached.",
+    )
+    ik.add_argument("robot", metavar="ROBOT")
+    ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
+    ik.add_argument(
+        "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
+    )
+    ik.add_argument(
+        "--all",
+        action="store_true",
+        help="every solution: closed form with branch flags, or numeric from many seeds",
+    )
+    ik.add_argument(
+        "--task", metavar="ROWS", help="rows to match, e.g. x,y or xy (default: the robot's)"
+    )
+    ik.add_argument(
+        "--method", choices=METHODS, default="lm", help="lm (default) or newton (Newton-Raphson)"
+    )
+    ik.add_argument(
+        "--tolerance",
+        type=float,
+        default=DEFAULT_TOLERANCE,
+        metavar="TOL",
+        help=f"position error in m and rotation error in rad (default {DEFAULT_TOLERANCE:g})",
+    )
+    ik.add_argument(
+        "--restarts",
+        type=int,
+        metavar="N",
+        help=f"random restarts after a failed attempt (default {DEFAULT_RESTARTS}; along a path 0)",
+    )
+    ik.add_argument(
+        "--seed", type=seed_from_text, default=0, metavar="N", help="seed of the restarts (>= 0)"
+    )
+    ik.add_argument("--path-from", metavar="X0", help="start of a straight path (as --target)")
+    ik.add_argument("--to", metavar="X_END", help="end of the path")
+    ik.add_argument("--steps", type=int, metavar="K", help="number of equal steps of the path")
+    ik.add_argument(
+        "--table",
+        action="store_true",
+        help="the lecture's scheme: one Newton step per waypoint from (--path-from, --q0)",
+    )
+    add_set_option(ik)
+    ik.add_argument("--json", action="store_true", help="print a JSON object")
+    ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
+    ik.set_defaults(run=command_ik)
+
+
+def add_trajopt(commands: Commands) -> None:
+    """``symkin trajopt ROBOT --from ... --to ...``."""
+    trajopt = commands.add_parser(
+        "trajopt",
+        help="optimal point-to-point motion on the robot's dynamics (CasADi + IPOPT)",
+        description="Plan a rest-to-rest motion from --from to --to (or to the tool position "
+        "--cartesian-goal) on the robot's forward dynamics: minimum effort (the integral of "
+        "tau^2 over a fixed --time) or minimum time, within the joint limits of the robot file "
+        "and the velocity and torque limits given here (default: none). Joint values are "
+        "radians (or metres); append 'deg' for degrees.",
+    )
+    trajopt.add_argument("robot", metavar="ROBOT")
+    trajopt.add_argument(
+        "--from", dest="from_", required=True, metavar="V1,V2,...", help="start configuration"
+    )
+    trajopt.add_argument(
+        "--to", metavar="V1,V2,...", help="goal configuration (with --cartesian-goal: a guess)"
+    )
+    trajopt.add_argument(
+        "--cartesian-goal", metavar="X,Y,Z", help="goal tool position in metres, base frame"
+    )
+    trajopt.add_argument(
+        "--intervals", type=int, default=40, metavar="N", help="time intervals (default 40)"
+    )
+    duration = trajopt.add_mutually_exclusive_group()
+    duration.add_argument("--time", metavar="T", help="fixed final time in seconds (effort)")
+    duration.add_argument(
+        "--min-time", action="store_true", help="minimise the final time (= --objective time)"
+    )
+    trajopt.add_argument(
+        "--objective", choices=OBJECTIVES, help="effort (the default) or time (= --min-time)"
+    )
+    trajopt.add_argument(
+        "--method",
+        choices=list(TRANSCRIPTIONS),
+        default="multiple-shooting",
+        help="transcription: multiple-shooting (RK4, default) or collocation (Radau)",
+    )
+    trajopt.add_argument(
+        "--velocity-limit",
+        metavar="V[,V2,...]",
+        help="|dq| limit, one value for all joints or one per joint (rad/s or m/s; deg ok)",
+    )
+    trajopt.add_argument(
+        "--torque-limit",
+        metavar="V[,V2,...]",
+        help="|tau| limit, one value for all joints or one per joint (N m or N)",
+    )
+    add_set_option(trajopt)
+    trajopt.add_argument(
+        "--out", metavar="DIR", help="write trajectory.csv and trajectory.json to DIR"
+    )
+    trajopt.add_argument("--plot", action="store_true", help="also write DIR/trajectory.png")
+    trajopt.set_defaults(run=command_trajopt)

@@ -1,0 +1,85 @@
+"""Library errors name the function's parameters; the command line spells them as its flags
+(:func:`symkin.cli.report.flag`).  Expected messages are written out by hand."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import symkin
+from symkin.cli import main
+from symkin.cli.report import flag
+from symkin.errors import ParameterError
+from symkin.generate import check_backends
+from symkin.solve.ik.path import follow_path
+from symkin.solve.ik.target import pose_from_target
+
+# The planar 2R arm with the second link length left symbolic (no value).
+SYMBOLIC_ARM = """
+name = "arm"
+[parameters]
+L1 = 1.0
+L2 = "symbol"
+[[joints]]
+type = "revolute"
+a = "L1"
+[[joints]]
+type = "revolute"
+a = "L2"
+"""
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str]:
+    status = main(list(argv))
+    return status, capsys.readouterr().err
+
+
+def test_a_missing_parameter_value_names_overrides_then_set(tmp_path: Path, capsys) -> None:
+    path = tmp_path / "arm.toml"
+    path.write_text(SYMBOLIC_ARM)
+    with pytest.raises(ParameterError) as info:
+        symkin.load_robot(path).parameter_values()
+    assert str(info.value) == "parameter(s) L2 have no value; give one with overrides"
+    assert run(capsys, "eval", str(path), "--q", "0,0") == (
+        2,
+        "symkin: error: parameter(s) L2 have no value; give one with --set NAME=VALUE\n",
+    )
+
+
+def test_a_path_without_steps_names_steps_then_the_flag(capsys) -> None:
+    model = symkin.derive(symkin.load_robot("planar_2r"))
+    start, end = pose_from_target([0.3, 0.2, 0.0]), pose_from_target([0.2, 0.3, 0.0])
+    with pytest.raises(ParameterError) as info:
+        follow_path(model, start, end, 0)
+    assert str(info.value) == "steps: need at least 1 step, got 0"
+    argv = ("ik", "planar_2r", "--path-from", "0.3,0.2", "--to", "0.2,0.3", "--steps", "0")
+    assert run(capsys, *argv) == (2, "symkin: error: --steps: need at least 1 step, got 0\n")
+
+
+def test_braces_a_user_typed_are_text_not_parameters(tmp_path: Path, capsys) -> None:
+    with pytest.raises(ParameterError) as info:
+        check_backends(["{x}"])
+    choices = "numpy, c, python, casadi, latex"
+    assert str(info.value) == f"backends: unknown backend '{{x}}'; choose from {choices}"
+    argv = ("derive", "planar_2r", "--out", str(tmp_path), "--emit", "{x}")
+    assert run(capsys, *argv) == (
+        2,
+        f"symkin: error: --emit: unknown backend '{{x}}'; choose from {choices}\n",
+    )
+
+
+@pytest.mark.parametrize(
+    ("parameter", "command", "spelled"),
+    [
+        ("cartesian_goal", "trajopt", "--cartesian-goal"),  # the default rule
+        ("overrides", "eval", "--set NAME=VALUE"),
+        ("text_width_cm", "latex", "--text-width"),
+        ("final_time", "trajopt", "--time"),
+        ("torque_limits", "trajopt", "--torque-limit"),
+        ("start", "trajopt", "--from"),
+        ("start", "ik", "--start"),  # trajopt's spelling stays with trajopt
+    ],
+)
+def test_flag_spellings(parameter: str, command: str, spelled: str) -> None:
+    assert flag(parameter, command) == spelled
