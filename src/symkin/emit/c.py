@@ -14,7 +14,7 @@ from symkin.emit.render import (
     preamble_lines,
     render,
 )
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError
 from symkin.kernels import Kernel
 from symkin.robot import Robot
 
@@ -42,10 +42,10 @@ def check_float_range(robot: Robot, kernels: tuple[Kernel, ...]) -> None:
         numbers += [float(n) for e in expressions for n in e.atoms(sp.Number)]
     for number in numbers:
         if abs(number) > FLOAT_MAX or 0 < abs(number) < FLOAT_MIN_NORMAL:
-            raise SymkinError(
-                f"--precision float: {robot.name} has the constant {number:g}, outside the "
+            raise ParameterError(
+                f"{{precision}} float: {robot.name} has the constant {number:g}, outside the "
                 f"range of float ({FLOAT_MIN_NORMAL:.3g} to {FLOAT_MAX:.3g}); "
-                "use --precision double"
+                "use {precision} double"
             )
 
 
