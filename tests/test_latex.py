@@ -44,7 +44,7 @@ from symkin.emit.latex import (
     latex_files,
     macro_prefix,
 )
-from symkin.emit.latex_printer import Abbreviation, KinematicsLatexPrinter, latex_width
+from symkin.emit.latex.printer import Abbreviation, KinematicsLatexPrinter, latex_width
 from symkin.errors import RobotError, SymkinError
 from symkin.io import load_robot
 from symkin.runtime.latex_build import compile_pdf, log_problems
@@ -636,11 +636,11 @@ def test_sections_are_validated_and_large_robots_get_no_dynamics_matrices(models
 
 
 def test_bad_options_are_user_errors(models):
-    with pytest.raises(SymkinError, match="--lang"):
+    with pytest.raises(SymkinError, match="lang must be one of"):
         latex_files(models["scara"], lang="fr")
     with pytest.raises(SymkinError, match="3 values"):
         latex_files(models["scara"], q=[0.1, 0.2])
-    with pytest.raises(SymkinError, match="text width"):
+    with pytest.raises(SymkinError, match="text_width_cm must be from 8 to 40 cm"):
         latex_files(models["scara"], text_width_cm=3)
 
 

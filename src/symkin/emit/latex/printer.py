@@ -189,6 +189,7 @@ def _group(tokens: list[str], i: int) -> tuple[float, int]:
 
 
 def _width_of(tokens: list[str], i: int, until: str | None) -> tuple[float, int]:
+    """Width of ``tokens[i:]`` up to the token ``until`` and the index just past it."""
     width = 0.0
     while i < len(tokens):
         token = tokens[i]
@@ -205,29 +206,8 @@ def _width_of(tokens: list[str], i: int, until: str | None) -> tuple[float, int]
         elif token == "&":
             continue
         elif token.startswith("\\"):
-            name = token[1:]
-            if name == "frac":
-                numerator, i = _group(tokens, i)
-                denominator, i = _group(tokens, i)
-                width += max(numerator, denominator) + 0.4
-            elif name in ("dot", "ddot", "hat", "bar", "boldsymbol", "text", "mathrm"):
-                inner, i = _group(tokens, i)
-                width += inner
-            elif name == "operatorname":
-                inner, i = _group(tokens, i)
-                width += 0.85 * inner + 0.3
-            elif name in ("begin", "end"):
-                _, i = _group(tokens, i)
-            elif name in _ZERO_WIDTH:
-                continue
-            elif name in _COMMAND_WIDTHS:
-                width += _COMMAND_WIDTHS[name]
-            elif name in _SPACES:
-                width += _SPACES[name]
-            elif len(name) > 1:
-                width += 1.0  # a Greek letter or another single symbol
-            else:
-                width += 0.5
+            inner, i = _command_width(token[1:], tokens, i)
+            width += inner
         elif token in _OPERATORS:
             width += _OPERATORS[token]
         elif token.isdigit() or token == ".":
@@ -235,3 +215,28 @@ def _width_of(tokens: list[str], i: int, until: str | None) -> tuple[float, int]
         else:
             width += 1.0
     return width, i
+
+
+def _command_width(name: str, tokens: list[str], i: int) -> tuple[float, int]:
+    """Width of the command ``\\name`` with its arguments from ``tokens[i]`` on, and the
+    index past them."""
+    if name == "frac":
+        numerator, i = _group(tokens, i)
+        denominator, i = _group(tokens, i)
+        return max(numerator, denominator) + 0.4, i
+    if name in ("dot", "ddot", "hat", "bar", "boldsymbol", "text", "mathrm"):
+        return _group(tokens, i)
+    if name == "operatorname":
+        inner, i = _group(tokens, i)
+        return 0.85 * inner + 0.3, i
+    if name in ("begin", "end"):
+        return 0.0, _group(tokens, i)[1]
+    if name in _ZERO_WIDTH:
+        return 0.0, i
+    if name in _COMMAND_WIDTHS:
+        return _COMMAND_WIDTHS[name], i
+    if name in _SPACES:
+        return _SPACES[name], i
+    if len(name) > 1:
+        return 1.0, i  # a Greek letter or another single symbol
+    return 0.5, i
