@@ -45,7 +45,7 @@ from symkin.emit.c import emit_c
 from symkin.emit.ik_closed_c import BRANCH_BITS, emit_ik_closed_c
 from symkin.generate import files_for_robot
 from symkin.kernels import Kernel, kernel_from_outputs, state_inputs
-from symkin.kernels.ik.closed_form_constants import closed_form_plan
+from symkin.kernels.ik.plan import closed_form_plan
 from symkin.solve.ik.closed_form import closed_form_ik, has_closed_form
 from test_ik_closed_form import HAND, model, random_q, reference, robot, task_error
 
@@ -247,7 +247,7 @@ def test_generic_six_joint_poses_have_every_branch(built, name):
             others = np.delete(solutions.q, k, axis=0)
             assert all(joint_difference(name, q, other).max() > 1e-6 for other in others)
         seen |= {item for branch in solutions.branch for item in branch.items()}
-    flags = closed_form_plan(robot(name)).flags
+    flags = closed_form_plan(robot(name)).shape.flags
     assert seen == {key for key in BRANCH_BITS if key[0] in flags and key[1] != "singular"}
 
 

@@ -2,9 +2,10 @@
 
 Only for robots with a closed form (``symkin.kernels.ik.plan.has_closed_form``).  One template
 per family (``templates/c/ik_closed_{planar,wrist,parallel}.c.j2``) holds the per-pose formulas
-of the Python solver; the constants those formulas need come from ``p`` through the
-``closed_form_constants`` kernel (:mod:`symkin.emit.ik_closed_constants`).  Every candidate is
-checked by the generated ``<robot>_fk``, as ``closed_form_ik`` checks it in Python.
+of the Python solver; the constants those formulas need are the robot's plan
+(:func:`symkin.kernels.ik.plan.closed_form_plan`), computed from ``p`` through the
+``closed_form_constants`` kernel.  Every candidate is checked by the generated ``<robot>_fk``,
+as ``closed_form_ik`` checks it in Python.
 """
 
 from __future__ import annotations
@@ -17,10 +18,10 @@ from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
 from symkin.emit.render import preamble_lines, render
 from symkin.kernels import Kernel
-from symkin.kernels.ik.closed_form_constants import ClosedFormPlan, closed_form_plan
-from symkin.kernels.ik.closed_form_planar import REACH_TOL
-from symkin.kernels.ik.closed_form_wrist import WRIST_SINGULAR
-from symkin.kernels.ik.plan import DUPLICATE_TOL, RIGID_TOL, VERIFY_TOL
+from symkin.kernels.ik.closed_form_constants import constants_kernel
+from symkin.kernels.ik.closed_form_spec import Shape
+from symkin.kernels.ik.closed_form_steps import REACH_TOL, WRIST_SINGULAR
+from symkin.kernels.ik.plan import DUPLICATE_TOL, RIGID_TOL, VERIFY_TOL, closed_form_plan
 from symkin.robot import Robot
 
 #: ``branch`` bit of each flag value (the same on every robot) and its meaning.
@@ -36,8 +37,8 @@ BRANCH_BITS: dict[tuple[str, str], tuple[int, str]] = {
     ("wrist", "singular"): (0x100, "sin(theta_5) = 0: one solution, with {free} = 0"),
 }
 
-#: Tolerances of the checks.  ``double``: those of ``symkin.solve.ik.closed_form``; ``float`` rounds a
-#: 1 m arm's pose to about 1e-7, a stretched elbow's cosine to about 1e-6.
+#: Tolerances of the checks.  ``double``: those of ``symkin.solve.ik.closed_form``; ``float``
+#: rounds a 1 m arm's pose to about 1e-7, a stretched elbow's cosine to about 1e-6.
 TOLERANCES = {
     "double": {
         "verify": VERIFY_TOL,
@@ -67,16 +68,16 @@ TASK_TEXT = {
 }
 
 
-def _flags(plan: ClosedFormPlan, macro: str) -> list[tuple[str, str, str]]:
+def _flags(shape: Shape, macro: str) -> list[tuple[str, str, str]]:
     """``(macro name, hex value, meaning)`` of every flag value the robot's family sets."""
     return [
         (
             f"{macro}_IK_CLOSED_{flag.upper()}_{value.upper()}",
             f"0x{bit:03x}",
-            meaning.format(free="q6" if plan.family == "parallel" else "q4"),
+            meaning.format(free="q6" if shape.family == "parallel" else "q4"),
         )
         for (flag, value), (bit, meaning) in BRANCH_BITS.items()
-        if flag in plan.flags
+        if flag in shape.flags
     ]
 
 
@@ -110,7 +111,8 @@ def emit_ik_closed_c(
         "pi": c_literal(math.pi, precision),
         "two_pi": c_literal(2 * math.pi, precision),
     }
-    solver = plan.solver
+    shape = plan.shape
+    constants = constants_kernel(robot, plan)
     context = {
         "prefix": robot.name,
         "macro": macro,
@@ -122,15 +124,15 @@ def emit_ik_closed_c(
         "parameters": len(robot.parameters),
         "header": f"{robot.name}.h",
         "closed_header": header,
-        "family": plan.family,
-        "family_name": solver.family,
-        "arm": plan.arm,
-        "structure": plan.structure,
-        "task": solver.task,
-        "task_text": TASK_TEXT[solver.task],
-        "max_solutions": plan.max_solutions,
-        "flags": _flags(plan, macro),
-        "constants": kernel_layout(plan.constants, lambda e: c_code(e, precision)),
+        "family": shape.family,
+        "family_name": shape.name,
+        "arm": shape.arm,
+        "structure": dict(shape.structure),
+        "task": shape.task,
+        "task_text": TASK_TEXT[shape.task],
+        "max_solutions": shape.max_solutions,
+        "flags": _flags(shape, macro),
+        "constants": kernel_layout(constants, lambda e: c_code(e, precision)),
         "head": plan.has("head_inverse"),
         "tail": plan.has("tail_inverse"),
         "literal": literal,
@@ -139,7 +141,7 @@ def emit_ik_closed_c(
         "shift": _shifts(robot),
         "lower": lower,
         "upper": upper,
-        "preamble": preamble_lines(robot, (fk, plan.constants), f"C closed-form IK ({precision})"),
+        "preamble": preamble_lines(robot, (fk, constants), f"C closed-form IK ({precision})"),
     }
     return {
         f"c/{header}": render("c/ik_closed.h.j2", **context),

@@ -28,28 +28,41 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import sympy as sp
 
-from symkin.kernels.ik.closed_form_planar import Candidate, polar, two_link
-from symkin.kernels.ik.closed_form_table import (
-    NumericChain,
-    is_parallel,
-    rigid_inverse,
-    rot_x,
-    rot_z,
-    twist_sign,
+from symkin.kernels.ik.closed_form_spec import (
+    ClosedFormPlan,
+    Constant,
+    Shape,
+    Values,
+    frame_constants,
+    polar,
+    tail,
+    twist_constants,
 )
-from symkin.kernels.ik.closed_form_wrist import (
+from symkin.kernels.ik.closed_form_steps import (
     WRIST_SINGULAR,
+    Candidate,
     elbow_flag,
+    rot_z,
     shoulder,
     shoulder_flag,
-    tail_inverse,
+    transform,
+    twist_rotations,
+    two_link,
+)
+from symkin.kernels.ik.closed_form_table import (
+    NumericChain,
+    SymbolicChain,
+    is_parallel,
+    twist_sign,
 )
 
 
 @dataclass(frozen=True, eq=False)
 class ParallelAxesSolver:
-    """UR-type arm, constants precomputed per robot (module docstring for the steps)."""
+    """UR-type arm, the constants of :func:`parallel_constants` evaluated (module docstring
+    for the steps)."""
 
     twists: tuple[int, int, int]  # t_1, t_4, t_5
     d1: float
@@ -69,6 +82,29 @@ class ParallelAxesSolver:
 
     family = "three parallel axes (UR type)"
     task = "pose"
+
+    @classmethod
+    def from_plan(cls, plan: ClosedFormPlan, values: Values, dof: int) -> ParallelAxesSolver:
+        del dof  # six
+        shape = plan.shape
+        rotations = twist_rotations(values["twist_cos"], values["twist_sin"])
+        return cls(
+            twists=(shape["twist1"], shape["twist4"], shape["twist5"]),
+            d1=values["d1"][0],
+            a1=values["a1"][0],
+            offset=values["offset"][0],
+            d5=values["d5"][0],
+            d6=values["d6"][0],
+            link2=values["link2"],
+            link3=values["link3"],
+            twist1=rotations[0],
+            undo4=rotations[3].T,
+            undo5=rotations[4].T,
+            theta=values["theta"],
+            head_inverse=transform(values.get("head_inverse")),
+            tail_inverse=transform(values.get("tail_inverse")),
+            scale=values["scale"][0],
+        )
 
     def _wrist(self, rotation: np.ndarray, c1: float, s1: float) -> list[tuple[float, float, str]]:
         """``(th5, th6, flag)`` for both wrist branches at waist angle ``(c1, s1)``."""
@@ -118,8 +154,8 @@ class ParallelAxesSolver:
         return result
 
 
-def parallel_axes_solver(chain: NumericChain) -> ParallelAxesSolver | None:
-    """The UR-type solver if ``chain`` has that shape (module docstring), else None."""
+def parallel_axes_shape(chain: NumericChain) -> Shape | None:
+    """The UR-type shape if ``chain`` has it (module docstring), else None."""
     if chain.dof != 6 or chain.kinds != ("revolute",) * 6:
         return None
     t1, t4, t5 = (twist_sign(chain.alpha[i]) for i in (0, 3, 4))
@@ -127,22 +163,28 @@ def parallel_axes_solver(chain: NumericChain) -> ParallelAxesSolver | None:
         return None
     if not all(chain.is_zero_length(x) for x in (chain.a[3], chain.a[4])):
         return None
-    if any(chain.is_zero_length(x) for x in (chain.a[1], chain.a[2])):
-        return None
-    return ParallelAxesSolver(
-        twists=(t1, t4, t5),
-        d1=chain.d[0],
-        a1=chain.a[0],
-        offset=-t1 * (chain.d[1] + chain.d[2] + chain.d[3]),
-        d5=chain.d[4],
-        d6=chain.d[5],
-        link2=polar((chain.a[1], 0.0)),
-        link3=polar((chain.a[2], 0.0)),
-        twist1=rot_x(chain.alpha[0]),
-        undo4=rot_x(chain.alpha[3]).T,
-        undo5=rot_x(chain.alpha[4]).T,
-        theta=chain.theta,
-        head_inverse=rigid_inverse(chain.base),
-        tail_inverse=tail_inverse(chain),
-        scale=chain.size,
+    return Shape(
+        family="parallel",
+        arm="parallel",
+        name=ParallelAxesSolver.family,
+        task="pose",
+        structure=(("twist1", t1), ("twist4", t4), ("twist5", t5)),
+        nonzero=(("link2", 0), ("link3", 0)),
     )
+
+
+def parallel_constants(chain: SymbolicChain, shape: Shape) -> list[Constant]:
+    """The constants of the UR-type formulas (the fields of :class:`ParallelAxesSolver`)."""
+    a, d = chain.a, chain.d
+    return [
+        Constant("d1", (d[0],), "d_1"),
+        Constant("a1", (a[0],), "a_1"),
+        Constant("offset", (-shape["twist1"] * (d[1] + d[2] + d[3]),), "-t_1 (d_2 + d_3 + d_4)"),
+        Constant("d5", (d[4],), "d_5"),
+        Constant("d6", (d[5],), "d_6"),
+        Constant("link2", polar(a[1], sp.S.Zero), "(a_2, 0) in polar form (length, angle)"),
+        Constant("link3", polar(a[2], sp.S.Zero), "(a_3, 0) in polar form"),
+        *twist_constants(chain),
+        Constant("theta", chain.theta, "theta_i - q_i"),
+        *frame_constants(chain, tail(chain)),
+    ]

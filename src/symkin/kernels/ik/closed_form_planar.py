@@ -13,86 +13,53 @@ angles ``Theta_k = Theta_{k-1} + gamma_{k-1} + q_k + o_k`` (``Theta_0 = 0``)::
 
     p = v_0 + sum_k Rot(Theta_k) v_k,        heading = Theta_r + gamma_r
 
-The elbow is the textbook two-link solution (Spong, Hutchinson, Vidyasagar, *Robot Modeling
-and Control*, Sec. 5.3; Craig, *Introduction to Robotics*, Sec. 4.4) without ``acos``:
-``cos delta = (|p|^2 - l1^2 - l2^2) / (2 l1 l2)``, ``delta = atan2(+-sqrt(1 - cos^2), cos)``,
-``beta_1 = atan2(y, x) - atan2(l2 sin delta, l1 + l2 cos delta)``.
+The elbow is the two-link solution (``closed_form_steps.two_link``).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+import sympy as sp
 
+from symkin.kernels.ik.closed_form_spec import (
+    ClosedFormPlan,
+    Constant,
+    Shape,
+    Values,
+    frame_constants,
+    polar,
+)
+from symkin.kernels.ik.closed_form_steps import Candidate, transform, two_link
 from symkin.kernels.ik.closed_form_table import (
     NumericChain,
-    homogeneous,
+    SymbolicChain,
     is_parallel,
-    rigid_inverse,
-    rot_x,
+    translation_rotation,
 )
+from symkin.spatial import rot_x
 
-#: ``|cos delta|`` up to this much above 1 is rounding at full stretch, clamped to 1; the FK
-#: check then decides whether the pose is reached.
-REACH_TOL = 1e-9
-
-#: A raw solution: joint values (not yet wrapped) and branch flags as (name, value) pairs.
-Candidate = tuple[tuple[float, ...], tuple[tuple[str, str], ...]]
-
-
-def clamped_sqrt(value: float, scale: float) -> float | None:
-    """``sqrt(value)``; a negative ``value`` within rounding of 0 (relative to ``scale``) gives
-    0, a clearly negative one ``None`` (no real solution)."""
-    if value >= 0.0:
-        return math.sqrt(value)
-    return 0.0 if value >= -REACH_TOL * scale else None
-
-
-def two_link(x: float, y: float, l1: float, l2: float) -> tuple[tuple[float, float, int], ...]:
-    """Both solutions ``(beta_1, delta, sign of sin delta)`` of
-    ``l1 (cos beta_1, sin beta_1) + l2 (cos(beta_1 + delta), sin(beta_1 + delta)) = (x, y)``.
-
-    Empty when the point is out of reach.  ``l1, l2 > 0``.
-    """
-    cos_delta = (x * x + y * y - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
-    if abs(cos_delta) > 1.0 + REACH_TOL:
-        return ()
-    cos_delta = min(1.0, max(-1.0, cos_delta))
-    sin_delta = math.sqrt((1.0 - cos_delta) * (1.0 + cos_delta))
-    direction = math.atan2(y, x)
-    return tuple(
-        (direction - math.atan2(l2 * s, l1 + l2 * cos_delta), math.atan2(s, cos_delta), sign)
-        for s, sign in ((sin_delta, 1), (-sin_delta, -1))
-    )
-
-
-def polar(vector: tuple[float, float]) -> tuple[float, float]:
-    """``(length, angle)`` of a 2-D vector."""
-    return math.hypot(*vector), math.atan2(vector[1], vector[0])
+#: A 2-D vector of SymPy expressions.
+Vector = tuple[sp.Expr, sp.Expr]
 
 
 def planar_links(
-    chain: Any, tool: Any, zero: Any, cos: Callable, sin: Callable
-) -> tuple[tuple[Any, Any], list[Any], list[tuple[Any, Any]], Any]:
+    chain: SymbolicChain, tool: sp.Matrix
+) -> tuple[Vector, list[sp.Expr], list[Vector], sp.Expr]:
     """Walk a planar chain: the first revolute axis ``start``, each revolute joint's angle
     offset, the in-plane link vectors between revolute axes (prismatic joints and the tool
-    folded in) and the turn ``gamma`` after the last revolute joint.
+    folded in) and the turn ``gamma`` after the last revolute joint."""
 
-    Numbers for the solver, or SymPy expressions (``zero = sp.S.Zero``, ``sp.cos``, ``sp.sin``)
-    for the constants of the generated C: one walk serves both.
-    """
-
-    def turn(angle: Any, vector: tuple[Any, Any]) -> tuple[Any, Any]:
-        c, s = cos(angle), sin(angle)
+    def turn(angle: sp.Expr, vector: Vector) -> Vector:
+        c, s = sp.cos(angle), sp.sin(angle)
         return c * vector[0] - s * vector[1], s * vector[0] + c * vector[1]
 
-    offsets: list[Any] = []
-    links: list[tuple[Any, Any]] = []
-    start = (zero, zero)
+    zero = sp.S.Zero
+    offsets: list[sp.Expr] = []
+    links: list[Vector] = []
+    start: Vector = (zero, zero)
     gamma, vector = zero, (zero, zero)
     for i, kind in enumerate(chain.kinds):
         if kind == "revolute":
@@ -111,39 +78,99 @@ def planar_links(
     return start, offsets, links, gamma
 
 
+def planar_shape(chain: NumericChain) -> Shape | None:
+    """The planar shape if ``chain`` is a planar 2R/3R (+ one prismatic) arm, else None."""
+    revolute = tuple(i for i, kind in enumerate(chain.kinds) if kind == "revolute")
+    prismatic = tuple(i for i, kind in enumerate(chain.kinds) if kind == "prismatic")
+    if len(revolute) not in (2, 3) or len(prismatic) > 1:
+        return None
+    if not all(is_parallel(alpha) for alpha in chain.alpha[:-1]):
+        return None
+    name = f"planar {len(revolute)}R" + (" + prismatic z" if prismatic else "")
+    task = ("xyz" if prismatic else "xy") + ("+heading" if len(revolute) == 3 else "")
+    return Shape(
+        family="planar",
+        arm="planar",
+        name=name,
+        task=task,
+        structure=(("revolute", revolute), ("prismatic", prismatic[0] if prismatic else None)),
+        nonzero=(("link_length", 0), ("link_length", 1)),
+    )
+
+
+def planar_constants(chain: SymbolicChain, shape: Shape) -> list[Constant]:
+    """``offsets[k] = o_k + gamma_{k-1}``; the links ``v_{k+1}`` in polar form; ``start =
+    v_0``; with three revolute joints ``end_angle = gamma_r`` and the tool rotation's first
+    row (to read the last frame's heading); with a prismatic joint the tool point's z when its
+    variable is 0."""
+    # The last twist turns only the last frame: it joins the tool.
+    tool = translation_rotation(rot_x(chain.alpha[-1])) @ chain.tool
+    start, offsets, links, gamma = planar_links(chain, tool)
+    polars = [polar(*link) for link in links]
+    constants = [
+        Constant(
+            "offsets", tuple(offsets), "o_k + gamma_{k-1}: angle offset of each revolute joint"
+        ),
+        Constant(
+            "link_length",
+            tuple(p[0] for p in polars),
+            "|v_k|: planar links after each revolute joint",
+        ),
+        Constant("link_angle", tuple(p[1] for p in polars), "atan2 of v_k"),
+        Constant("start", start, "v_0: first revolute axis in the plane"),
+    ]
+    if "heading" in shape.task:
+        constants += [
+            Constant("end_angle", (gamma,), "gamma_r: turn after the last revolute joint"),
+            Constant("tool_row", tuple(tool[0, :3]), "first row of the tool rotation (heading)"),
+        ]
+    if shape["prismatic"] is not None:
+        z_offset = sum(chain.d, sp.S.Zero) + tool[2, 3]
+        constants.append(Constant("z_offset", (z_offset,), "tool z at q_prismatic = 0"))
+    return constants + frame_constants(chain, None)
+
+
 @dataclass(frozen=True, eq=False)
 class PlanarSolver:
-    """Planar 2R/3R (+ one prismatic joint along z), constants precomputed per robot.
+    """Planar 2R/3R (+ one prismatic joint along z), the plan's constants evaluated.
 
-    ``revolute``/``prismatic``: joint indices (0-based); ``offsets[k] = o_k + gamma_{k-1}``;
-    ``links[k] = v_{k+1}`` in polar form ``(length, angle)``; ``start = v_0``;
-    ``end_angle = gamma_r``; ``z_offset``: the tool point's z when the prismatic variable is 0;
-    ``tool_row``: first row of the tool rotation (to read the last frame's heading).
+    ``revolute``/``prismatic``: joint indices (0-based); ``links[k]``: ``(length, angle)``;
+    ``tool_row`` and ``end_angle`` are used with three revolute joints only, ``z_offset`` with
+    a prismatic joint only (constants of :func:`planar_constants`).
     """
 
+    family: str
+    task: str
     dof: int
     revolute: tuple[int, ...]
     prismatic: int | None
     offsets: tuple[float, ...]
     links: tuple[tuple[float, float], ...]
-    start: tuple[float, float]
+    start: tuple[float, ...]
     end_angle: float
     z_offset: float
     head_inverse: np.ndarray
     tool_row: np.ndarray
     scale: float
 
-    @property
-    def family(self) -> str:
-        name = f"planar {len(self.revolute)}R"
-        return name if self.prismatic is None else f"{name} + prismatic z"
-
-    @property
-    def task(self) -> str:
-        """Target components used: ``x``, ``y`` (``z`` with a prismatic joint, ``heading``
-        with three revolute joints), in the frame after the base transform."""
-        rows = "xy" if self.prismatic is None else "xyz"
-        return rows + ("+heading" if len(self.revolute) == 3 else "")
+    @classmethod
+    def from_plan(cls, plan: ClosedFormPlan, values: Values, dof: int) -> PlanarSolver:
+        shape = plan.shape
+        return cls(
+            family=shape.name,
+            task=shape.task,
+            dof=dof,
+            revolute=shape["revolute"],
+            prismatic=shape["prismatic"],
+            offsets=values["offsets"],
+            links=tuple(zip(values["link_length"], values["link_angle"], strict=True)),
+            start=values["start"],
+            end_angle=values.get("end_angle", (0.0,))[0],
+            z_offset=values.get("z_offset", (0.0,))[0],
+            head_inverse=transform(values.get("head_inverse")),
+            tool_row=np.array(values.get("tool_row", (1.0, 0.0, 0.0))),
+            scale=values["scale"][0],
+        )
 
     def candidates(self, target: np.ndarray) -> list[Candidate]:
         local = self.head_inverse @ target
@@ -171,31 +198,3 @@ class PlanarSolver:
             # first joint to the wrist point (cross(wrist, elbow) = -l1 l2 sin delta > 0).
             result.append((tuple(q), (("elbow", "up" if sign < 0 else "down"),)))
         return result
-
-
-def planar_solver(chain: NumericChain) -> PlanarSolver | None:
-    """The planar solver if ``chain`` is a planar 2R/3R (+ one prismatic) arm, else None."""
-    revolute = tuple(i for i, kind in enumerate(chain.kinds) if kind == "revolute")
-    prismatic = tuple(i for i, kind in enumerate(chain.kinds) if kind == "prismatic")
-    if len(revolute) not in (2, 3) or len(prismatic) > 1:
-        return None
-    if not all(is_parallel(alpha) for alpha in chain.alpha[:-1]):
-        return None
-    # The last twist turns only the last frame: it joins the tool.
-    tool = homogeneous(rot_x(chain.alpha[-1])) @ chain.tool
-    start, offsets, links, gamma = planar_links(chain, tool, 0.0, math.cos, math.sin)
-    if any(chain.is_zero_length(math.hypot(*v)) for v in links[:2]):
-        return None
-    return PlanarSolver(
-        dof=chain.dof,
-        revolute=revolute,
-        prismatic=prismatic[0] if prismatic else None,
-        offsets=tuple(offsets),
-        links=tuple(polar(v) for v in links),
-        start=start,
-        end_angle=gamma,
-        z_offset=sum(chain.d) + tool[2, 3],
-        head_inverse=rigid_inverse(chain.base),
-        tool_row=tool[0, :3].copy(),
-        scale=chain.size,
-    )

@@ -1,4 +1,6 @@
-"""A robot's DH table as numbers, in the one form the closed-form solvers read.
+"""A robot's DH table in the one form the closed-form solvers read, with SymPy entries
+(:class:`SymbolicChain`, the source of every constant) and as numbers (:class:`NumericChain`,
+that chain evaluated at the parameter values, read by the recognisers).
 
 The closed forms (``docs/ik-closed-form.md``) are written for **standard (distal) DH**,
 ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``.  A modified-DH (Craig) table becomes a
@@ -7,8 +9,7 @@ Tz(d_i) · tool`` the leading ``Rx(alpha_0) Tx(a_0)`` joins the base, and row i 
 standard table takes ``theta_i, d_i`` from row i and ``a_i, alpha_i`` from row i+1 (``Rx`` and
 ``Tx`` commute, both act along x); the last row gets ``a_n = alpha_n = 0``.
 
-Only numbers live here: parameter values are substituted once per robot, so nothing per pose
-touches SymPy.  The recognisers ask the small predicates below (``is_zero``, ``twist_sign``).
+The recognisers ask the small predicates below (``is_zero``, ``twist_sign``) of the numbers.
 """
 
 from __future__ import annotations
@@ -16,11 +17,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
 
 from symkin.robot import Robot
+from symkin.spatial import rot_x, transform_from_rotation_translation
+from symkin.symbols import parameter_symbol
 
 #: A twist angle counts as 0 or +-90 deg when its sine or cosine is this close to 0.
 ANGLE_TOL = 1e-12
@@ -30,15 +34,68 @@ LENGTH_TOL = 1e-12
 #: irrational-looking, non-zero length, so it is never mistaken for a special value.
 GENERIC_LENGTH = 0.5772156649015329
 
+#: Parameter symbols -> values, the numbers a chain or a constant is evaluated at.
+Numbers = Mapping[sp.Symbol, float]
 
-@dataclass(frozen=True, eq=False)
-class NumericChain:
-    """``T = base · A_1(q_1) ⋯ A_n(q_n) · tool`` in standard DH, all entries floats.
+
+def translation_rotation(rotation: sp.Matrix, x: sp.Expr = sp.S.Zero) -> sp.Matrix:
+    """``Tx(x) R`` as a 4x4 transform (``Tx(a) Rx(alpha)`` for ``R = Rx(alpha)``)."""
+    return sp.Matrix(transform_from_rotation_translation(rotation, sp.Matrix([x, 0, 0])))
+
+
+def number(expr: sp.Expr, numbers: Numbers) -> float:
+    """``expr`` at the parameter values ``numbers``, as a float."""
+    return float(sp.sympify(expr).xreplace(numbers))
+
+
+@dataclass(frozen=True)
+class SymbolicChain:
+    """``T = base · A_1(q_1) ⋯ A_n(q_n) · tool`` in standard DH, entries in the parameters.
 
     Revolute joint i: ``theta_i = q_i + theta[i]``, ``d[i]`` constant; prismatic joint i:
     ``d_i = q_i + d[i]``, ``theta[i]`` constant (radians, SI).  ``base`` includes the
     ``Rx(alpha_0) Tx(a_0)`` of a modified-DH table.
     """
+
+    kinds: tuple[str, ...]
+    theta: tuple[sp.Expr, ...]
+    d: tuple[sp.Expr, ...]
+    a: tuple[sp.Expr, ...]
+    alpha: tuple[sp.Expr, ...]
+    base: sp.Matrix
+    tool: sp.Matrix
+
+    @property
+    def size(self) -> sp.Expr:
+        """A length scale of the robot (at least 1): sum of |a|, |d|, base and tool offsets."""
+        lengths = sum(sp.Abs(x) for x in (*self.a, *self.d))
+        offsets = self.base[:3, 3].norm() + self.tool[:3, 3].norm()
+        return sp.Max(1, lengths + offsets)
+
+    def at(self, numbers: Numbers) -> NumericChain:
+        """This chain at the parameter values ``numbers``."""
+
+        def floats(values: tuple[sp.Expr, ...]) -> tuple[float, ...]:
+            return tuple(number(x, numbers) for x in values)
+
+        def matrix(value: sp.Matrix) -> np.ndarray:
+            return np.array(value.xreplace(numbers).evalf(), dtype=float)
+
+        return NumericChain(
+            kinds=self.kinds,
+            theta=floats(self.theta),
+            d=floats(self.d),
+            a=floats(self.a),
+            alpha=floats(self.alpha),
+            base=matrix(self.base),
+            tool=matrix(self.tool),
+            size=number(self.size, numbers),
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class NumericChain:
+    """:class:`SymbolicChain` with float entries; ``size`` its length scale (at least 1)."""
 
     kinds: tuple[str, ...]
     theta: tuple[float, ...]
@@ -47,17 +104,11 @@ class NumericChain:
     alpha: tuple[float, ...]
     base: np.ndarray
     tool: np.ndarray
+    size: float
 
     @property
     def dof(self) -> int:
         return len(self.kinds)
-
-    @property
-    def size(self) -> float:
-        """A length scale of the robot (at least 1): sum of |a|, |d|, base and tool offsets."""
-        lengths = sum(abs(x) for x in (*self.a, *self.d))
-        offsets = float(np.linalg.norm(self.base[:3, 3]) + np.linalg.norm(self.tool[:3, 3]))
-        return max(1.0, lengths + offsets)
 
     def is_zero_length(self, value: float) -> bool:
         return abs(value) <= LENGTH_TOL * self.size
@@ -80,32 +131,6 @@ def is_parallel(alpha: float) -> bool:
     return is_zero(math.sin(alpha)) and math.cos(alpha) > 0
 
 
-def rot_x(angle: float) -> np.ndarray:
-    """``Rx(angle)`` as a 3x3 float array."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def rot_z(angle: float) -> np.ndarray:
-    """``Rz(angle)`` as a 3x3 float array."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def homogeneous(rotation: np.ndarray, translation: np.ndarray | tuple = (0, 0, 0)) -> np.ndarray:
-    """The 4x4 transform ``[R p; 0 0 0 1]``."""
-    transform = np.eye(4)
-    transform[:3, :3] = rotation
-    transform[:3, 3] = translation
-    return transform
-
-
-def rigid_inverse(transform: np.ndarray) -> np.ndarray:
-    """``[R^T, -R^T p; 0 1]``: the inverse of a rigid transform without a general inverse."""
-    rotation = transform[:3, :3].T
-    return homogeneous(rotation, -rotation @ transform[:3, 3])
-
-
 def parameter_numbers(
     robot: Robot, overrides: Mapping[str, float] | None, generic: bool
 ) -> dict[sp.Symbol, float]:
@@ -114,46 +139,28 @@ def parameter_numbers(
     if generic:
         given = dict(overrides or {})
         return {
-            sp.Symbol(name, real=True): float(
+            parameter_symbol(name): float(
                 given.get(name, value if value is not None else GENERIC_LENGTH)
             )
             for name, value in robot.parameters
         }
     values = robot.parameter_values(overrides)
-    return {sp.Symbol(name, real=True): values[name] for name in values}
+    return {parameter_symbol(name): values[name] for name in values}
 
 
-def chain_from_robot(
-    robot: Robot, overrides: Mapping[str, float] | None = None, generic: bool = False
-) -> NumericChain:
-    """The robot's table as a standard-DH :class:`NumericChain` (module docstring)."""
-    numbers = parameter_numbers(robot, overrides, generic)
-
-    def number(expr: sp.Expr) -> float:
-        return float(sp.sympify(expr).xreplace(numbers))
-
-    def matrix(expr: sp.MatrixBase) -> np.ndarray:
-        return np.array(expr.xreplace(numbers).evalf(), dtype=float)
-
+@lru_cache(maxsize=64)
+def symbolic_chain(robot: Robot) -> SymbolicChain:
+    """The robot's table as a standard-DH :class:`SymbolicChain` (module docstring)."""
     joints = robot.joints
-    rows = [(number(j.theta), number(j.d), number(j.a), number(j.alpha)) for j in joints]
-    base, tool = matrix(robot.base), matrix(robot.tool)
-    theta = tuple(r[0] for r in rows)
-    d = tuple(r[1] for r in rows)
+    theta = tuple(sp.sympify(j.theta) for j in joints)
+    d = tuple(sp.sympify(j.d) for j in joints)
+    base, tool = sp.Matrix(robot.base), sp.Matrix(robot.tool)
     if robot.convention == "modified":
-        prefix = homogeneous(rot_x(rows[0][3]), (rows[0][2], 0.0, 0.0))
-        base = base @ prefix
-        a = (*(r[2] for r in rows[1:]), 0.0)
-        alpha = (*(r[3] for r in rows[1:]), 0.0)
+        first = joints[0]
+        base = base @ translation_rotation(rot_x(sp.sympify(first.alpha)), first.a)
+        a = (*(sp.sympify(j.a) for j in joints[1:]), sp.S.Zero)
+        alpha = (*(sp.sympify(j.alpha) for j in joints[1:]), sp.S.Zero)
     else:
-        a = tuple(r[2] for r in rows)
-        alpha = tuple(r[3] for r in rows)
-    return NumericChain(
-        kinds=tuple(j.type for j in joints),
-        theta=theta,
-        d=d,
-        a=a,
-        alpha=alpha,
-        base=base,
-        tool=tool,
-    )
+        a = tuple(sp.sympify(j.a) for j in joints)
+        alpha = tuple(sp.sympify(j.alpha) for j in joints)
+    return SymbolicChain(tuple(j.type for j in joints), theta, d, a, alpha, base, tool)

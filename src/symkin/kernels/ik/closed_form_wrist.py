@@ -29,66 +29,50 @@ The wrist (Spong et al., Sec. 5.4; Craig, Sec. 4.7) with ``s4 = sin(al4), s5 = s
 ``(Rz(th4) Rx(al4) Rz(th5) Rx(al5))^T R_3^T R_W = Rz(th6)``, which stays exact near the
 singularity.  At ``sin th5 = 0`` only ``th4 +- th6`` is defined: ``q4 = 0`` is chosen and the
 branch is flagged ``"wrist": "singular"``.
+
+The arm classes' fields are the constants of :func:`wrist_constants`, evaluated.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+import sympy as sp
 
-from symkin.kernels.ik.closed_form_planar import Candidate, clamped_sqrt, polar, two_link
+from symkin.kernels.ik.closed_form_spec import (
+    ClosedFormPlan,
+    Constant,
+    Shape,
+    Values,
+    frame_constants,
+    polar,
+    tail,
+    twist_constants,
+)
+from symkin.kernels.ik.closed_form_steps import (
+    WRIST_SINGULAR,
+    Candidate,
+    clamped_sqrt,
+    elbow_flag,
+    extension_flag,
+    rot_z,
+    shoulder,
+    shoulder_flag,
+    transform,
+    twist_rotations,
+    two_link,
+)
 from symkin.kernels.ik.closed_form_table import (
     NumericChain,
-    homogeneous,
+    SymbolicChain,
     is_parallel,
-    rigid_inverse,
-    rot_x,
-    rot_z,
     twist_sign,
 )
 
-#: ``sin th5`` below this is the wrist singularity (``q4`` set to 0, flag "singular").
-WRIST_SINGULAR = 1e-12
-
 #: One solution of the first three joints: joint values, DH angles theta_1..3, branch flags.
 ArmSolution = tuple[tuple[float, float, float], tuple[float, float, float], tuple]
-
-
-def shoulder(x: float, y: float, offset: float, scale: float) -> tuple[tuple[float, float], ...]:
-    """Both ``(X, th1)`` with ``Rz(th1) (X, offset) = (x, y)``: the waist angle that puts a
-    point at horizontal offset ``offset`` from the arm's plane (Paul and Zhang 1986, eq. 40).
-    Empty when the point is closer to the waist axis than ``|offset|``."""
-    reach = clamped_sqrt(x * x + y * y - offset * offset, scale * scale)
-    if reach is None:
-        return ()
-    direction = math.atan2(y, x)
-    return tuple((X, direction - math.atan2(offset, X)) for X in (reach, -reach))
-
-
-def shoulder_flag(X: float, offset: float) -> tuple[str, str]:
-    """Shoulder "right" when the shoulder offset lies to the right of the reach direction seen from
-    above (``X * offset < 0``; with no offset: reaching forward, ``X >= 0``).  For the PUMA 560
-    this is Robotics Toolbox's 'r' (righty)."""
-    right = X * offset < 0 if offset != 0.0 else X >= 0
-    return ("shoulder", "right" if right else "left")
-
-
-def elbow_flag(sign: int, X: float, twist: int) -> tuple[str, str]:
-    """Elbow "up" when the elbow lies above the line from the shoulder to the wrist, looking at the
-    arm's plane with the reach pointing forward: ``-sign(sin delta) sign(X) sin(alpha_1) > 0``
-    (for the PUMA 560 Robotics Toolbox's 'u')."""
-    forward = 1 if X >= 0 else -1
-    return ("elbow", "up" if -sign * forward * twist > 0 else "down")
-
-
-def extension_flag(root: float) -> tuple[str, str]:
-    """Extension "forward" for the positive square root of the reach equation (for the Stanford arm:
-    the prismatic reach ``lambda`` is positive), "backward" for the negative one."""
-    return ("extension", "forward" if root >= 0 else "backward")
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,7 +88,18 @@ class ArticulatedArm:
     theta: tuple[float, float, float]
     scale: float
 
-    family = "spherical wrist, articulated RRR arm"
+    @classmethod
+    def from_values(cls, shape: Shape, values: Values) -> ArticulatedArm:
+        return cls(
+            twist1=shape["twist1"],
+            d1=values["d1"][0],
+            a1=values["a1"][0],
+            offset=values["offset"][0],
+            link2=values["link2"],
+            link3=values["link3"],
+            theta=values["theta"][:3],
+            scale=values["scale"][0],
+        )
 
     def solve(self, x: float, y: float, z: float) -> list[ArmSolution]:
         (l2, phi2), (l3, phi3) = self.link2, self.link3
@@ -134,7 +129,19 @@ class SphericalArm:
     theta: tuple[float, float, float]
     scale: float
 
-    family = "spherical wrist, spherical RRP arm"
+    @classmethod
+    def from_values(cls, shape: Shape, values: Values) -> SphericalArm:
+        return cls(
+            twist1=shape["twist1"],
+            twist2=shape["twist2"],
+            d1=values["d1"][0],
+            a1=values["a1"][0],
+            offset=values["offset"][0],
+            k=values["k"][0],
+            reach_offset=values["reach_offset"][0],
+            theta=values["theta"][:3],
+            scale=values["scale"][0],
+        )
 
     def solve(self, x: float, y: float, z: float) -> list[ArmSolution]:
         result = []
@@ -162,7 +169,17 @@ class CylindricalArm:
     theta: tuple[float, float, float]
     scale: float
 
-    family = "spherical wrist, cylindrical RPP arm"
+    @classmethod
+    def from_values(cls, shape: Shape, values: Values) -> CylindricalArm:
+        del shape  # no signs: they are in g and e
+        return cls(
+            height=values["height"][0],
+            g=values["g"],
+            e=values["e"],
+            reach_offset=values["reach_offset"][0],
+            theta=values["theta"][:3],
+            scale=values["scale"][0],
+        )
 
     def solve(self, x: float, y: float, z: float) -> list[ArmSolution]:
         # |g + lambda e| = |(x, y)|: lambda^2 + 2 (g.e) lambda + |g|^2 - x^2 - y^2 = 0.
@@ -183,6 +200,12 @@ class CylindricalArm:
 
 
 Arm = ArticulatedArm | SphericalArm | CylindricalArm
+#: The arm classes by the ``arm`` of a wrist :class:`Shape`.
+ARMS: dict[str, type[ArticulatedArm] | type[SphericalArm] | type[CylindricalArm]] = {
+    "articulated": ArticulatedArm,
+    "spherical": SphericalArm,
+    "cylindrical": CylindricalArm,
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -223,18 +246,38 @@ class Wrist:
 class SphericalWristSolver:
     """Six joints, spherical wrist: the arm's position solutions times the wrist's."""
 
+    family: str
     arm: Arm
     wrist: Wrist
-    twists: tuple[np.ndarray, np.ndarray, np.ndarray]  # Rx(alpha_1), Rx(alpha_2), Rx(alpha_3)
+    twists: tuple[np.ndarray, ...]  # Rx(alpha_1), Rx(alpha_2), Rx(alpha_3)
     d6: float
     head_inverse: np.ndarray
     tail_inverse: np.ndarray
     scale: float
     task = "pose"
 
-    @property
-    def family(self) -> str:
-        return self.arm.family
+    @classmethod
+    def from_plan(cls, plan: ClosedFormPlan, values: Values, dof: int) -> SphericalWristSolver:
+        del dof  # six
+        shape = plan.shape
+        rotations = twist_rotations(values["twist_cos"], values["twist_sin"])
+        wrist = Wrist(
+            twist4=shape["twist4"],
+            twist5=shape["twist5"],
+            undo4=rotations[3].T,
+            undo5=rotations[4].T,
+            theta=values["theta"][3:],
+        )
+        return cls(
+            family=shape.name,
+            arm=ARMS[shape.arm].from_values(shape, values),
+            wrist=wrist,
+            twists=tuple(rotations[:3]),
+            d6=values["d6"][0],
+            head_inverse=transform(values.get("head_inverse")),
+            tail_inverse=transform(values.get("tail_inverse")),
+            scale=values["scale"][0],
+        )
 
     def candidates(self, target: np.ndarray) -> list[Candidate]:
         local = self.head_inverse @ target @ self.tail_inverse
@@ -253,79 +296,17 @@ class SphericalWristSolver:
         return result
 
 
-def wrist_centre_in_frame2(
-    chain: Any, cos: Callable = math.cos, sin: Callable = math.sin
-) -> tuple[Any, Any, Any]:
-    """``(c_x, c_y, c_z)``: the wrist centre ``(0, 0, d_4)`` of frame 3 in frame 2, without
-    the joint-3 motion: ``Rot(theta_3) (a_3, -sin(al3) d_4)`` and ``d_3 + cos(al3) d_4``.
-    Numbers for the solver; with ``sp.cos``, ``sp.sin`` expressions for the generated C."""
-    a3, alpha3, d4 = chain.a[2], chain.alpha[2], chain.d[3]
-    cx, cy = a3, -sin(alpha3) * d4
-    if chain.kinds[2] == "prismatic":
-        c, s = cos(chain.theta[2]), sin(chain.theta[2])
-        cx, cy = c * cx - s * cy, s * cx + c * cy
-    return cx, cy, chain.d[2] + cos(alpha3) * d4
-
-
-def _articulated(chain: NumericChain) -> ArticulatedArm | None:
-    twist1 = twist_sign(chain.alpha[0])
-    if not twist1 or not is_parallel(chain.alpha[1]):
-        return None
-    link3 = (chain.a[2], -math.sin(chain.alpha[2]) * chain.d[3])
-    if chain.is_zero_length(chain.a[1]) or chain.is_zero_length(math.hypot(*link3)):
-        return None
-    height = chain.d[1] + chain.d[2] + math.cos(chain.alpha[2]) * chain.d[3]
-    return ArticulatedArm(
-        twist1=twist1,
-        d1=chain.d[0],
-        a1=chain.a[0],
-        offset=-twist1 * height,
-        link2=polar((chain.a[1], 0.0)),
-        link3=polar(link3),
-        theta=chain.theta[:3],
-        scale=chain.size,
-    )
-
-
-def _spherical(chain: NumericChain) -> SphericalArm | None:
-    twist1, twist2 = twist_sign(chain.alpha[0]), twist_sign(chain.alpha[1])
-    if not twist1 or not twist2:
-        return None
-    cx, cy, cz = wrist_centre_in_frame2(chain)
-    return SphericalArm(
-        twist1=twist1,
-        twist2=twist2,
-        d1=chain.d[0],
-        a1=chain.a[0],
-        offset=-twist1 * (chain.d[1] + twist2 * cy),
-        k=chain.a[1] + cx,
-        reach_offset=cz,
-        theta=chain.theta[:3],
-        scale=chain.size,
-    )
-
-
-def _cylindrical(chain: NumericChain) -> CylindricalArm | None:
-    twist2 = twist_sign(chain.alpha[1])
-    if not is_parallel(chain.alpha[0]) or not twist2:
-        return None
-    cx, cy, cz = wrist_centre_in_frame2(chain)
-    c, s = math.cos(chain.theta[1]), math.sin(chain.theta[1])
-    k = chain.a[1] + cx
-    return CylindricalArm(
-        height=chain.d[0] + chain.d[1] + twist2 * cy,
-        g=(chain.a[0] + c * k, s * k),
-        e=(s * twist2, -c * twist2),
-        reach_offset=cz,
-        theta=chain.theta[:3],
-        scale=chain.size,
-    )
-
-
-ARMS: dict[tuple[str, ...], Callable[[NumericChain], Arm | None]] = {
-    ("revolute", "revolute", "revolute"): _articulated,
-    ("revolute", "revolute", "prismatic"): _spherical,
-    ("revolute", "prismatic", "prismatic"): _cylindrical,
+#: The arm's kind by its joint types, and which lengths its formulas divide by.
+ARM_KINDS = {
+    ("revolute", "revolute", "revolute"): ("articulated", (("link2", 0), ("link3", 0))),
+    ("revolute", "revolute", "prismatic"): ("spherical", ()),
+    ("revolute", "prismatic", "prismatic"): ("cylindrical", ()),
+}
+#: Twists the arm needs: (index, +-90 deg) or (index, 0).
+ARM_TWISTS = {
+    "articulated": ((0, True), (1, False)),
+    "spherical": ((0, True), (1, True)),
+    "cylindrical": ((0, False), (1, True)),
 }
 
 
@@ -340,32 +321,79 @@ def has_spherical_wrist(chain: NumericChain) -> bool:
     )
 
 
-def tail_inverse(chain: NumericChain) -> np.ndarray:
-    """``(Tx(a_6) Rx(alpha_6) tool)^-1``: what follows ``Rz(th6) Tz(d6)`` taken off a target."""
-    tail = homogeneous(rot_x(chain.alpha[5]), (chain.a[5], 0.0, 0.0)) @ chain.tool
-    return rigid_inverse(tail)
-
-
-def spherical_wrist_solver(chain: NumericChain) -> SphericalWristSolver | None:
-    """The Pieper solver if ``chain`` has a spherical wrist and a recognised arm, else None."""
-    if not has_spherical_wrist(chain) or chain.kinds[:3] not in ARMS:
+def spherical_wrist_shape(chain: NumericChain) -> Shape | None:
+    """The Pieper shape if ``chain`` has a spherical wrist and a recognised arm, else None."""
+    if not has_spherical_wrist(chain) or chain.kinds[:3] not in ARM_KINDS:
         return None
-    arm = ARMS[chain.kinds[:3]](chain)
-    if arm is None:
-        return None
-    wrist = Wrist(
-        twist4=twist_sign(chain.alpha[3]),
-        twist5=twist_sign(chain.alpha[4]),
-        undo4=rot_x(chain.alpha[3]).T,
-        undo5=rot_x(chain.alpha[4]).T,
-        theta=chain.theta[3:],
-    )
-    return SphericalWristSolver(
+    arm, nonzero = ARM_KINDS[chain.kinds[:3]]
+    for index, right_angle in ARM_TWISTS[arm]:
+        alpha = chain.alpha[index]
+        if not (twist_sign(alpha) if right_angle else is_parallel(alpha)):
+            return None
+    twists = {f"twist{i + 1}": twist_sign(chain.alpha[i]) for i in (0, 1, 3, 4)}
+    return Shape(
+        family="wrist",
         arm=arm,
-        wrist=wrist,
-        twists=tuple(rot_x(alpha) for alpha in chain.alpha[:3]),
-        d6=chain.d[5],
-        head_inverse=rigid_inverse(chain.base),
-        tail_inverse=tail_inverse(chain),
-        scale=chain.size,
+        name=f"spherical wrist, {arm} {''.join(k[0].upper() for k in chain.kinds[:3])} arm",
+        task="pose",
+        structure=tuple(twists.items()),
+        nonzero=nonzero,
     )
+
+
+def wrist_centre_in_frame2(chain: SymbolicChain) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """``(c_x, c_y, c_z)``: the wrist centre ``(0, 0, d_4)`` of frame 3 in frame 2, without
+    the joint-3 motion: ``Rot(theta_3) (a_3, -sin(al3) d_4)`` and ``d_3 + cos(al3) d_4``."""
+    a3, alpha3, d4 = chain.a[2], chain.alpha[2], chain.d[3]
+    cx, cy = a3, -sp.sin(alpha3) * d4
+    if chain.kinds[2] == "prismatic":
+        c, s = sp.cos(chain.theta[2]), sp.sin(chain.theta[2])
+        cx, cy = c * cx - s * cy, s * cx + c * cy
+    return cx, cy, chain.d[2] + sp.cos(alpha3) * d4
+
+
+def arm_constants(chain: SymbolicChain, shape: Shape) -> list[Constant]:
+    """The constants of the arm's formulas (the fields of its class)."""
+    a, d = chain.a, chain.d
+    twist1, twist2 = shape["twist1"], shape["twist2"]
+    if shape.arm == "articulated":
+        height = d[1] + d[2] + sp.cos(chain.alpha[2]) * d[3]
+        return [
+            Constant("d1", (d[0],), "d_1"),
+            Constant("a1", (a[0],), "a_1"),
+            Constant("offset", (-twist1 * height,), "wrist centre's distance from the arm's plane"),
+            Constant("link2", polar(a[1], sp.S.Zero), "(a_2, 0) in polar form (length, angle)"),
+            Constant(
+                "link3",
+                polar(a[2], -sp.sin(chain.alpha[2]) * d[3]),
+                "(a_3, -sin(alpha_3) d_4) in polar form",
+            ),
+        ]
+    cx, cy, cz = wrist_centre_in_frame2(chain)
+    if shape.arm == "spherical":
+        return [
+            Constant("d1", (d[0],), "d_1"),
+            Constant("a1", (a[0],), "a_1"),
+            Constant("offset", (-twist1 * (d[1] + twist2 * cy),), "shoulder offset"),
+            Constant("k", (a[1] + cx,), "the reach's distance from the shoulder axis"),
+            Constant("reach_offset", (cz,), "lambda - q_3"),
+        ]
+    c, s = sp.cos(chain.theta[1]), sp.sin(chain.theta[1])
+    k = a[1] + cx
+    return [
+        Constant("height", (d[0] + d[1] + twist2 * cy,), "z of the wrist centre minus q_2"),
+        Constant("g", (a[0] + c * k, s * k), "horizontal wrist centre at zero radial reach"),
+        Constant("e", (s * twist2, -c * twist2), "unit direction of the radial reach"),
+        Constant("reach_offset", (cz,), "lambda - q_3"),
+    ]
+
+
+def wrist_constants(chain: SymbolicChain, shape: Shape) -> list[Constant]:
+    """The arm's constants, the twists, the DH angles, ``d_6`` and the frames."""
+    return [
+        *arm_constants(chain, shape),
+        *twist_constants(chain),
+        Constant("theta", chain.theta, "theta_i - q_i (revolute) or theta_i (prismatic)"),
+        Constant("d6", (chain.d[5],), "d_6: wrist centre to flange along z_6"),
+        *frame_constants(chain, tail(chain)),
+    ]

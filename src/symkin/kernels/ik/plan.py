@@ -1,17 +1,33 @@
-"""The closed-form IK plan of a robot: which family its numeric DH table belongs to, with the
-family's constants, and the tolerances of the checks.  Both the Python solver
-(:mod:`symkin.solve.ik.closed_form`) and the C emitter (:mod:`symkin.emit.ik_closed_c`) read it.
+"""The closed-form IK plan of a robot: which family its numeric DH table belongs to, the
+family's constants as SymPy expressions of the parameters (:class:`ClosedFormPlan`), and the
+tolerances of the checks.  The Python solver (:mod:`symkin.solve.ik.closed_form`) evaluates
+the plan at the parameter values (:func:`closed_form_solver`); the C emitter
+(:mod:`symkin.emit.ik_closed_c`) prints it (:func:`closed_form_plan`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from functools import lru_cache
 
-from symkin.kernels.ik.closed_form_parallel import ParallelAxesSolver, parallel_axes_solver
-from symkin.kernels.ik.closed_form_planar import PlanarSolver, planar_solver
-from symkin.kernels.ik.closed_form_table import chain_from_robot
-from symkin.kernels.ik.closed_form_wrist import SphericalWristSolver, spherical_wrist_solver
+from symkin.kernels.ik.closed_form_parallel import (
+    ParallelAxesSolver,
+    parallel_axes_shape,
+    parallel_constants,
+)
+from symkin.kernels.ik.closed_form_planar import PlanarSolver, planar_constants, planar_shape
+from symkin.kernels.ik.closed_form_spec import ClosedFormPlan, Constant, Shape
+from symkin.kernels.ik.closed_form_table import (
+    NumericChain,
+    SymbolicChain,
+    parameter_numbers,
+    symbolic_chain,
+)
+from symkin.kernels.ik.closed_form_wrist import (
+    SphericalWristSolver,
+    spherical_wrist_shape,
+    wrist_constants,
+)
 from symkin.robot import Robot
 
 #: A solution is returned only if its FK reproduces the target to this tolerance: rotation
@@ -24,16 +40,50 @@ RIGID_TOL = 1e-6
 
 Solver = PlanarSolver | SphericalWristSolver | ParallelAxesSolver
 
+#: Per family (in the order they are tried): the recogniser, the constants of its formulas
+#: and the Python solver that reads them.
+FAMILIES: dict[
+    str,
+    tuple[
+        Callable[[NumericChain], Shape | None],
+        Callable[[SymbolicChain, Shape], list[Constant]],
+        type[PlanarSolver] | type[SphericalWristSolver] | type[ParallelAxesSolver],
+    ],
+] = {
+    "planar": (planar_shape, planar_constants, PlanarSolver),
+    "wrist": (spherical_wrist_shape, wrist_constants, SphericalWristSolver),
+    "parallel": (parallel_axes_shape, parallel_constants, ParallelAxesSolver),
+}
+
 
 @lru_cache(maxsize=64)
-def _cached_solver(robot: Robot, overrides: tuple, generic: bool) -> Solver | None:
-    """The first family whose recogniser accepts the robot's numeric table, or None."""
-    chain = chain_from_robot(robot, dict(overrides), generic)
-    for recognise in (planar_solver, spherical_wrist_solver, parallel_axes_solver):
-        solver = recognise(chain)
-        if solver is not None:
-            return solver
+def _plan(robot: Robot, shape: Shape) -> ClosedFormPlan:
+    constants = FAMILIES[shape.family][1]
+    return ClosedFormPlan(shape, tuple(constants(symbolic_chain(robot), shape)))
+
+
+@lru_cache(maxsize=64)
+def _recognised(
+    robot: Robot, overrides: tuple, generic: bool
+) -> tuple[ClosedFormPlan, Solver] | None:
+    """The plan of the first family that accepts the robot's numeric table, with its solver
+    at those numbers, or None."""
+    numbers = parameter_numbers(robot, dict(overrides), generic)
+    chain = symbolic_chain(robot).at(numbers)
+    for recognise, _, solver_type in FAMILIES.values():
+        shape = recognise(chain)
+        if shape is None:
+            continue
+        plan = _plan(robot, shape)
+        values = plan.values(numbers)
+        if any(chain.is_zero_length(values[name][index]) for name, index in shape.nonzero):
+            continue
+        return plan, solver_type.from_plan(plan, values, chain.dof)
     return None
+
+
+def _key(overrides: Mapping[str, float] | None) -> tuple:
+    return tuple(sorted((overrides or {}).items()))
 
 
 def closed_form_solver(
@@ -41,7 +91,19 @@ def closed_form_solver(
 ) -> Solver | None:
     """The family solver of ``robot`` with its parameter values (``overrides`` first), or
     None.  ``generic``: a parameter without a value counts as a generic non-zero length."""
-    return _cached_solver(robot, tuple(sorted((overrides or {}).items())), generic)
+    found = _recognised(robot, _key(overrides), generic)
+    return None if found is None else found[1]
+
+
+def closed_form_plan(
+    robot: Robot, overrides: Mapping[str, float] | None = None
+) -> ClosedFormPlan | None:
+    """The plan of ``robot``'s closed form, recognised at its parameter values (``overrides``
+    first; a parameter without a value counts as a generic non-zero length), or None where
+    :func:`has_closed_form` is False.  A parameter vector that changes the structure (a twist,
+    or a link length set to zero) is not solved by this plan."""
+    found = _recognised(robot, _key(overrides), True)
+    return None if found is None else found[0]
 
 
 def has_closed_form(robot: Robot, overrides: Mapping[str, float] | None = None) -> bool:
@@ -51,10 +113,10 @@ def has_closed_form(robot: Robot, overrides: Mapping[str, float] | None = None) 
     Judged from the DH table with the parameter values (``overrides`` first); a parameter
     without a value counts as a generic non-zero length.
     """
-    return closed_form_solver(robot, overrides, generic=True) is not None
+    return closed_form_plan(robot, overrides) is not None
 
 
 def closed_form_family(robot: Robot, overrides: Mapping[str, float] | None = None) -> str | None:
     """The recognised family, e.g. ``"spherical wrist, articulated RRR arm"``, or None."""
-    solver = closed_form_solver(robot, overrides, generic=True)
-    return None if solver is None else solver.family
+    plan = closed_form_plan(robot, overrides)
+    return None if plan is None else plan.shape.name

@@ -35,7 +35,7 @@ import sympy as sp
 from symkin.derive import Model
 from symkin.derive.numeric import parameter_substitution
 from symkin.errors import SymkinError
-from symkin.kernels.ik.closed_form_planar import Candidate
+from symkin.kernels.ik.closed_form_steps import Candidate
 from symkin.kernels.ik.plan import (
     DUPLICATE_TOL,
     RIGID_TOL,
