@@ -1,9 +1,11 @@
 """Generated closed-form IK in C: ``c/<robot>_ik_closed.h`` and ``c/<robot>_ik_closed.c``.
 
-Only for robots with a closed form (``symkin.kernels.ik.plan.has_closed_form``).  One template
-per family (``templates/c/ik_closed_{planar,wrist,parallel}.c.j2``) holds the per-pose formulas
-of the Python solver; the constants those formulas need are the robot's plan
-(:func:`symkin.kernels.ik.plan.closed_form_plan`), computed from ``p`` through the
+Only for robots with a closed form (``symkin.kernels.ik.plan.has_closed_form``).  The robot's
+plan (:func:`symkin.kernels.ik.plan.closed_form_plan`) decides everything here: which family
+template (``templates/c/ik_closed_{planar,wrist,parallel}.c.j2``, for a wrist also
+``ik_closed_arm_<arm>.c.j2``) lays out the per-pose formulas of the Python solver, which
+functions of the C library's closed-form part (``templates/c/lib/symkin_closed_form.{h,c}``,
+pasted into the file) it calls, and the constants, computed from ``p`` through the
 ``closed_form_constants`` kernel.  Every candidate is checked by the generated ``<robot>_fk``,
 as ``closed_form_ik`` checks it in Python.
 """
@@ -13,6 +15,7 @@ from __future__ import annotations
 import math
 
 from symkin.emit.c import c_literal
+from symkin.emit.c_library import library_files
 from symkin.emit.ik_c import _limit_literals
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code
@@ -66,6 +69,47 @@ TASK_TEXT = {
     "xyz+heading": "x, y, z of the tool point and the heading atan2(r21, r11) of the last joint "
     "frame, in the frame after the base transform",
 }
+
+
+#: The closed-form part of the C library, pasted after the real type.
+CLOSED_FORM_LIBRARY = ("symkin_closed_form.h", "symkin_closed_form.c")
+#: Functions of ``templates/c/lib/symkin_closed_form.h`` each kind of arm calls.
+_ELBOW = ("TWO_LINK", "ELBOW_UP")
+_SHOULDER = ("CLAMPED_SQRT", "SHOULDER", "SHOULDER_RIGHT", "UNROTATE")
+STEPS = {
+    "planar": ("TWO_LINK",),
+    "articulated": (*_ELBOW, *_SHOULDER),
+    "spherical": _SHOULDER,
+    "cylindrical": ("CLAMPED_SQRT", "UNROTATE"),
+    "parallel": (*_ELBOW, *_SHOULDER),
+}
+
+
+def _family(shape: Shape) -> dict[str, object]:
+    """What the family templates lay out: which template, which library functions, the twist
+    signs as ``(macro, +-1)``, and for a planar arm its joints and task rows."""
+    context: dict[str, object] = {
+        "family_template": f"c/ik_closed_{shape.family}.c.j2",
+        "arm_template": f"c/ik_closed_arm_{shape.arm}.c.j2",
+        "steps": STEPS[shape.arm],
+        "wrist": shape.family != "planar",
+        "pose_residual": shape.task == "pose",
+        "twists": [
+            (name.upper(), value)
+            for name, value in shape.structure
+            if name.startswith("twist") and value != 0
+        ],
+    }
+    if shape.family == "planar":
+        rows = 3 if "z" in shape.task else 2
+        context["planar"] = {
+            "revolute": shape["revolute"],
+            "prismatic": shape["prismatic"],
+            "heading": "heading" in shape.task,
+            "rows": rows,
+            "components": " ".join("xyz"[:rows]),
+        }
+    return context
 
 
 def _flags(shape: Shape, macro: str) -> list[tuple[str, str, str]]:
@@ -126,9 +170,8 @@ def emit_ik_closed_c(
         "closed_header": header,
         "family": shape.family,
         "family_name": shape.name,
-        "arm": shape.arm,
-        "structure": dict(shape.structure),
-        "task": shape.task,
+        **_family(shape),
+        "library": [*library_files(precision), *CLOSED_FORM_LIBRARY],
         "task_text": TASK_TEXT[shape.task],
         "max_solutions": shape.max_solutions,
         "flags": _flags(shape, macro),
