@@ -20,6 +20,8 @@ from symkin.kernels import Kernel
 ROOT = Path(__file__).resolve().parents[1]
 CC = shutil.which("gcc") or shutil.which("cc") or "gcc"
 STRICT = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2"]
+# Implicit narrowing and float-to-double promotion: the kernels and the numeric IK stay clean.
+CONVERSION = ["-Wconversion", "-Wdouble-promotion"]
 SHARED = ["-shared", "-fPIC"]
 SANITIZE = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-g"]
 GUARD = 4  # sentinel elements after every output array passed to C through ctypes
@@ -68,11 +70,13 @@ def run_parallel(commands: dict[str, list[str]], cwd: Path) -> dict[str, Build]:
     return results
 
 
-def solver_library_command(c: Path, name: str, solver: str, library: str) -> list[str]:
+def solver_library_command(
+    c: Path, name: str, solver: str, library: str, extra: tuple[str, ...] = ()
+) -> list[str]:
     """Strict C99 shared library of a generated solver (``<name>_<solver>.c``) and the robot's
-    kernels (``<name>.c``), both in folder ``c``."""
+    kernels (``<name>.c``), both in folder ``c``; ``extra`` warning flags."""
     return [
-        CC, *STRICT, "-Wvla", *SHARED, "-o", str(c / library),
+        CC, *STRICT, *extra, "-Wvla", *SHARED, "-o", str(c / library),
         str(c / f"{name}_{solver}.c"), str(c / f"{name}.c"), "-lm",
     ]  # fmt: skip
 

@@ -17,6 +17,7 @@ import pytest
 import symkin
 from codegen_helpers import (
     CC,
+    CONVERSION,
     SANITIZE,
     SHARED,
     STRICT,
@@ -91,8 +92,8 @@ def gen(request, tmp_path_factory) -> Generated:
     d, f = f"double/c/{name}.c", f"float/c/{name}.c"
     builds = run_parallel(
         {
-            "double_so": [CC, *STRICT, *SHARED, "-o", "double/libkin.so", d, "-lm"],
-            "float_so": [CC, *STRICT, *SHARED, "-o", "float/libkin.so", f, "-lm"],
+            "double_so": [CC, *STRICT, *CONVERSION, *SHARED, "-o", "double/libkin.so", d, "-lm"],
+            "float_so": [CC, *STRICT, *CONVERSION, *SHARED, "-o", "float/libkin.so", f, "-lm"],
             "asan_example": [
                 CC, *STRICT, *SANITIZE, "-o", "double/c/example_asan",
                 "double/c/example.c", d, "-lm",
@@ -102,7 +103,8 @@ def gen(request, tmp_path_factory) -> Generated:
                 "double/c/driver.c", d, "-lm",
             ],
             "float_example": [
-                CC, *STRICT, "-o", "float/c/example", "float/c/example.c", f, "-lm",
+                CC, *STRICT, *CONVERSION, "-o", "float/c/example", "float/c/example.c", f,
+                "-lm",
             ],
             "vla": [CC, *STRICT, "-Wvla", "-fsyntax-only", d, f],
             "make": ["make", "-C", "make/c"],

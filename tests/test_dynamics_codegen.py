@@ -19,7 +19,16 @@ import pytest
 import sympy as sp
 
 import symkin
-from codegen_helpers import CC, SANITIZE, SHARED, STRICT, import_path, run_parallel, write_tree
+from codegen_helpers import (
+    CC,
+    CONVERSION,
+    SANITIZE,
+    SHARED,
+    STRICT,
+    import_path,
+    run_parallel,
+    write_tree,
+)
 from symkin.derive.dynamics import Dynamics
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
@@ -93,7 +102,8 @@ def gen(request, tmp_path_factory) -> Generated:
     root = tmp_path_factory.mktemp(f"dyn_{name}")
     write_tree(root, files_for_robot(robot, ("numpy", "c", "casadi")))
     builds = run_parallel(
-        {"so": [CC, *STRICT, *SHARED, "-o", "libdyn.so", f"c/{name}.c", "-lm"]}, cwd=root
+        {"so": [CC, *STRICT, *CONVERSION, *SHARED, "-o", "libdyn.so", f"c/{name}.c", "-lm"]},
+        cwd=root,
     )
     builds["so"].check()
     p = np.array([v for _, v in robot.parameters], dtype=float)

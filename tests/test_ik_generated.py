@@ -23,6 +23,7 @@ from scipy.spatial.transform import Rotation
 
 import symkin
 from codegen_helpers import (
+    CONVERSION,
     GUARD,
     ROOT,
     function_bodies,
@@ -195,7 +196,9 @@ def built(tmp_path_factory) -> Built:
         directory = root / f"{name}_{precision}"
         write_tree(directory, files[name, precision])
         c = directory / "c"
-        commands[name, precision] = solver_library_command(c, name, "ik", "libik.so")
+        commands[name, precision] = solver_library_command(
+            c, name, "ik", "libik.so", tuple(CONVERSION)
+        )
     commands["driver"] = sanitized_driver_command(
         root / "puma560_double" / "c", "puma560", "ik", DRIVER
     )

@@ -7,23 +7,19 @@ from functools import partial
 import sympy as sp
 
 from symkin.emit.layout import kernel_layout
-from symkin.emit.printers import c_code
+from symkin.emit.printers import c_code, c_literal
 from symkin.emit.render import (
+    dynamics_notes,
     forward_dynamics_context,
     parameter_context,
     preamble_lines,
     render,
 )
 from symkin.errors import ParameterError
-from symkin.kernels import Kernel
+from symkin.kernels import Kernel, units
 from symkin.robot import Robot
 
 PRECISIONS = ("double", "float")
-
-
-def c_literal(value: float, precision: str) -> str:
-    text = repr(float(value))
-    return f"{text}F" if precision == "float" else text
 
 
 # IEEE single precision: the largest finite value and the smallest normal one.
@@ -70,6 +66,10 @@ def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double")
         ],
         "kernels": [kernel_layout(k, partial(c_code, precision=precision)) for k in kernels],
         "forward": forward_dynamics_context(kernels),
+        "joint_units": units.joint_units(robot),
+        "notes": dynamics_notes(robot, kernels),
+        "force_units": units.generalized_force(robot),
+        "acceleration_units": units.joint_acceleration(robot),
         "sqrt": "sqrtf" if precision == "float" else "sqrt",
     }
     context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})")

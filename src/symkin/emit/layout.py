@@ -42,6 +42,7 @@ class OutputLayout:
     cols: int
     entries: tuple[Entry, ...]
     kind: str
+    units: str = ""
 
     @property
     def size(self) -> int:
@@ -99,6 +100,7 @@ def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> O
         output.matrix.cols,
         entries,
         output.kind,
+        output.units,
     )
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import numpy
 import sympy as sp
 from sympy.codegen.ast import float32, float64, real
 from sympy.printing.c import C99CodePrinter
@@ -17,6 +18,21 @@ C_TYPES = {"double": float64, "float": float32}
 # Terms print in SymPy's own (deterministic) argument order: sorting every sum for display
 # took a third of the time of emitting the dynamics.
 SETTINGS = {"order": "none"}
+
+
+def c_literal(value: float, precision: str) -> str:
+    """The shortest decimal that reads back as the same ``double`` (``repr``), or as the same
+    ``float`` with an ``F`` suffix: ``0.1F``, ``1.0F``, ``1e-30F``.  Like ``repr``, plain notation
+    for magnitudes from 1e-4 to 1e16 and scientific notation outside; a plain number always
+    has a decimal point, so that ``1.0F`` stays a floating constant in C."""
+    if precision != "float":
+        return repr(float(value))
+    single = numpy.float32(value)
+    if single == 0 or 1e-4 <= abs(single) < 1e16:
+        text = numpy.format_float_positional(single, unique=True, trim="0")
+    else:
+        text = numpy.format_float_scientific(single, unique=True, trim="-", exp_digits=1)
+    return f"{text}F"
 
 
 class EmbeddedCPrinter(C99CodePrinter):
@@ -34,6 +50,10 @@ class EmbeddedCPrinter(C99CodePrinter):
         return self._print(sp.Float(expr.evalf(20), 20))
 
     _print_Pi = _print_NumberSymbol  # noqa: N815 - SymPy dispatches on this name
+
+    def _print_Float(self, expr: sp.Float) -> str:
+        # The shortest literal of the value at the chosen precision (SymPy prints 17 digits).
+        return c_literal(float(expr), self.precision)
 
     def _print_Pow(self, expr: sp.Pow) -> str:
         base, exponent = expr.as_base_exp()

@@ -7,6 +7,8 @@ from functools import cache
 from importlib import resources
 
 import jinja2
+import numpy
+import sympy as sp
 
 from symkin.kernels import Kernel
 from symkin.robot import Robot
@@ -55,6 +57,30 @@ def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, int] | No
         return None
     inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
     return {"pi": len(inputs["pi"].symbols) if "pi" in inputs else 0}
+
+
+def number_text(value: sp.Expr) -> str:
+    """A number as its shortest decimal (``-9.81``, ``0``); an expression as SymPy prints it."""
+    if value.is_Number:
+        return numpy.format_float_positional(float(value), trim="-")
+    return str(value)
+
+
+def dynamics_notes(robot: Robot, kernels: tuple[Kernel, ...]) -> list[str]:
+    """Where the dynamics kernels take gravity and inertial data from (none without them)."""
+    if not any(k.name == "gravity" for k in kernels):
+        return []
+    gravity = ", ".join(number_text(g) for g in robot.gravity)
+    symbols = sorted({s.name for g in robot.gravity for s in g.free_symbols})
+    given = [i for i, joint in enumerate(robot.joints, start=1) if joint.link is not None]
+    missing = [i for i in range(1, robot.dof + 1) if i not in given]
+    where = [f"compiled in for links {', '.join(map(str, given))}"] if given else []
+    where += [f"passed as pi for links {', '.join(map(str, missing))}"] if missing else []
+    return [
+        f"Gravity: ({gravity}) m/s^2 in the base frame"
+        + (f", with {', '.join(symbols)} from p." if symbols else ", compiled in."),
+        f"Inertial data (mass, centre of mass, inertia): {'; '.join(where)}.",
+    ]
 
 
 def counts_text(kernel: Kernel) -> str:

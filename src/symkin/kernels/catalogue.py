@@ -12,6 +12,7 @@ import sympy as sp
 
 from symkin.derive import Model
 from symkin.derive.dynamics import link_inertial_data
+from symkin.kernels import units
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
 
@@ -25,7 +26,8 @@ def state_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     inputs = [KernelInput("q", model.q, "joint positions (rad or m)")]
     inputs += [KernelInput(r, *descriptions[r]) for r in rates]
     names = ", ".join(n for n, _ in model.robot.parameters) or "none"
-    inputs.append(KernelInput("p", model.robot.parameter_symbols, f"parameters ({names})"))
+    described = f"parameters ({names}; {units.PARAMETERS})"
+    inputs.append(KernelInput("p", model.robot.parameter_symbols, described))
     return tuple(inputs)
 
 
@@ -59,19 +61,34 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
 
     def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
         table = {
-            "T": lambda m: ("T", m.forward_kinematics, "pose of the tool in the base frame (4x4)"),
+            "T": lambda m: (
+                "T",
+                m.forward_kinematics,
+                "pose of the tool in the base frame (4x4)",
+                "matrix",
+                units.POSE,
+            ),
             "p": lambda m: (
                 "p_tool",
                 m.tool_position,
                 "tool position in the base frame (3x1)",
                 "vector",
+                units.POSITION,
             ),
             "J": lambda m: (
                 "J",
                 m.geometric_jacobian,
                 f"geometric Jacobian (6x{n}, rows x y z wx wy wz, base frame)",
+                "matrix",
+                units.jacobian(model.robot, angular=True),
             ),
-            "Jp": lambda m: ("Jp", m.position_jacobian, f"dp/dq (3x{n})"),
+            "Jp": lambda m: (
+                "Jp",
+                m.position_jacobian,
+                f"dp/dq (3x{n})",
+                "matrix",
+                units.jacobian(model.robot, angular=False),
+            ),
         }
         return [[table[key](form) for key in keys] for form in forms]
 
@@ -87,12 +104,13 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
     determinant = model.determinant()
     if determinant is not None:
         rows = ", ".join(model.task_rows)
+        unit = units.determinant(model.robot, model.task_rows)
         kernels.append(
             kernel_from_outputs(
                 "det",
                 f"determinant of the task Jacobian (rows {rows})",
                 inputs,
-                [("det", sp.Matrix([[determinant]]), "det J", "scalar")],
+                [("det", sp.Matrix([[determinant]]), "det J", "scalar", unit)],
             )
         )
         kernels.append(
@@ -100,7 +118,7 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
                 "manipulability",
                 "Yoshikawa manipulability of the task Jacobian (|det J| when square)",
                 inputs,
-                [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar")],
+                [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar", unit)],
             )
         )
     return tuple(kernels)
@@ -121,9 +139,15 @@ def point_kernels(
                 f"motion of the point {where}",
                 state_inputs(model, "dq", "ddq"),
                 [
-                    ("p_point", motion.position, "position, base frame", "vector"),
-                    ("v_point", motion.velocity, "velocity, base frame", "vector"),
-                    ("a_point", motion.acceleration, "acceleration, base frame", "vector"),
+                    ("p_point", motion.position, "position, base frame", "vector", units.POSITION),
+                    ("v_point", motion.velocity, "velocity, base frame", "vector", units.VELOCITY),
+                    (
+                        "a_point",
+                        motion.acceleration,
+                        "acceleration, base frame",
+                        "vector",
+                        units.ACCELERATION,
+                    ),
                 ],
             )
         )
@@ -146,7 +170,8 @@ def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     inertial = inertial_symbols(model)
     if inertial:
         names = ", ".join(s.name for s in inertial)
-        inputs.append(KernelInput("pi", inertial, f"inertial parameters ({names})"))
+        described = f"inertial parameters ({names}; {units.INERTIAL})"
+        inputs.append(KernelInput("pi", inertial, described))
     return tuple(inputs)
 
 
@@ -176,13 +201,24 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             f"C(q, dq) ({n}x{n}), dM/dt - 2C skew-symmetric",
         ),
     ]
+    force = units.generalized_force(model.robot)
+    unit = {"M": units.mass_matrix(model.robot), "G": force, "c": force}
+    unit["C"] = units.coriolis_matrix(model.robot)
     kernels = [
         kernel_from_assignments(
             name,
             description,
             dynamics_inputs(model, *(r for r in rates if r)),
             dynamics.assignments,
-            [(output, matrix, output_description, "vector" if output in ("G", "c") else "matrix")],
+            [
+                (
+                    output,
+                    matrix,
+                    output_description,
+                    "vector" if output in ("G", "c") else "matrix",
+                    unit[output],
+                )
+            ],
         )
         for name, description, rates, output, matrix, output_description in steps
     ]
@@ -192,7 +228,7 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             "inverse dynamics",
             dynamics_inputs(model, "dq", "ddq"),
             torque_assignments,
-            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector")],
+            [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector", force)],
         )
     )
     return tuple(kernels)

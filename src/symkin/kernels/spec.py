@@ -47,6 +47,8 @@ class KernelOutput:
     # "matrix", "vector" or "scalar": how array backends shape it (a 1-DOF mass matrix is a
     # 1x1 matrix, a 1-DOF gravity vector has one entry, a determinant is a scalar).
     kind: str = "matrix"
+    # SI units of the entries, per row, column or joint where they differ (kernels.units).
+    units: str = ""
 
     @property
     def shape(self) -> tuple[int, int]:
