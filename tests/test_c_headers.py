@@ -14,6 +14,7 @@ import sympy as sp
 
 import symkin
 from codegen_helpers import CC, STRICT, write_tree
+from symkin.cli import main
 from symkin.emit.c import c_literal
 from symkin.emit.printers import c_code
 from symkin.generate import files_for_robot
@@ -210,3 +211,26 @@ def test_float_literals_compile_to_the_same_numbers(tmp_path):
     run([CC, *STRICT, "-Wconversion", "-Wdouble-promotion", "-o", "l", "l.c"], tmp_path)
     printed = run([str(tmp_path / "l")], tmp_path).split()
     assert [np.float32(float.fromhex(t)) for t in printed] == [np.float32(v) for v in values]
+
+
+# ---------------------------------------------------------------- regenerate line
+
+
+def test_the_regenerate_line_carries_the_flags_and_reproduces_the_files(tmp_path):
+    first = tmp_path / "first"
+    argv = ["scara", "--emit", "c,numpy", "--precision", "float", "--numeric-parameters"]
+    argv += ["--set", "L1=0.4", "--point", "2:0.1,0,0"]
+    assert main(["derive", argv[0], "--out", str(first), *argv[1:]]) == 0
+    files = {p.relative_to(first): p.read_text() for p in first.rglob("*") if p.is_file()}
+    lines = {
+        re.search(r"Regenerate with: (.*)", t).group(1) for t in files.values() if "Regenerate" in t
+    }
+    assert lines == {f"symkin derive scara --out DIR {' '.join(argv[1:])}"}
+    command = lines.pop().replace("DIR", str(tmp_path / "again")).split()
+    assert main(command[1:]) == 0
+    again = {
+        p.relative_to(tmp_path / "again"): p.read_text()
+        for p in (tmp_path / "again").rglob("*")
+        if p.is_file()
+    }
+    assert again == files

@@ -62,8 +62,13 @@ def files_for_robot(
     backends: Sequence[str] = BACKENDS,
     precision: str = "double",
     points: Sequence[tuple[int, Sequence[float]]] = (),
+    flags: Sequence[str] = (),
 ) -> dict[str, str]:
-    """``{relative path: text}`` of every chosen backend for one robot."""
+    """``{relative path: text}`` of every chosen backend for one robot.
+
+    ``flags``: the front end's options that made the files, as it spells them; every file's
+    "Regenerate with" line ends with them (``--precision float --numeric-parameters``).
+    """
     if precision not in PRECISIONS:
         raise ParameterError(
             f"{{precision}} must be one of {', '.join(PRECISIONS)}, got {literal(repr(precision))}"
@@ -73,17 +78,17 @@ def files_for_robot(
         lambda: robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
     )
     emitters: dict[str, Callable[[], dict[str, str]]] = {
-        "numpy": lambda: emit_numpy(robot, kernels()),
+        "numpy": lambda: emit_numpy(robot, kernels(), flags),
         "c": lambda: {
-            **emit_c(robot, kernels(), precision),
-            **emit_ik_c(robot, kernels(), precision),
-            **emit_ik_closed_c(robot, kernels(), precision),
+            **emit_c(robot, kernels(), precision, flags),
+            **emit_ik_c(robot, kernels(), precision, flags),
+            **emit_ik_closed_c(robot, kernels(), precision, flags),
         },
         "python": lambda: {
-            **emit_c(robot, kernels(), precision),
-            **emit_python_extension(robot, kernels(), precision),
+            **emit_c(robot, kernels(), precision, flags),
+            **emit_python_extension(robot, kernels(), precision, flags),
         },
-        "casadi": lambda: emit_casadi(robot, kernels()),
+        "casadi": lambda: emit_casadi(robot, kernels(), flags),
         "latex": lambda: {f"latex/{p}": t for p, t in latex_files(derive(robot)).items()},
     }
     files: dict[str, str] = {}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import partial
 
 import sympy as sp
@@ -45,8 +46,14 @@ def check_float_range(robot: Robot, kernels: tuple[Kernel, ...]) -> None:
             )
 
 
-def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double") -> dict[str, str]:
-    """``c/<robot>.h``, ``c/<robot>.c``, ``c/example.c`` and ``c/Makefile``."""
+def emit_c(
+    robot: Robot,
+    kernels: tuple[Kernel, ...],
+    precision: str = "double",
+    flags: Sequence[str] = (),
+) -> dict[str, str]:
+    """``c/<robot>.h``, ``c/<robot>.c``, ``c/example.c`` and ``c/Makefile``; ``flags`` as for
+    :func:`~symkin.emit.render.preamble_lines`."""
     if precision == "float":
         check_float_range(robot, kernels)
     header, source = f"{robot.name}.h", f"{robot.name}.c"
@@ -72,7 +79,7 @@ def emit_c(robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double")
         "acceleration_units": units.joint_acceleration(robot),
         "sqrt": "sqrtf" if precision == "float" else "sqrt",
     }
-    context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})")
+    context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})", flags)
     return {
         f"c/{header}": render("c/header.h.j2", **context),
         f"c/{source}": render("c/source.c.j2", **context),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import casadi_code
 from symkin.emit.render import (
@@ -18,11 +20,13 @@ def module_name(robot: Robot) -> str:
     return f"{robot.name}_casadi"
 
 
-def emit_casadi(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
+def emit_casadi(
+    robot: Robot, kernels: tuple[Kernel, ...], flags: Sequence[str] = ()
+) -> dict[str, str]:
     """``{"casadi/<robot>_casadi.py": source}``."""
     text = render(
         "casadi/module.py.j2",
-        preamble=preamble_lines(robot, kernels, "CasADi kinematics"),
+        preamble=preamble_lines(robot, kernels, "CasADi kinematics", flags),
         prefix=robot.name,
         dof=robot.dof,
         **parameter_context(robot, lambda v: repr(float(v)), "float('nan')"),

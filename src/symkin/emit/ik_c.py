@@ -8,6 +8,7 @@ the one :mod:`symkin.solve.ik.batch` runs in NumPy; both read their settings fro
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict
 
 from symkin.emit.c import c_literal
@@ -41,7 +42,7 @@ def _limit_literals(robot: Robot, precision: str) -> tuple[list[str], list[str]]
 
 
 def emit_ik_c(
-    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double"
+    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double", flags: Sequence[str] = ()
 ) -> dict[str, str]:
     """``c/<robot>_ik.h`` and ``c/<robot>_ik.c``; they call ``<robot>_fk_jacobian``."""
     settings = _settings(precision)
@@ -90,7 +91,7 @@ def emit_ik_c(
             f"{settings.rotation_tolerance:g} rad, damping {settings.damping:g} + "
             f"{settings.error_damping:g} E, seed {settings.seed}"
         ),
-        "preamble": preamble_lines(robot, (fk_jacobian,), f"C numeric IK ({precision})"),
+        "preamble": preamble_lines(robot, (fk_jacobian,), f"C numeric IK ({precision})", flags),
     }
     return {
         f"c/{header}": render("c/ik.h.j2", **context),

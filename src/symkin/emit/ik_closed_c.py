@@ -13,6 +13,7 @@ as ``closed_form_ik`` checks it in Python.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from symkin.emit.c import c_literal
 from symkin.emit.c_library import library_files
@@ -139,7 +140,7 @@ def _shifts(robot: Robot) -> list[int]:
 
 
 def emit_ik_closed_c(
-    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double"
+    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double", flags: Sequence[str] = ()
 ) -> dict[str, str]:
     """``c/<robot>_ik_closed.h`` and ``.c``, which call ``<robot>_fk``; ``{}`` for a robot
     without a closed form."""
@@ -184,7 +185,9 @@ def emit_ik_closed_c(
         "shift": _shifts(robot),
         "lower": lower,
         "upper": upper,
-        "preamble": preamble_lines(robot, (fk, constants), f"C closed-form IK ({precision})"),
+        "preamble": preamble_lines(
+            robot, (fk, constants), f"C closed-form IK ({precision})", flags
+        ),
     }
     return {
         f"c/{header}": render("c/ik_closed.h.j2", **context),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import numpy_code
 from symkin.emit.render import (
@@ -18,11 +20,13 @@ def module_name(robot: Robot) -> str:
     return f"{robot.name}_kinematics"
 
 
-def emit_numpy(robot: Robot, kernels: tuple[Kernel, ...]) -> dict[str, str]:
+def emit_numpy(
+    robot: Robot, kernels: tuple[Kernel, ...], flags: Sequence[str] = ()
+) -> dict[str, str]:
     """``{"numpy/<robot>_kinematics.py": source}``."""
     text = render(
         "numpy/module.py.j2",
-        preamble=preamble_lines(robot, kernels, "NumPy kinematics"),
+        preamble=preamble_lines(robot, kernels, "NumPy kinematics", flags),
         dof=robot.dof,
         **parameter_context(robot, lambda v: repr(float(v)), "numpy.nan"),
         kernels=[kernel_layout(k, numpy_code) for k in kernels],

@@ -7,6 +7,7 @@ Every kernel is bound (kinematics and dynamics), and forward dynamics when the r
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from symkin.emit.layout import STATE_INPUTS, kernel_layout
@@ -77,7 +78,7 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
 
 
 def emit_python_extension(
-    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double"
+    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double", flags: Sequence[str] = ()
 ) -> dict[str, str]:
     """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``."""
     module = extension_name(robot)
@@ -86,7 +87,7 @@ def emit_python_extension(
     inertial = next((i for k in kernels for i in k.inputs if i.name == "pi"), None)
     text = render(
         "python/module.c.j2",
-        preamble=preamble_lines(robot, kernels, f"Python binding ({precision})"),
+        preamble=preamble_lines(robot, kernels, f"Python binding ({precision})", flags),
         module=module,
         robot=robot.name,
         prefix=robot.name,
