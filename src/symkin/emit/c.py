@@ -7,6 +7,7 @@ from functools import partial
 
 import sympy as sp
 
+from symkin.emit.c_library import library_files
 from symkin.emit.layout import kernel_layout
 from symkin.emit.printers import c_code, c_literal
 from symkin.emit.render import (
@@ -77,7 +78,7 @@ def emit_c(
         "notes": dynamics_notes(robot, kernels),
         "force_units": units.generalized_force(robot),
         "acceleration_units": units.joint_acceleration(robot),
-        "sqrt": "sqrtf" if precision == "float" else "sqrt",
+        "library": library_files(precision, "cholesky"),
     }
     context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})", flags)
     return {

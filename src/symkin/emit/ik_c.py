@@ -7,11 +7,11 @@ the one :mod:`symkin.solve.ik.batch` runs in NumPy; both read their settings fro
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import asdict
 
 from symkin.emit.c import c_literal
+from symkin.emit.c_library import library_files
 from symkin.emit.render import preamble_lines, render
 from symkin.kernels import Kernel
 from symkin.kernels.ik.settings import (
@@ -68,10 +68,7 @@ def emit_ik_c(
         "dof": robot.dof,
         "header": f"{robot.name}.h",
         "ik_header": header,
-        "f": "f" if precision == "float" else "",
-        "half": c_literal(0.5, precision),
-        "two_pi": c_literal(2 * math.pi, precision),
-        "two_to_minus_53": c_literal(2.0**-53, precision),
+        "library": library_files(precision, "xorshift", "pose_error", "cholesky", "dls"),
         "orthonormal_tolerance": c_literal(ORTHONORMAL_TOLERANCE[precision], precision),
         "stall_window": STALL_WINDOW,
         "stall_factor": STALL_FACTOR,
