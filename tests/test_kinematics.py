@@ -35,7 +35,7 @@ from numeric_dh import (
     wrap,
 )
 from symkin.derive import derive
-from symkin.errors import RobotError
+from symkin.errors import ParameterError
 from symkin.io.robot_file import catalogue_names, robot_from_toml
 
 FK_TOL = 1e-12
@@ -112,7 +112,7 @@ def test_parameter_without_value_stays_a_symbol() -> None:
     h = sp.Symbol("h", real=True)
     m = model("hand_standard")
     assert h in m.forward_kinematics.free_symbols
-    with pytest.raises(RobotError, match="h"):
+    with pytest.raises(ParameterError, match="h"):
         robot("hand_standard").parameter_values()
     # Two values of h give poses that differ exactly by the change of d_1 along z_0.
     q = samples("hand_standard", 4, 1)[0]
