@@ -1,5 +1,6 @@
 """Settings of the damped-least-squares IK, read by both solvers: the NumPy batch solver
-(:mod:`symkin.solve.ik.batch`) and the generated C (``templates/c/ik.c.j2``).
+(:mod:`symkin.solve.ik.batch`) and the C one (``templates/c/lib/symkin_dls.c``), to which the
+generated ``<robot>_ik.c`` hands them (``templates/c/ik.c.j2``).
 
 The algorithm is stated in :mod:`symkin.solve.ik.batch`; these numbers are its constants.
 """

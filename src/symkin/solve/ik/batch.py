@@ -1,8 +1,9 @@
 """Damped-least-squares IK over a batch of targets, the NumPy twin of the generated C solver.
 
-The algorithm is the one ``templates/c/ik.c.j2`` emits (docs/ik-generated.md), step for step,
-vectorised over poses with the generated NumPy ``fk_jacobian`` kernel (which broadcasts over
-a leading batch axis).  Every pose runs its own iteration on its own random stream, so a
+The algorithm is the C library's ``symkin_dls_solve`` (``templates/c/lib/symkin_dls.c``, pasted
+into the generated ``<robot>_ik.c``; docs/ik-generated.md), step for step, vectorised over
+poses with the generated NumPy ``fk_jacobian`` kernel (which broadcasts over a leading batch
+axis).  Every pose runs its own iteration on its own random stream, so a
 batch gives the same answer as solving each pose alone.
 
 * Error (base frame): ``e = [p_t - p; r]`` with ``r`` the rotation vector of ``R_t R^T``
@@ -61,7 +62,7 @@ class BatchIKResult:
 
 def pose_errors(targets: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, ...]:
     """``e = [p_t - p; r]`` per pose (``r``: rotation vector of ``R_t R^T``), ``|p_t - p|`` and
-    the rotation angle, for stacks of 4x4 transforms (the C ``pose_error``, vectorised)."""
+    the rotation angle, for stacks of 4x4 transforms (the C ``symkin_pose_error``, vectorised)."""
     E = targets[:, :3, :3] @ np.swapaxes(poses[:, :3, :3], 1, 2)
     w = np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], 1)
     w = w / 2
@@ -85,7 +86,7 @@ def limit_joints(
     q: np.ndarray, lower: np.ndarray, upper: np.ndarray, revolute: np.ndarray
 ) -> np.ndarray:
     """Revolute joints outside their limits moved by ``2 pi k`` toward the middle of the
-    range, then every joint clamped (the C ``limit_joints``)."""
+    range, then every joint clamped (the C ``symkin_dls_limit``)."""
     outside = revolute & ((q < lower) | (q > upper)) & np.isfinite(lower) & np.isfinite(upper)
     middle = (lower + upper) / 2
     with np.errstate(invalid="ignore"):  # inf - inf where a limit is missing; masked out
