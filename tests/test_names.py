@@ -119,6 +119,22 @@ def test_a_robot_named_example_is_rejected_its_source_would_be_the_demo():
         robot_from_toml(text, "arm.toml")
 
 
+@pytest.mark.parametrize("name", ["symkin", "symkin_dls"])
+def test_robot_names_in_the_c_library_namespace_are_rejected(name: str):
+    # Generated C pastes templates/c/lib, whose names are symkin_*: a robot called symkin
+    # would declare symkin_fk_jacobian twice (found by the CLI fuzzer).
+    text = two_link("L1", "L2").replace('name = "two_link"', f'name = "{name}"')
+    with pytest.raises(RobotError, match=r"symkin_\*"):
+        robot_from_toml(text, "arm.toml")
+
+
+@pytest.mark.parametrize("name", ["real_t", "REAL", "SYMKIN_RESTRICT", "symkin_xorshift64"])
+def test_parameter_names_of_the_pasted_c_library_are_rejected(name: str):
+    text = two_link("L1", name)
+    with pytest.raises(RobotError, match="C library pasted"):
+        robot_from_toml(text, "arm.toml")
+
+
 def test_nested_powers_are_held_to_the_exponent_cap():
     text = two_link("L1", "L2").replace('a = "L1"', 'a = "((((L1 + L2)/2)**4)**4)**4"')
     with pytest.raises(RobotError, match=r"power 64, outside \[-4, 4\]"):

@@ -140,6 +140,10 @@ TEMPLATE_LOCALS = frozenset(
 # Point kernels are named point1, point2, ... (symkin.kernels.point_kernels).
 GENERATED_PATTERN = re.compile(r"point[0-9]+")
 
+# Types and macros of the C library generated code pastes (templates/c/lib); its functions
+# and other macros are all symkin_* / SYMKIN_*.
+C_LIBRARY_TYPES = frozenset({"real_t", "REAL"})
+
 # A robot's name becomes a file name: <name>.h must not shadow a standard C header.
 C_HEADERS = frozenset(
     [
@@ -194,6 +198,8 @@ def reserved_reason(name: str) -> str | None:
         return "a name the generated code gives to its own functions, inputs or outputs"
     if name.startswith("_"):
         return "names starting with '_' are reserved for generated intermediates"
+    if name in C_LIBRARY_TYPES or name.lower() == "symkin" or name.lower().startswith("symkin_"):
+        return "a name of the C library pasted into generated code (templates/c/lib)"
     return None
 
 
@@ -205,4 +211,8 @@ def robot_name_reason(name: str) -> str | None:
         return "a C or Python keyword"
     if name == "example":
         return "the C backend writes its demo program to example.c"
+    if name == "symkin" or name.startswith("symkin_"):
+        # The C library pasted into generated files (templates/c/lib) owns symkin_* and
+        # SYMKIN_*: a robot there would redeclare symkin_fk_jacobian, SYMKIN_RESTRICT, ...
+        return "the generated C library's functions and macros are named symkin_* and SYMKIN_*"
     return None
