@@ -36,7 +36,7 @@ from symkin.derive import derive
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
-from symkin.generate import BACKENDS, check_backends, files_for_robot, generate_catalogue
+from symkin.generate import check_backends, files_for_robot, generate_catalogue
 from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
@@ -96,10 +96,12 @@ def command_eval(args: argparse.Namespace) -> None:
         print(eval_text(state) + dynamics_text(dynamics))
 
 
-def derive_flags(args: argparse.Namespace, backends: tuple[str, ...]) -> list[str]:
-    """The options of a ``derive`` call that shape its files, for their "Regenerate with" line."""
-    flags = [] if backends == BACKENDS else ["--emit", ",".join(backends)]
-    flags += ["--precision", args.precision] if args.precision != "double" else []
+def derive_flags(args: argparse.Namespace) -> list[str]:
+    """The options of a ``derive`` call that shape its files, for their "Regenerate with" line.
+
+    ``--emit`` is not one of them: it chooses which files are written, not what any of them
+    holds, so a built-in robot's files from ``derive --emit c`` equal those of ``generate``."""
+    flags = ["--precision", args.precision] if args.precision != "double" else []
     flags += ["--numeric-parameters"] if args.numeric_parameters else []
     flags += [word for item in args.set for word in ("--set", item)]
     return flags + [word for item in args.point for word in ("--point", item)]
@@ -116,7 +118,7 @@ def command_derive(args: argparse.Namespace) -> None:
         )
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
-    files = files_for_robot(robot, backends, args.precision, points, derive_flags(args, backends))
+    files = files_for_robot(robot, backends, args.precision, points, derive_flags(args))
     out = Path(args.out)
     build = "python" in backends and not args.no_build
 
