@@ -31,8 +31,8 @@ In one run, on the same machine:
   parameters; its torques are first checked against the code with ``p``), and the Panda with
   its parameters as input ``p`` (checked against Robotics Toolbox's ``models.DH.Panda``).
 * **Inverse dynamics per call from Python** (PUMA 560): symkin's generated CPython extension
-  (compiled with ``symkin.runtime.extension.build_extension``, as ``symkin derive`` does), symkin's C
-  through ctypes, the generated NumPy module, CasADi (``Function`` call and its C through
+  (compiled with ``symkin.runtime.extension.build_extension``, as ``symkin derive`` does),
+  symkin's C through ctypes, the generated NumPy module, CasADi (``Function`` call and its C through
   ctypes), Pinocchio ``rnea`` on a model built from the same DH table and inertial data
   (``tests/test_dynamics_oracles.py``),
   and Robotics Toolbox ``DH.Puma560().rne`` (its C extension ``frne``); and in batches of

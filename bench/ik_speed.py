@@ -195,7 +195,7 @@ def rtb_puma_closed_form(model) -> Solve | None:
     import roboticstoolbox as rtb
 
     from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.ik.numeric import parameter_vector
+    from symkin.solve.ik.joints import parameter_vector
 
     robot = rtb.models.DH.Puma560()
     lift = np.eye(4)
@@ -237,7 +237,7 @@ def success_check(model, tolerance: float = CHECK) -> Callable[[np.ndarray, np.n
     """``check(q, target)``: symkin's FK of ``q`` meets ``target`` to ``tolerance`` in m and in
     rad, and ``q`` is within the limits."""
     from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.ik.numeric import joint_bounds, parameter_vector
+    from symkin.solve.ik.joints import joint_bounds, parameter_vector
 
     fk = generated_numpy_module(model, "kinematics").fk
     p = parameter_vector(model)
@@ -275,7 +275,7 @@ class Row:
 def poses(model, count: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """``count`` (target, seed) pairs from random joint values within the limits."""
     from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.ik.numeric import parameter_vector, random_configuration
+    from symkin.solve.ik.joints import parameter_vector, random_configuration
 
     rng = np.random.default_rng(seed)
     fk = generated_numpy_module(model, "kinematics").fk
@@ -289,7 +289,7 @@ def poses(model, count: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
 def check_same_arm(model, solver_name: str) -> float:
     """Largest pose difference between symkin's FK and the RTB robot's at 20 random q."""
     from symkin.runtime.modules import generated_numpy_module
-    from symkin.solve.ik.numeric import parameter_vector, random_configuration
+    from symkin.solve.ik.joints import parameter_vector, random_configuration
 
     robot = rtb_robot(model)
     fk = generated_numpy_module(model, "kinematics").fk

@@ -76,8 +76,12 @@ def test_no_module_is_over_the_line_limit():
 
 def _has_reason(lines: list[str], node: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
     first = min([node.lineno, *(d.lineno for d in node.decorator_list)])
-    above = lines[first - 2].strip() if first >= 2 else ""
-    return above.startswith(REASONS)
+    index = first - 2
+    while index >= 0 and lines[index].strip().startswith("#"):  # the comment block above
+        if lines[index].strip().startswith(REASONS):
+            return True
+        index -= 1
+    return False
 
 
 def test_long_functions_give_their_reason():

@@ -101,27 +101,30 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
             "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
         ),
     ]
+    return tuple(kernels) + _determinant_kernels(model, inputs)
+
+
+def _determinant_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel, ...]:
+    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none)."""
     determinant = model.determinant()
-    if determinant is not None:
-        rows = ", ".join(model.task_rows)
-        unit = units.determinant(model.robot, model.task_rows)
-        kernels.append(
-            kernel_from_outputs(
-                "det",
-                f"determinant of the task Jacobian (rows {rows})",
-                inputs,
-                [("det", sp.Matrix([[determinant]]), "det J", "scalar", unit)],
-            )
-        )
-        kernels.append(
-            kernel_from_outputs(
-                "manipulability",
-                "Yoshikawa manipulability of the task Jacobian (|det J| when square)",
-                inputs,
-                [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar", unit)],
-            )
-        )
-    return tuple(kernels)
+    if determinant is None:
+        return ()
+    rows = ", ".join(model.task_rows)
+    unit = units.determinant(model.robot, model.task_rows)
+    return (
+        kernel_from_outputs(
+            "det",
+            f"determinant of the task Jacobian (rows {rows})",
+            inputs,
+            [("det", sp.Matrix([[determinant]]), "det J", "scalar", unit)],
+        ),
+        kernel_from_outputs(
+            "manipulability",
+            "Yoshikawa manipulability of the task Jacobian (|det J| when square)",
+            inputs,
+            [("mu", sp.Matrix([[sp.Abs(determinant)]]), "sqrt(det(J J^T))", "scalar", unit)],
+        ),
+    )
 
 
 def point_kernels(

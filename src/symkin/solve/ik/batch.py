@@ -44,7 +44,7 @@ from symkin.kernels.ik.settings import (
     DampedLeastSquares,
 )
 from symkin.runtime.modules import generated_numpy_module
-from symkin.solve.ik.numeric import joint_bounds, parameter_vector
+from symkin.solve.ik.joints import joint_bounds, parameter_vector
 
 
 @dataclass(frozen=True)
@@ -131,6 +131,8 @@ def _as_stack(values, shape: tuple[int, ...], what: str) -> np.ndarray:
     return array
 
 
+# long: one loop over the batch that mirrors templates/c/lib/symkin_dls.c step for step
+# (error, convergence, stall, damped step, restart); split, the correspondence is lost.
 def solve_ik_batch(
     model: Model,
     targets: np.ndarray,

@@ -25,13 +25,8 @@ from symkin.derive import Model
 from symkin.errors import SymkinError
 from symkin.runtime.modules import generated_casadi_module, generated_numpy_module
 from symkin.solve.ik.batch import pose_errors, sample_ranges
-from symkin.solve.ik.numeric import (
-    DEFAULT_TOLERANCE,
-    IKResult,
-    joint_bounds,
-    middle_configuration,
-    parameter_vector,
-)
+from symkin.solve.ik.joints import joint_bounds, middle_configuration, parameter_vector
+from symkin.solve.ik.numeric import DEFAULT_TOLERANCE, IKResult
 
 ALL_ROWS = ("x", "y", "z", "wx", "wy", "wz")
 IPOPT_OPTIONS = {
@@ -72,6 +67,38 @@ def ik_nlp_solver(model: Model, position_only: bool, max_iterations: int) -> cas
     )
 
 
+def _check_settings(tolerance: float, max_iterations: int, restarts: int) -> None:
+    if not tolerance > 0 or max_iterations < 1 or restarts < 0:
+        raise SymkinError(
+            "need tolerance > 0, max_iterations >= 1 and restarts >= 0, got "
+            f"{tolerance}, {max_iterations} and {restarts}"
+        )
+
+
+def _checked_target(target: np.ndarray) -> np.ndarray:
+    target = np.asarray(target, dtype=float)
+    if target.shape != (4, 4) or not np.all(np.isfinite(target)):
+        raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
+    return target
+
+
+def _bounds_and_start(
+    model: Model,
+    q0: Sequence[float] | None,
+    limits: tuple[Sequence[float], Sequence[float]] | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lower and upper joint bounds (the robot file's unless ``limits``) and the first guess."""
+    n = model.robot.dof
+    lower, upper = joint_bounds(model) if limits is None else limits
+    lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    if lower.shape != (n,) or upper.shape != (n,) or not np.all(lower <= upper):
+        raise SymkinError(f"limits: expected lower <= upper, {n} values each")
+    start = middle_configuration(model) if q0 is None else np.asarray(q0, dtype=float)
+    if start.shape != (n,) or not np.all(np.isfinite(start)):
+        raise SymkinError(f"q0: expected {n} finite values")
+    return lower, upper, start
+
+
 def solve_ik_casadi(
     model: Model,
     target: np.ndarray,
@@ -91,22 +118,9 @@ def solve_ik_casadi(
     the robot file's ``(lower, upper)``.  After a failed solve, up to ``restarts`` more start
     from configurations drawn uniformly within the limits (``seed``); the best is returned.
     """
-    n = model.robot.dof
-    target = np.asarray(target, dtype=float)
-    if target.shape != (4, 4) or not np.all(np.isfinite(target)):
-        raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
-    if not tolerance > 0 or max_iterations < 1 or restarts < 0:
-        raise SymkinError(
-            "need tolerance > 0, max_iterations >= 1 and restarts >= 0, got "
-            f"{tolerance}, {max_iterations} and {restarts}"
-        )
-    lower, upper = joint_bounds(model) if limits is None else limits
-    lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
-    if lower.shape != (n,) or upper.shape != (n,) or not np.all(lower <= upper):
-        raise SymkinError(f"limits: expected lower <= upper, {n} values each")
-    start = middle_configuration(model) if q0 is None else np.asarray(q0, dtype=float)
-    if start.shape != (n,) or not np.all(np.isfinite(start)):
-        raise SymkinError(f"q0: expected {n} finite values")
+    _check_settings(tolerance, max_iterations, restarts)
+    target = _checked_target(target)
+    lower, upper, start = _bounds_and_start(model, q0, limits)
 
     solver = ik_nlp_solver(model, position_only, max_iterations)
     p = parameter_vector(model, overrides)

@@ -44,7 +44,7 @@ range, 0 for joints without limits).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -53,6 +53,12 @@ from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
 from symkin.errors import SymkinError
 from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.ik.joints import (
+    joint_bounds,
+    middle_configuration,
+    parameter_vector,
+    random_configuration,
+)
 from symkin.spatial import axis_angle_from_rotation
 
 METHODS = ("lm", "newton")
@@ -82,8 +88,6 @@ STALL_RATIO = 0.99
 SINGULAR_CONDITION = 1e12
 # Limits are met when exceeded by no more than this (rounding of the 2 pi shifts).
 LIMIT_SLACK = 1e-12
-# Random restarts draw unlimited prismatic joints from [-PRISMATIC_RANGE, PRISMATIC_RANGE] m.
-PRISMATIC_RANGE = 1.0
 
 
 @dataclass(frozen=True)
@@ -394,39 +398,6 @@ def task_rows_for(
     return rows
 
 
-def joint_bounds(model: Model) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper joint limits (``-inf``/``inf`` where the robot file gives none)."""
-    joints = model.robot.joints
-    lower = np.array([-np.inf if j.limits is None else j.limits[0] for j in joints])
-    upper = np.array([np.inf if j.limits is None else j.limits[1] for j in joints])
-    return lower, upper
-
-
-def random_configuration(model: Model, rng: np.random.Generator) -> np.ndarray:
-    """Uniform within the limits; without limits ``(-pi, pi]`` (revolute) or ``[-1, 1]`` m."""
-    lower, upper = joint_bounds(model)
-    revolute = np.array([j.type == "revolute" for j in model.robot.joints])
-    default = np.where(revolute, np.pi, PRISMATIC_RANGE)
-    low = np.where(np.isfinite(lower), lower, -default)
-    high = np.where(np.isfinite(upper), upper, default)
-    return rng.uniform(low, high)
-
-
-def middle_configuration(model: Model) -> np.ndarray:
-    """The middle of each joint's range (0 for a joint without limits)."""
-    lower, upper = joint_bounds(model)
-    limited = np.isfinite(lower) & np.isfinite(upper)
-    middle = np.zeros(model.robot.dof)
-    middle[limited] = (lower[limited] + upper[limited]) / 2
-    return middle
-
-
-def parameter_vector(model: Model, overrides: Mapping[str, float] | None = None) -> np.ndarray:
-    """The parameter values in ``robot.parameters`` order (the generated code's ``p``)."""
-    values = model.robot.parameter_values(overrides)
-    return np.array([values[name] for name, _ in model.robot.parameters], dtype=float)
-
-
 def _wrap(angles: np.ndarray) -> np.ndarray:
     """Angles mapped to ``(-pi, pi]``."""
     return np.pi - np.mod(np.pi - angles, 2 * np.pi)
@@ -486,6 +457,70 @@ def task_errors(
     return problem.errors(e)
 
 
+def _rest_configuration(
+    model: Model, rest_posture: Sequence[float] | str | None
+) -> np.ndarray | None:
+    """The null-space preference: given joint values, the middle of the ranges, or none."""
+    if rest_posture is None:
+        return None
+    if isinstance(rest_posture, str):
+        if rest_posture != "middle":
+            raise SymkinError(
+                f"rest posture: expected {model.robot.dof} joint values or 'middle', "
+                f"got {rest_posture!r}"
+            )
+        return middle_configuration(model)
+    return _vector(rest_posture, model.robot.dof, "rest posture")
+
+
+def _first_converged(
+    problem: _Problem, starts: Iterable[np.ndarray], method: str, max_iterations: int
+) -> tuple[_Attempt, int, int]:
+    """Attempts from each start until one converges: the best attempt (the converged one, or
+    the lowest error), the iterations of all attempts, and the number of restarts made."""
+    best: _Attempt | None = None
+    iterations = 0
+    attempts = 0
+    for start in starts:
+        attempt = _attempt(problem, start, method, max_iterations)
+        attempts += 1
+        iterations += attempt.iterations
+        if best is None or attempt.converged or attempt.energy < best.energy:
+            best = attempt
+        if best.converged:
+            break
+    assert best is not None  # starts always holds the first seed
+    return best, iterations, attempts - 1
+
+
+def _result(
+    problem: _Problem,
+    q: np.ndarray,
+    tolerance: float,
+    effort: tuple[int, int],
+    rows: tuple[str, ...],
+    method: str,
+) -> IKResult:
+    """The result at ``q`` with unlimited revolute joints wrapped to ``(-pi, pi]``, judged at
+    the returned values themselves (wrapping changes them by multiples of 2 pi).  ``effort``:
+    the iterations and restarts it took."""
+    q = q.copy()
+    q[problem.unlimited] = _wrap(q[problem.unlimited])
+    pose, _, e = problem.evaluate(q)
+    position_error, rotation_error = problem.errors(e)
+    return IKResult(
+        q=q,
+        success=position_error <= tolerance and rotation_error <= tolerance,
+        position_error=position_error,
+        rotation_error=rotation_error,
+        iterations=effort[0],
+        restarts=effort[1],
+        pose=pose,
+        rows=rows,
+        method=method,
+    )
+
+
 def solve_ik(
     model: Model,
     target: np.ndarray,
@@ -524,29 +559,12 @@ def solve_ik(
     rows = task_rows_for(model, task, position_only)
     problem = _problem(model, target, rows, weights, tolerance, overrides)
     seed_q = middle_configuration(model) if q0 is None else _vector(q0, n, "q0")
-    rest = None
-    if isinstance(rest_posture, str):
-        if rest_posture != "middle":
-            raise SymkinError(
-                f"rest posture: expected {n} joint values or 'middle', got {rest_posture!r}"
-            )
-        rest = middle_configuration(model)
-    elif rest_posture is not None:
-        rest = _vector(rest_posture, n, "rest posture")
+    rest = _rest_configuration(model, rest_posture)
     if method != "lm" or len(rows) >= n:
         rest = None  # no null space to move in (Newton: the lecture's plain iteration)
     rng = np.random.default_rng(seed)
-    best: _Attempt | None = None
-    iterations = 0
-    attempt_count = 0
-    for attempt_count in range(restarts + 1):
-        start = seed_q if attempt_count == 0 else random_configuration(model, rng)
-        attempt = _attempt(problem, start, method, max_iterations)
-        iterations += attempt.iterations
-        if best is None or attempt.converged or attempt.energy < best.energy:
-            best = attempt
-        if best.converged:
-            break
+    starts = (seed_q if k == 0 else random_configuration(model, rng) for k in range(restarts + 1))
+    best, iterations, attempt_count = _first_converged(problem, starts, method, max_iterations)
     if not best.converged and method == "lm":
         # The closest pose: go on from the best attempt without the early stop.
         polished = _lm_attempt(problem, best.q, max_iterations, problem.has_limits, stall=False)
@@ -556,22 +574,7 @@ def solve_ik(
         moved = _toward_rest(problem, best, rest)
         iterations += moved.iterations - best.iterations
         best = moved
-    q = best.q.copy()
-    q[problem.unlimited] = _wrap(q[problem.unlimited])
-    # Judge the returned q itself (wrapping changes it by multiples of 2 pi).
-    pose, _, e = problem.evaluate(q)
-    position_error, rotation_error = problem.errors(e)
-    return IKResult(
-        q=q,
-        success=position_error <= tolerance and rotation_error <= tolerance,
-        position_error=position_error,
-        rotation_error=rotation_error,
-        iterations=iterations,
-        restarts=attempt_count,
-        pose=pose,
-        rows=rows,
-        method=method,
-    )
+    return _result(problem, best.q, tolerance, (iterations, attempt_count), rows, method)
 
 
 __all__ = [
@@ -579,11 +582,7 @@ __all__ = [
     "DEFAULT_TOLERANCE",
     "METHODS",
     "IKResult",
-    "joint_bounds",
-    "middle_configuration",
     "newton_step",
-    "parameter_vector",
-    "random_configuration",
     "rotation_vector",
     "solve_ik",
     "task_errors",

@@ -38,11 +38,11 @@ from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
 from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.ik.joints import parameter_vector
 from symkin.solve.ik.numeric import (
     DEFAULT_TOLERANCE,
     IKResult,
     newton_step,
-    parameter_vector,
     rotation_vector,
     solve_ik,
 )

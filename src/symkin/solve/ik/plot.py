@@ -114,6 +114,20 @@ def plot_solutions(
     return save_figure(figure, path)
 
 
+def _joint_values_panel(joints, qs: np.ndarray, labels: Sequence[str] | None) -> None:
+    """Each joint's value over the waypoints."""
+    steps = np.arange(len(qs))
+    for j in range(qs.shape[1]):
+        joints.plot(steps, qs[:, j], marker="o", label=f"q{j + 1}")
+    if labels is not None:
+        joints.set_xticks(steps, labels)
+    joints.set_xlabel("waypoint i")
+    joints.set_ylabel("joint value [rad or m]")
+    joints.set_title("joint trajectories")
+    joints.grid(True, alpha=0.3)
+    joints.legend(loc="best", fontsize="small")
+
+
 def plot_path(
     model: Model,
     targets: np.ndarray,
@@ -165,16 +179,6 @@ def plot_path(
     axes.set_title(f"{model.robot.name}: Cartesian path")
     axes.legend(loc="best", fontsize="small")
 
-    joints = figure.add_subplot(122)
-    steps = np.arange(len(qs))
-    for j in range(qs.shape[1]):
-        joints.plot(steps, qs[:, j], marker="o", label=f"q{j + 1}")
-    if labels is not None:
-        joints.set_xticks(steps, labels)
-    joints.set_xlabel("waypoint i")
-    joints.set_ylabel("joint value [rad or m]")
-    joints.set_title("joint trajectories")
-    joints.grid(True, alpha=0.3)
-    joints.legend(loc="best", fontsize="small")
+    _joint_values_panel(figure.add_subplot(122), qs, labels)
     figure.tight_layout()
     return save_figure(figure, path)

@@ -15,13 +15,8 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import ParameterError
-from symkin.solve.ik.numeric import (
-    DEFAULT_TOLERANCE,
-    random_configuration,
-    solve_ik,
-    task_errors,
-    task_rows_for,
-)
+from symkin.solve.ik.joints import random_configuration
+from symkin.solve.ik.numeric import DEFAULT_TOLERANCE, solve_ik, task_errors, task_rows_for
 
 DEFAULT_SEEDS = 64
 # Two numeric solutions closer than this in every joint (angles modulo 2 pi) are one.
