@@ -259,8 +259,8 @@ def test_derive_emits_only_the_chosen_backend_in_float(tmp_path, capsys):
     ]
     source = (out / "c" / "scara.c").read_text(encoding="utf-8")
     header = (out / "c" / "scara.h").read_text(encoding="utf-8")
-    assert "void scara_fk(const float q[3], const float *p, float T[16]);" in header
-    assert "void scara_fk(const float q[3], const float *p, float T[16])" in source
+    assert "void scara_fk(const float q[3], const float *p, float T[SYMKIN_RESTRICT 16]);" in header
+    assert "void scara_fk(const float q[3], const float *p, float T[restrict 16])" in source
     assert "C kinematics (float)" in source
     assert "sinf(" in source and "cosf(" in source
     assert not re.search(r"\bdouble\b", source)
