@@ -21,7 +21,92 @@
 
 #include "cylindrical_rtt_wrist.h"
 
-void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -68,7 +153,7 @@ void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[16])
     T[15] = 1;
 }
 
-void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double *p, double *T)
+void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -76,7 +161,7 @@ void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double 
     }
 }
 
-void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p_tool[3])
+void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -96,7 +181,7 @@ void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p
     p_tool[2] = d1 + q2 - t5*sin(q4);
 }
 
-void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -104,7 +189,7 @@ void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const d
     }
 }
 
-void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[36])
+void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[restrict 36])
 {
     const double q1 = q[0];
     const double q3 = q[2];
@@ -164,7 +249,7 @@ void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J
     J[35] = -t3*t8;
 }
 
-void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -172,7 +257,7 @@ void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const d
     }
 }
 
-void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p, double Jp[18])
+void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p, double Jp[restrict 18])
 {
     const double q1 = q[0];
     const double q3 = q[2];
@@ -210,7 +295,7 @@ void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p,
     Jp[17] = 0;
 }
 
-void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -218,7 +303,7 @@ void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q
     }
 }
 
-void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[16], double J[36])
+void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[restrict 16], double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -310,7 +395,7 @@ void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, doubl
     J[35] = t24;
 }
 
-void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -318,7 +403,7 @@ void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, cons
     }
 }
 
-void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[1])
+void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[restrict 1])
 {
     (void)p;
     const double q3 = q[2];
@@ -326,7 +411,7 @@ void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[1]
     det[0] = -q3*sin(q5);
 }
 
-void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *det)
+void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -334,7 +419,7 @@ void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double
     }
 }
 
-void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[1])
+void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[restrict 1])
 {
     (void)p;
     const double q3 = q[2];
@@ -342,7 +427,7 @@ void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, do
     mu[0] = fabs(q3*sin(q5));
 }
 
-void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -350,7 +435,7 @@ void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, c
     }
 }
 
-void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[36])
+void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[restrict 36])
 {
     const double q3 = q[2];
     const double q4 = q[3];
@@ -559,7 +644,7 @@ void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const
     M[35] = t121;
 }
 
-void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -567,7 +652,7 @@ void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, cons
     }
 }
 
-void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[6])
+void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[restrict 6])
 {
     const double q3 = q[2];
     const double q4 = q[3];
@@ -589,9 +674,9 @@ void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const dou
     const double cy6 = pi[52];
     const double cz6 = pi[53];
     const double t0 = sin(q4);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = cos(q4);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = cos(q5);
     const double t5 = t1*t4;
     const double t6 = sin(q5);
@@ -623,10 +708,10 @@ void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const dou
     const double t32 = t24*t4 + t26*t6 - cy4*t28;
     const double t33 = cx4*t28 + t24*t6 - cz4*t27 - t26*t4;
     const double t34 = t25 + cy4*t27;
-    const double t35 = 9.8100000000000005*m3;
+    const double t35 = 9.81*m3;
     const double t36 = t0*t31 + t2*t29;
     const double t37 = t0*t32 + t2*t34 - q3*t36;
-    const double t38 = -t35 - 9.8100000000000005*m2 + t2*t31 - t0*t29;
+    const double t38 = -t35 - 9.81*m2 + t2*t31 - t0*t29;
     G[0] = -t37;
     G[1] = -t38;
     G[2] = -t30;
@@ -635,7 +720,7 @@ void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const dou
     G[5] = t18;
 }
 
-void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -643,7 +728,7 @@ void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const do
     }
 }
 
-void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6])
+void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[restrict 6])
 {
     const double q3 = q[2];
     const double q4 = q[3];
@@ -810,7 +895,7 @@ void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const
     c[5] = t75;
 }
 
-void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -818,7 +903,7 @@ void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const d
     }
 }
 
-void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36])
+void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[restrict 36])
 {
     const double q3 = q[2];
     const double q4 = q[3];
@@ -1282,7 +1367,7 @@ void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6]
     C[35] = 0;
 }
 
-void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1290,7 +1375,7 @@ void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, 
     }
 }
 
-void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6])
+void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[restrict 6])
 {
     const double q3 = q[2];
     const double q4 = q[3];
@@ -1351,7 +1436,7 @@ void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6
     const double ixz6 = pi[58];
     const double iyz6 = pi[59];
     const double t0 = dq1*dq1;
-    const double t1 = 9.8100000000000005 + ddq2;
+    const double t1 = 9.81 + ddq2;
     const double t2 = ddq1*q3 + 2*dq1*dq3;
     const double t3 = ddq3 - q3*t0;
     const double t4 = sin(q4);
@@ -1473,7 +1558,7 @@ void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6
     tau[5] = t84;
 }
 
-void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1482,43 +1567,26 @@ void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q,
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[6])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
     const double zero[6] = { 0 };
-    int i, j, k;
+    int i;
 
     cylindrical_rtt_wrist_mass_matrix(q, p, pi, M);
     cylindrical_rtt_wrist_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 6; ++j) {
-        double diagonal = M[j * 6 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 6 + k] * M[j * 6 + k];
+    if (!symkin_cholesky_factor(M, 6)) {
+        for (i = 0; i < 6; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 6 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 6; ++i) {
-            double entry = M[i * 6 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 6 + k] * M[j * 6 + k];
-            }
-            M[i * 6 + j] = entry / M[j * 6 + j];
-        }
+        return;
     }
     for (i = 0; i < 6; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 6 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 6 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 6; ++k) {
-            value -= M[k * 6 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
-    }
+    symkin_cholesky_solve(M, 6, ddq);
 }

@@ -18,14 +18,30 @@
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
- * caller-provided arrays. No allocation, no globals, no recursion.
- * q: joint positions q1..q6 (rad for revolute, m for prismatic joints).
+ * caller-provided arrays that must not overlap the inputs or each other (restrict).
+ * No allocation, no globals, no recursion. Units: SI, angles in rad.
+ * q: joint positions q1..q6 (rad for q1, q4, q5, q6; m for q2, q3).
  * p: parameters d1, d6 in this order.
+ * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
+ * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3, 4, 5, 6.
  */
 #ifndef CYLINDRICAL_RTT_WRIST_KINEMATICS_H
 #define CYLINDRICAL_RTT_WRIST_KINEMATICS_H
 
 #include <stddef.h>
+
+/* C99 restrict on the outputs; empty in C++, which has no restrict. */
+#ifndef SYMKIN_RESTRICT
+#ifdef __cplusplus
+#define SYMKIN_RESTRICT
+#else
+#define SYMKIN_RESTRICT restrict
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define CYLINDRICAL_RTT_WRIST_DOF 6
 #define CYLINDRICAL_RTT_WRIST_NUM_PARAMETERS 2
@@ -34,124 +50,142 @@
 
 /* Forward kinematics (56 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[16]);
+void cylindrical_rtt_wrist_fk(const double q[6], const double *p, double T[SYMKIN_RESTRICT 16]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double *p, double *T);
+void cylindrical_rtt_wrist_fk_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T);
 
 /* Tool position (24 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ *   units: m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p_tool[3]);
+void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p_tool[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *p_tool);
+void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
 /* Geometric jacobian (50 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad for q1, q4, q5, q6; m for q2, q3)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[36]);
+void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const double *p, double *J);
+void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT J);
 
 /* Analytic position jacobian (36 operations).
  * Jp[18]: dp/dq (3x6)
+ *   units: m per unit of the column's joint (rad for q1, q4, q5, q6; m for q2, q3)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p, double Jp[18]);
+void cylindrical_rtt_wrist_position_jacobian(const double q[6], const double *p, double Jp[SYMKIN_RESTRICT 18]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp);
+void cylindrical_rtt_wrist_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
 /* Forward kinematics and jacobian (82 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad for q1, q4, q5, q6; m for q2, q3)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[16], double J[36]);
+void cylindrical_rtt_wrist_fk_jacobian(const double q[6], const double *p, double T[SYMKIN_RESTRICT 16], double J[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
+void cylindrical_rtt_wrist_fk_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (3 operations).
  * det[1]: det J
+ *   units: m/rad
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[1]);
+void cylindrical_rtt_wrist_det(const double q[6], const double *p, double det[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *det);
+void cylindrical_rtt_wrist_det_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT det);
 
 /* Yoshikawa manipulability of the task jacobian (|det j| when square) (2 operations).
  * mu[1]: sqrt(det(J J^T))
+ *   units: m/rad
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[1]);
+void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, double mu[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
+void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
 /* Mass matrix (477 operations).
  * M[36]: M(q) (6x6)
+ *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[36]);
+void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (102 operations).
  * G[6]: G(q) (6x1)
+ *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[6]);
+void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
 
 /* Coriolis and centrifugal torques (369 operations).
  * c[6]: c = C(q, dq) dq (6x1)
+ *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6]);
+void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
 
 /* Coriolis matrix (christoffel symbols) (1442 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
+ *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36]);
+void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
 
 /* Inverse dynamics (428 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
+ *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
- * p[2]: parameters (d1, d6)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6]);
+void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
+void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
- * Inputs as for inverse_dynamics, with tau[6] in place of ddq. */
-void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[6]);
+ * Inputs as for inverse_dynamics, with tau[6] (N m for q1, q4, q5, q6; N for q2, q3) in place of ddq.
+ * ddq[6]: joint accelerations; rad/s^2 for q1, q4, q5, q6; m/s^2 for q2, q3 */
+void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 6]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* CYLINDRICAL_RTT_WRIST_KINEMATICS_H */

@@ -29,6 +29,10 @@
 
 #include "cylindrical_rtt_wrist.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of cylindrical_rtt_wrist_ik and result.status). */
 #define CYLINDRICAL_RTT_WRIST_IK_SUCCESS 0        /* both errors below their tolerances */
 #define CYLINDRICAL_RTT_WRIST_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void cylindrical_rtt_wrist_ik_default_options(cylindrical_rtt_wrist_ik_options *
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int cylindrical_rtt_wrist_ik(const double T_target[16], const double q_seed[6], const double *p, const cylindrical_rtt_wrist_ik_options *options, double q[6], cylindrical_rtt_wrist_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* CYLINDRICAL_RTT_WRIST_IK_H */

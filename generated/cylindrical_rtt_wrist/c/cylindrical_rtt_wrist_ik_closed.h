@@ -17,6 +17,10 @@
 
 #include "cylindrical_rtt_wrist.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Solutions per pose at most: the size of the output arrays. */
 #define CYLINDRICAL_RTT_WRIST_IK_CLOSED_MAX_SOLUTIONS 4
 /* Returned for a T or p that holds NaN or inf, p == NULL when the robot has parameters, or a
@@ -40,5 +44,9 @@
  * 1e-09 (rotation entries; positions relative to the robot's size, at least 1 m).
  * Returns the number of solutions (0: out of reach) or CYLINDRICAL_RTT_WRIST_IK_CLOSED_INVALID_INPUT. */
 int cylindrical_rtt_wrist_ik_closed(const double T[16], const double *p, double q[CYLINDRICAL_RTT_WRIST_IK_CLOSED_MAX_SOLUTIONS * 6], int branch[CYLINDRICAL_RTT_WRIST_IK_CLOSED_MAX_SOLUTIONS], int within_limits[CYLINDRICAL_RTT_WRIST_IK_CLOSED_MAX_SOLUTIONS]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* CYLINDRICAL_RTT_WRIST_IK_CLOSED_H */

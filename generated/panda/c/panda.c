@@ -19,7 +19,92 @@
 
 #include "panda.h"
 
-void panda_fk(const double q[7], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void panda_fk(const double q[7], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -98,7 +183,7 @@ void panda_fk(const double q[7], const double *p, double T[16])
     T[15] = 1;
 }
 
-void panda_fk_batch(size_t count, const double *q, const double *p, double *T)
+void panda_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -106,7 +191,7 @@ void panda_fk_batch(size_t count, const double *q, const double *p, double *T)
     }
 }
 
-void panda_position(const double q[7], const double *p, double p_tool[3])
+void panda_position(const double q[7], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -156,7 +241,7 @@ void panda_position(const double q[7], const double *p, double p_tool[3])
     p_tool[2] = d1 + a5*t29 + a7*(t13*t30 + t20*t28) + d3*t6 + d5*t28 + t21*t30 - a4*t27 - t14*t28;
 }
 
-void panda_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void panda_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -164,7 +249,7 @@ void panda_position_batch(size_t count, const double *q, const double *p, double
     }
 }
 
-void panda_jacobian(const double q[7], const double *p, double J[42])
+void panda_jacobian(const double q[7], const double *p, double J[restrict 42])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -280,7 +365,7 @@ void panda_jacobian(const double q[7], const double *p, double J[42])
     J[41] = t42;
 }
 
-void panda_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void panda_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -288,7 +373,7 @@ void panda_jacobian_batch(size_t count, const double *q, const double *p, double
     }
 }
 
-void panda_position_jacobian(const double q[7], const double *p, double Jp[21])
+void panda_position_jacobian(const double q[7], const double *p, double Jp[restrict 21])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -402,7 +487,7 @@ void panda_position_jacobian(const double q[7], const double *p, double Jp[21])
     Jp[20] = 0;
 }
 
-void panda_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void panda_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -410,7 +495,7 @@ void panda_position_jacobian_batch(size_t count, const double *q, const double *
     }
 }
 
-void panda_fk_jacobian(const double q[7], const double *p, double T[16], double J[42])
+void panda_fk_jacobian(const double q[7], const double *p, double T[restrict 16], double J[restrict 42])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -549,7 +634,7 @@ void panda_fk_jacobian(const double q[7], const double *p, double T[16], double 
     J[41] = t58;
 }
 
-void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -557,7 +642,7 @@ void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, dou
     }
 }
 
-void panda_mass_matrix(const double q[7], const double *p, double M[49])
+void panda_mass_matrix(const double q[7], const double *p, double M[restrict 49])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -608,12 +693,12 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t35 = t28*t31 - t30*t34;
     const double t36 = t28*t30 + t31*t34;
     const double t37 = t29 + a7*t19;
-    const double t38 = 0.73552200000000001*t35 - 0.0031274395439999996*t27 - 0.045305948633999997*t33;
-    const double t39 = 0.73552200000000001*t36 + 0.0077354848739999999*t27 + 0.045305948633999997*t32;
-    const double t40 = 0.73552200000000001*t37 + 0.0077354848739999999*t33 - 0.0031274395439999996*t32;
-    const double t41 = 0.012515999999999999*t32 + 0.000428*t33 + 0.001196*t27 + 0.061596999999999999*t39 - 0.0042519999999999997*t40;
-    const double t42 = 0.061596999999999999*t38 + 0.00074100000000000001*t27 - 0.000428*t32 - 0.010026999999999999*t33 - 0.010517*t40;
-    const double t43 = 0.0042519999999999997*t38 + 0.00074100000000000001*t33 - 0.0048149999999999998*t27 - 0.001196*t32 - 0.010517*t39;
+    const double t38 = 0.735522*t35 - 0.0031274395439999996*t27 - 0.045305948634*t33;
+    const double t39 = 0.735522*t36 + 0.007735484874*t27 + 0.045305948634*t32;
+    const double t40 = 0.735522*t37 + 0.007735484874*t33 - 0.0031274395439999996*t32;
+    const double t41 = 0.012516*t32 + 0.000428*t33 + 0.001196*t27 + 0.061597*t39 - 0.004252*t40;
+    const double t42 = 0.061597*t38 + 0.000741*t27 - 0.000428*t32 - 0.010027*t33 - 0.010517*t40;
+    const double t43 = 0.004252*t38 + 0.000741*t33 - 0.004815*t27 - 0.001196*t32 - 0.010517*t39;
     const double t44 = 1.666555*t28 - 0.017527158935000002*t27 - 0.023526756935*t19;
     const double t45 = 0.017527158935000002*t26 - 0.10024161669500001*t19 - 1.666555*t29;
     const double t46 = 0.10024161669500001*t27 + 0.023526756935*t26 + 1.666555*t22;
@@ -621,43 +706,43 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t48 = t45 - t40;
     const double t49 = t30*t38 - t31*t39;
     const double t50 = t49 - t46;
-    const double t51 = 0.001964*t26 + 0.001158*t19 + 0.010517*t45 + 0.00010900000000000001*t27 + 0.014116999999999999*t46 + t31*t41 - t30*t42;
-    const double t52 = -t43 + 0.0043540000000000002*t27 + 0.00010900000000000001*t26 + 0.060149000000000001*t46 - 0.010517*t44 - 0.00034099999999999999*t19 - a7*t49;
-    const double t53 = 0.00034099999999999999*t27 + 0.014116999999999999*t44 + 0.060149000000000001*t45 - 0.0054330000000000003*t19 - 0.001158*t26 + t30*t41 + t31*t42 - a7*t40;
-    const double t54 = 1.225946*t21 - 0.047121686401999999*t19 - 0.050343472489999999*t11;
-    const double t55 = 1.225946*t22 + 0.047121686401999999*t18 - 0.014653732538*t11;
-    const double t56 = 0.050343472489999999*t18 + 0.014653732538*t19 - 1.225946*t23;
+    const double t51 = 0.001964*t26 + 0.001158*t19 + 0.010517*t45 + 0.000109*t27 + 0.014117*t46 + t31*t41 - t30*t42;
+    const double t52 = -t43 + 0.004354*t27 + 0.000109*t26 + 0.060149*t46 - 0.010517*t44 - 0.000341*t19 - a7*t49;
+    const double t53 = 0.000341*t27 + 0.014117*t44 + 0.060149*t45 - 0.005433*t19 - 0.001158*t26 + t30*t41 + t31*t42 - a7*t40;
+    const double t54 = 1.225946*t21 - 0.047121686402*t19 - 0.05034347249*t11;
+    const double t55 = 1.225946*t22 + 0.047121686402*t18 - 0.014653732538*t11;
+    const double t56 = 0.05034347249*t18 + 0.014653732538*t19 - 1.225946*t23;
     const double t57 = t54 + t25*t47 - t24*t48;
     const double t58 = t55 - t50;
     const double t59 = t56 + t24*t47 + t25*t48;
-    const double t60 = 0.035548999999999997*t18 + 0.038436999999999999*t55 + 0.041064999999999997*t56 - 0.002117*t19 - 0.0040369999999999998*t11 + t25*t51 - d5*t58 - t24*t52;
-    const double t61 = -t53 + 0.029474*t19 + 0.011953*t56 + 0.00022900000000000001*t11 - 0.038436999999999999*t54 - 0.002117*t18 + d5*t57;
-    const double t62 = 0.0086269999999999993*t11 + 0.00022900000000000001*t19 - 0.0040369999999999998*t18 - 0.041064999999999997*t54 - 0.011953*t55 + t24*t51 + t25*t52;
-    const double t63 = 0.37464440800499998*t5 + 0.098502069329999997*t11 + 3.5878950000000001*t13;
-    const double t64 = 0.19076837715*t5 - 0.098502069329999997*t10 - 3.5878950000000001*t14;
-    const double t65 = 0.37464440800499998*t10 + 0.19076837715*t11 - 3.5878950000000001*t15;
+    const double t60 = 0.035549*t18 + 0.038437*t55 + 0.041065*t56 - 0.002117*t19 - 0.004037*t11 + t25*t51 - d5*t58 - t24*t52;
+    const double t61 = -t53 + 0.029474*t19 + 0.011953*t56 + 0.000229*t11 - 0.038437*t54 - 0.002117*t18 + d5*t57;
+    const double t62 = 0.008627*t11 + 0.000229*t19 - 0.004037*t18 - 0.041065*t54 - 0.011953*t55 + t24*t51 + t25*t52;
+    const double t63 = 0.374644408005*t5 + 0.09850206933*t11 + 3.587895*t13;
+    const double t64 = 0.19076837715*t5 - 0.09850206933*t10 - 3.587895*t14;
+    const double t65 = 0.374644408005*t10 + 0.19076837715*t11 - 3.587895*t15;
     const double t66 = t63 + t17*t57 - t16*t58;
     const double t67 = t59 + t64;
     const double t68 = t16*t57 + t17*t58;
     const double t69 = t65 - t68;
-    const double t70 = 0.025853000000000001*t10 + 0.0013320000000000001*t5 + 0.104419*t65 + 0.007796*t11 - 0.027453999999999999*t64 + t17*t60 - t16*t61;
-    const double t71 = t62 + 0.019552*t11 + 0.027453999999999999*t63 + 0.053170000000000002*t65 + 0.007796*t10 - 0.0086409999999999994*t5 + a5*t68;
-    const double t72 = 0.0086409999999999994*t11 - 0.028323000000000001*t5 - 0.0013320000000000001*t10 - 0.104419*t63 - 0.053170000000000002*t64 + a5*t59 - t16*t60 - t17*t61;
-    const double t73 = 3.2286039999999998*t6 - 0.21470862320799999*t5 - 0.12672916420800001*t1;
-    const double t74 = 3.2286039999999998*t7 + 0.088844724872*t1 - 0.21470862320799999*t3;
-    const double t75 = 0.12672916420800001*t3 + 0.088844724872*t5;
+    const double t70 = 0.025853*t10 + 0.001332*t5 + 0.104419*t65 + 0.007796*t11 - 0.027454*t64 + t17*t60 - t16*t61;
+    const double t71 = t62 + 0.019552*t11 + 0.027454*t63 + 0.05317*t65 + 0.007796*t10 - 0.008641*t5 + a5*t68;
+    const double t72 = 0.008641*t11 - 0.028323*t5 - 0.001332*t10 - 0.104419*t63 - 0.05317*t64 + a5*t59 - t16*t60 - t17*t61;
+    const double t73 = 3.228604*t6 - 0.214708623208*t5 - 0.126729164208*t1;
+    const double t74 = 3.228604*t7 + 0.088844724872*t1 - 0.214708623208*t3;
+    const double t75 = 0.126729164208*t3 + 0.088844724872*t5;
     const double t76 = t73 + t66*t8 - t67*t9;
     const double t77 = t74 - t69;
-    const double t78 = 0.066502000000000006*t74 - 0.037241999999999997*t3 - 0.0047609999999999996*t5 - 0.011396*t1 - 0.039252000000000002*t75 + t70*t8 - d3*t77 - t71*t9;
-    const double t79 = -t72 + 0.027518000000000001*t75 + 0.0047609999999999996*t3 + 0.036155*t5 - 0.066502000000000006*t73 - 0.012805*t1 + d3*t76 - a4*(t66*t9 + t67*t8);
-    const double t80 = 0.010829999999999999*t1 + 0.027518000000000001*t74 + 0.011396*t3 - 0.012805*t5 - 0.039252000000000002*t73 + t70*t9 + t71*t8 - a4*t69;
+    const double t78 = 0.066502*t74 - 0.037242*t3 - 0.004761*t5 - 0.011396*t1 - 0.039252*t75 + t70*t8 - d3*t77 - t71*t9;
+    const double t79 = -t72 + 0.027518*t75 + 0.004761*t3 + 0.036155*t5 - 0.066502*t73 - 0.012805*t1 + d3*t76 - a4*(t66*t9 + t67*t8);
+    const double t80 = 0.01083*t1 + 0.027518*t74 + 0.011396*t3 - 0.012805*t5 - 0.039252*t73 + t70*t9 + t71*t8 - a4*t69;
     const double t81 = 0.0022610063699999997*t1;
     const double t82 = 0.0022610063699999997*t0;
     const double t83 = 0.018579714719999998*t0 - 0.002031994566*t1;
-    const double t84 = 0.0039249999999999997*t1 - 0.0034949999999999998*t82 - 0.0079620000000000003*t0 - 0.028719999999999999*t83 + t2*t78 - t4*t79;
-    const double t85 = -t80 + 0.0039249999999999997*t0 + 0.0031410000000000001*t83 - 0.0034949999999999998*t81 - 0.02811*t1;
-    const double t86 = -0.010253999999999999*t0 - 0.00070399999999999998*t1 - 0.0031410000000000001*t82 - 0.028719999999999999*t81 + t2*t79 + t4*t78;
-    const double t87 = 0.0092131637772112241 - t0*t84 - t1*t85;
+    const double t84 = 0.003925*t1 - 0.003495*t82 - 0.007962*t0 - 0.02872*t83 + t2*t78 - t4*t79;
+    const double t85 = -t80 + 0.003925*t0 + 0.003141*t83 - 0.003495*t81 - 0.02811*t1;
+    const double t86 = -0.010254*t0 - 0.000704*t1 - 0.003141*t82 - 0.02872*t81 + t2*t79 + t4*t78;
+    const double t87 = 0.009213163777211224 - t0*t84 - t1*t85;
     const double t88 = d3*t2;
     const double t89 = d3*t4;
     const double t90 = t4*t8;
@@ -681,12 +766,12 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t108 = t103*t31 + t107*t30;
     const double t109 = t107*t31 - t103*t30;
     const double t110 = t104 + a7*t96;
-    const double t111 = 0.73552200000000001*t108 + 0.0031274395439999996*t102 - 0.045305948633999997*t106;
-    const double t112 = 0.73552200000000001*t109 + 0.0077354848739999999*t102 - 0.045305948633999997*t105;
-    const double t113 = 0.73552200000000001*t110 + 0.0077354848739999999*t106 - 0.0031274395439999996*t105;
-    const double t114 = 0.012515999999999999*t105 + 0.000428*t106 - 0.001196*t102 - 0.061596999999999999*t112 - 0.0042519999999999997*t113;
-    const double t115 = 0.061596999999999999*t111 - 0.000428*t105 - 0.010026999999999999*t106 - 0.010517*t113 - 0.00074100000000000001*t102;
-    const double t116 = 0.0048149999999999998*t102 + 0.0042519999999999997*t111 + 0.010517*t112 + 0.00074100000000000001*t106 - 0.001196*t105;
+    const double t111 = 0.735522*t108 + 0.0031274395439999996*t102 - 0.045305948634*t106;
+    const double t112 = 0.735522*t109 + 0.007735484874*t102 - 0.045305948634*t105;
+    const double t113 = 0.735522*t110 + 0.007735484874*t106 - 0.0031274395439999996*t105;
+    const double t114 = 0.012516*t105 + 0.000428*t106 - 0.001196*t102 - 0.061597*t112 - 0.004252*t113;
+    const double t115 = 0.061597*t111 - 0.000428*t105 - 0.010027*t106 - 0.010517*t113 - 0.000741*t102;
+    const double t116 = 0.004815*t102 + 0.004252*t111 + 0.010517*t112 + 0.000741*t106 - 0.001196*t105;
     const double t117 = 0.017527158935000002*t102 + 1.666555*t103 - 0.023526756935*t96;
     const double t118 = 0.017527158935000002*t101 - 0.10024161669500001*t96 - 1.666555*t104;
     const double t119 = 0.10024161669500001*t102 + 1.666555*t99 - 0.023526756935*t101;
@@ -694,36 +779,36 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t121 = t118 - t113;
     const double t122 = t111*t30 + t112*t31;
     const double t123 = t119 + t122;
-    const double t124 = 0.001964*t101 + 0.001158*t96 + 0.010517*t118 - 0.00010900000000000001*t102 - 0.014116999999999999*t119 + t114*t31 - t115*t30;
-    const double t125 = -t116 + 0.00010900000000000001*t101 - 0.0043540000000000002*t102 - 0.010517*t117 - 0.00034099999999999999*t96 - 0.060149000000000001*t119 - a7*t122;
-    const double t126 = 0.014116999999999999*t117 + 0.060149000000000001*t118 - 0.0054330000000000003*t96 - 0.001158*t101 - 0.00034099999999999999*t102 + t114*t30 + t115*t31 - a7*t113;
-    const double t127 = 1.225946*t98 + 0.050343472489999999*t91 - 0.047121686401999999*t96;
-    const double t128 = 0.047121686401999999*t95 + 0.014653732538*t91 - 1.225946*t99;
-    const double t129 = 0.050343472489999999*t95 + 0.014653732538*t96 - 1.225946*t100;
+    const double t124 = 0.001964*t101 + 0.001158*t96 + 0.010517*t118 - 0.000109*t102 - 0.014117*t119 + t114*t31 - t115*t30;
+    const double t125 = -t116 + 0.000109*t101 - 0.004354*t102 - 0.010517*t117 - 0.000341*t96 - 0.060149*t119 - a7*t122;
+    const double t126 = 0.014117*t117 + 0.060149*t118 - 0.005433*t96 - 0.001158*t101 - 0.000341*t102 + t114*t30 + t115*t31 - a7*t113;
+    const double t127 = 1.225946*t98 + 0.05034347249*t91 - 0.047121686402*t96;
+    const double t128 = 0.047121686402*t95 + 0.014653732538*t91 - 1.225946*t99;
+    const double t129 = 0.05034347249*t95 + 0.014653732538*t96 - 1.225946*t100;
     const double t130 = t127 + t120*t25 - t121*t24;
     const double t131 = t128 - t123;
     const double t132 = t129 + t120*t24 + t121*t25;
-    const double t133 = 0.035548999999999997*t95 + 0.038436999999999999*t128 + 0.0040369999999999998*t91 + 0.041064999999999997*t129 - 0.002117*t96 + t124*t25 - d5*t131 - t125*t24;
-    const double t134 = -t126 + 0.029474*t96 + 0.011953*t129 - 0.038436999999999999*t127 - 0.002117*t95 - 0.00022900000000000001*t91 + d5*t130;
-    const double t135 = 0.00022900000000000001*t96 - 0.0086269999999999993*t91 - 0.0040369999999999998*t95 - 0.041064999999999997*t127 - 0.011953*t128 + t124*t24 + t125*t25;
-    const double t136 = 0.37464440800499998*t2 + 3.5878950000000001*t93 - 0.098502069329999997*t91;
-    const double t137 = 0.19076837715*t2 - 0.098502069329999997*t90 - 3.5878950000000001*t94;
-    const double t138 = 0.37464440800499998*t90 + 3.5878950000000001*t89 - 0.19076837715*t91;
+    const double t133 = 0.035549*t95 + 0.038437*t128 + 0.004037*t91 + 0.041065*t129 - 0.002117*t96 + t124*t25 - d5*t131 - t125*t24;
+    const double t134 = -t126 + 0.029474*t96 + 0.011953*t129 - 0.038437*t127 - 0.002117*t95 - 0.000229*t91 + d5*t130;
+    const double t135 = 0.000229*t96 - 0.008627*t91 - 0.004037*t95 - 0.041065*t127 - 0.011953*t128 + t124*t24 + t125*t25;
+    const double t136 = 0.374644408005*t2 + 3.587895*t93 - 0.09850206933*t91;
+    const double t137 = 0.19076837715*t2 - 0.09850206933*t90 - 3.587895*t94;
+    const double t138 = 0.374644408005*t90 + 3.587895*t89 - 0.19076837715*t91;
     const double t139 = t136 + t130*t17 - t131*t16;
     const double t140 = t132 + t137;
     const double t141 = t130*t16 + t131*t17;
     const double t142 = t138 - t141;
-    const double t143 = 0.025853000000000001*t90 + 0.0013320000000000001*t2 + 0.104419*t138 - 0.027453999999999999*t137 - 0.007796*t91 + t133*t17 - t134*t16;
-    const double t144 = t135 + 0.027453999999999999*t136 + 0.053170000000000002*t138 + 0.007796*t90 - 0.019552*t91 - 0.0086409999999999994*t2 + a5*t141;
-    const double t145 = -0.028323000000000001*t2 - 0.0086409999999999994*t91 - 0.0013320000000000001*t90 - 0.104419*t136 - 0.053170000000000002*t137 + a5*t132 - t133*t16 - t134*t17;
-    const double t146 = 3.2286039999999998*t88 - 0.21470862320799999*t2;
-    const double t147 = 0.21470862320799999*t4 - 3.2286039999999998*t89;
-    const double t148 = 0.12672916420800001*t4 - 0.088844724872*t2;
+    const double t143 = 0.025853*t90 + 0.001332*t2 + 0.104419*t138 - 0.027454*t137 - 0.007796*t91 + t133*t17 - t134*t16;
+    const double t144 = t135 + 0.027454*t136 + 0.05317*t138 + 0.007796*t90 - 0.019552*t91 - 0.008641*t2 + a5*t141;
+    const double t145 = -0.028323*t2 - 0.008641*t91 - 0.001332*t90 - 0.104419*t136 - 0.05317*t137 + a5*t132 - t133*t16 - t134*t17;
+    const double t146 = 3.228604*t88 - 0.214708623208*t2;
+    const double t147 = 0.214708623208*t4 - 3.228604*t89;
+    const double t148 = 0.126729164208*t4 - 0.088844724872*t2;
     const double t149 = t146 + t139*t8 - t140*t9;
     const double t150 = t147 - t142;
-    const double t151 = 0.037241999999999997*t4 + 0.066502000000000006*t147 + 0.039252000000000002*t148 - 0.0047609999999999996*t2 + t143*t8 - d3*t150 - t144*t9;
-    const double t152 = -t145 + 0.036155*t2 - 0.066502000000000006*t146 - 0.027518000000000001*t148 - 0.0047609999999999996*t4 + d3*t149 - a4*(t139*t9 + t140*t8);
-    const double t153 = 0.027518000000000001*t147 - 0.011396*t4 - 0.012805*t2 - 0.039252000000000002*t146 + t143*t9 + t144*t8 - a4*t142;
+    const double t151 = 0.037242*t4 + 0.066502*t147 + 0.039252*t148 - 0.004761*t2 + t143*t8 - d3*t150 - t144*t9;
+    const double t152 = -t145 + 0.036155*t2 - 0.066502*t146 - 0.027518*t148 - 0.004761*t4 + d3*t149 - a4*(t139*t9 + t140*t8);
+    const double t153 = 0.027518*t147 - 0.011396*t4 - 0.012805*t2 - 0.039252*t146 + t143*t9 + t144*t8 - a4*t142;
     const double t154 = 0.026534991901690206 + t151*t4 + t152*t2;
     const double t155 = t17*t9;
     const double t156 = t16*t9;
@@ -740,12 +825,12 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t167 = t162*t31 - t166*t30;
     const double t168 = t162*t30 + t166*t31;
     const double t169 = t163 - a7*t156;
-    const double t170 = 0.73552200000000001*t167 + 0.045305948633999997*t165 - 0.0031274395439999996*t161;
-    const double t171 = 0.73552200000000001*t168 + 0.0077354848739999999*t161 + 0.045305948633999997*t164;
-    const double t172 = 0.73552200000000001*t169 - 0.0031274395439999996*t164 - 0.0077354848739999999*t165;
-    const double t173 = 0.012515999999999999*t164 + 0.001196*t161 + 0.061596999999999999*t171 - 0.000428*t165 - 0.0042519999999999997*t172;
-    const double t174 = 0.061596999999999999*t170 + 0.010026999999999999*t165 + 0.00074100000000000001*t161 - 0.000428*t164 - 0.010517*t172;
-    const double t175 = 0.0042519999999999997*t170 - 0.0048149999999999998*t161 - 0.001196*t164 - 0.010517*t171 - 0.00074100000000000001*t165;
+    const double t170 = 0.735522*t167 + 0.045305948634*t165 - 0.0031274395439999996*t161;
+    const double t171 = 0.735522*t168 + 0.007735484874*t161 + 0.045305948634*t164;
+    const double t172 = 0.735522*t169 - 0.0031274395439999996*t164 - 0.007735484874*t165;
+    const double t173 = 0.012516*t164 + 0.001196*t161 + 0.061597*t171 - 0.000428*t165 - 0.004252*t172;
+    const double t174 = 0.061597*t170 + 0.010027*t165 + 0.000741*t161 - 0.000428*t164 - 0.010517*t172;
+    const double t175 = 0.004252*t170 - 0.004815*t161 - 0.001196*t164 - 0.010517*t171 - 0.000741*t165;
     const double t176 = 0.023526756935*t156 + 1.666555*t162 - 0.017527158935000002*t161;
     const double t177 = 0.017527158935000002*t160 + 0.10024161669500001*t156 - 1.666555*t163;
     const double t178 = 0.10024161669500001*t161 + 0.023526756935*t160 + 1.666555*t159;
@@ -753,27 +838,27 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t180 = t177 - t172;
     const double t181 = t170*t30 - t171*t31;
     const double t182 = t181 - t178;
-    const double t183 = 0.001964*t160 + 0.010517*t177 + 0.00010900000000000001*t161 + 0.014116999999999999*t178 - 0.001158*t156 + t173*t31 - t174*t30;
-    const double t184 = -t175 + 0.0043540000000000002*t161 + 0.00034099999999999999*t156 + 0.00010900000000000001*t160 + 0.060149000000000001*t178 - 0.010517*t176 - a7*t181;
-    const double t185 = 0.0054330000000000003*t156 + 0.00034099999999999999*t161 + 0.014116999999999999*t176 + 0.060149000000000001*t177 - 0.001158*t160 + t173*t30 + t174*t31 - a7*t172;
-    const double t186 = 1.225946*t158 + 0.047121686401999999*t156 - 0.050343472489999999*t8;
-    const double t187 = 1.225946*t159 + 0.047121686401999999*t155 - 0.014653732538*t8;
-    const double t188 = 0.050343472489999999*t155 - 0.014653732538*t156;
+    const double t183 = 0.001964*t160 + 0.010517*t177 + 0.000109*t161 + 0.014117*t178 - 0.001158*t156 + t173*t31 - t174*t30;
+    const double t184 = -t175 + 0.004354*t161 + 0.000341*t156 + 0.000109*t160 + 0.060149*t178 - 0.010517*t176 - a7*t181;
+    const double t185 = 0.005433*t156 + 0.000341*t161 + 0.014117*t176 + 0.060149*t177 - 0.001158*t160 + t173*t30 + t174*t31 - a7*t172;
+    const double t186 = 1.225946*t158 + 0.047121686402*t156 - 0.05034347249*t8;
+    const double t187 = 1.225946*t159 + 0.047121686402*t155 - 0.014653732538*t8;
+    const double t188 = 0.05034347249*t155 - 0.014653732538*t156;
     const double t189 = t186 + t179*t25 - t180*t24;
     const double t190 = t187 - t182;
     const double t191 = t188 + t179*t24 + t180*t25;
-    const double t192 = 0.035548999999999997*t155 + 0.038436999999999999*t187 + 0.002117*t156 + 0.041064999999999997*t188 - 0.0040369999999999998*t8 + t183*t25 - d5*t190 - t184*t24;
-    const double t193 = -t185 + 0.011953*t188 + 0.00022900000000000001*t8 - 0.029474*t156 - 0.038436999999999999*t186 - 0.002117*t155 + d5*t189;
-    const double t194 = 0.0086269999999999993*t8 - 0.0040369999999999998*t155 - 0.041064999999999997*t186 - 0.011953*t187 - 0.00022900000000000001*t156 + t183*t24 + t184*t25;
-    const double t195 = 0.098502069329999997*t8;
-    const double t196 = 0.098502069329999997*t9;
-    const double t197 = 0.37464440800499998*t9 + 0.19076837715*t8 - 3.5878950000000001*a4;
+    const double t192 = 0.035549*t155 + 0.038437*t187 + 0.002117*t156 + 0.041065*t188 - 0.004037*t8 + t183*t25 - d5*t190 - t184*t24;
+    const double t193 = -t185 + 0.011953*t188 + 0.000229*t8 - 0.029474*t156 - 0.038437*t186 - 0.002117*t155 + d5*t189;
+    const double t194 = 0.008627*t8 - 0.004037*t155 - 0.041065*t186 - 0.011953*t187 - 0.000229*t156 + t183*t24 + t184*t25;
+    const double t195 = 0.09850206933*t8;
+    const double t196 = 0.09850206933*t9;
+    const double t197 = 0.374644408005*t9 + 0.19076837715*t8 - 3.587895*a4;
     const double t198 = t16*t189 + t17*t190;
     const double t199 = t197 - t198;
-    const double t200 = 0.025853000000000001*t9 + 0.027453999999999999*t196 + 0.104419*t197 + 0.007796*t8 + t17*t192 - t16*t193;
-    const double t201 = t194 + 0.019552*t8 + 0.027453999999999999*t195 + 0.053170000000000002*t197 + 0.007796*t9 + a5*t198;
-    const double t202 = 0.0086409999999999994*t8 + 0.053170000000000002*t196 - 0.0013320000000000001*t9 - 0.104419*t195 + a5*t191 - t16*t192 - t17*t193;
-    const double t203 = 0.018249202292520111 + t200*t9 + t201*t8 - a4*t199;
+    const double t200 = 0.025853*t9 + 0.027454*t196 + 0.104419*t197 + 0.007796*t8 + t17*t192 - t16*t193;
+    const double t201 = t194 + 0.019552*t8 + 0.027454*t195 + 0.05317*t197 + 0.007796*t9 + a5*t198;
+    const double t202 = 0.008641*t8 + 0.05317*t196 - 0.001332*t9 - 0.104419*t195 + a5*t191 - t16*t192 - t17*t193;
+    const double t203 = 0.01824920229252011 + t200*t9 + t201*t8 - a4*t199;
     const double t204 = d5*t17;
     const double t205 = d5*t16;
     const double t206 = t16*t25;
@@ -786,12 +871,12 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t213 = t208*t31 - t212*t30;
     const double t214 = t208*t30 + t212*t31;
     const double t215 = t209 + a7*t17;
-    const double t216 = 0.73552200000000001*t213 + 0.045305948633999997*t211 - 0.0031274395439999996*t207;
-    const double t217 = 0.73552200000000001*t214 + 0.0077354848739999999*t207 + 0.045305948633999997*t210;
-    const double t218 = 0.73552200000000001*t215 + 0.0031274395439999996*t210 + 0.0077354848739999999*t211;
-    const double t219 = 0.012515999999999999*t210 + 0.001196*t207 + 0.061596999999999999*t217 + 0.0042519999999999997*t218 - 0.000428*t211;
-    const double t220 = 0.061596999999999999*t216 + 0.010026999999999999*t211 + 0.010517*t218 + 0.00074100000000000001*t207 - 0.000428*t210;
-    const double t221 = 0.0042519999999999997*t216 - 0.0048149999999999998*t207 - 0.001196*t210 - 0.010517*t217 - 0.00074100000000000001*t211;
+    const double t216 = 0.735522*t213 + 0.045305948634*t211 - 0.0031274395439999996*t207;
+    const double t217 = 0.735522*t214 + 0.007735484874*t207 + 0.045305948634*t210;
+    const double t218 = 0.735522*t215 + 0.0031274395439999996*t210 + 0.007735484874*t211;
+    const double t219 = 0.012516*t210 + 0.001196*t207 + 0.061597*t217 + 0.004252*t218 - 0.000428*t211;
+    const double t220 = 0.061597*t216 + 0.010027*t211 + 0.010517*t218 + 0.000741*t207 - 0.000428*t210;
+    const double t221 = 0.004252*t216 - 0.004815*t207 - 0.001196*t210 - 0.010517*t217 - 0.000741*t211;
     const double t222 = 0.023526756935*t17 + 1.666555*t208 - 0.017527158935000002*t207;
     const double t223 = 0.10024161669500001*t17 + 1.666555*t209 - 0.017527158935000002*t206;
     const double t224 = 0.023526756935*t206 - 0.10024161669500001*t207 - 1.666555*t205;
@@ -799,43 +884,43 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     const double t226 = t218 + t223;
     const double t227 = t216*t30 - t217*t31;
     const double t228 = t224 + t227;
-    const double t229 = 0.010517*t223 + 0.00010900000000000001*t207 - 0.001964*t206 - 0.001158*t17 - 0.014116999999999999*t224 + t219*t31 - t220*t30;
-    const double t230 = -t221 + 0.0043540000000000002*t207 + 0.00034099999999999999*t17 - 0.010517*t222 - 0.00010900000000000001*t206 - 0.060149000000000001*t224 - a7*t227;
-    const double t231 = 0.0054330000000000003*t17 + 0.001158*t206 + 0.00034099999999999999*t207 + 0.014116999999999999*t222 + 0.060149000000000001*t223 + a7*t218 + t219*t30 + t220*t31;
-    const double t232 = 0.047121686401999999*t17 - 1.225946*t204;
-    const double t233 = 1.225946*t205 - 0.047121686401999999*t16;
-    const double t234 = 1.225946*a5 - 0.050343472489999999*t16 - 0.014653732538*t17;
+    const double t229 = 0.010517*t223 + 0.000109*t207 - 0.001964*t206 - 0.001158*t17 - 0.014117*t224 + t219*t31 - t220*t30;
+    const double t230 = -t221 + 0.004354*t207 + 0.000341*t17 - 0.010517*t222 - 0.000109*t206 - 0.060149*t224 - a7*t227;
+    const double t231 = 0.005433*t17 + 0.001158*t206 + 0.000341*t207 + 0.014117*t222 + 0.060149*t223 + a7*t218 + t219*t30 + t220*t31;
+    const double t232 = 0.047121686402*t17 - 1.225946*t204;
+    const double t233 = 1.225946*t205 - 0.047121686402*t16;
+    const double t234 = 1.225946*a5 - 0.05034347249*t16 - 0.014653732538*t17;
     const double t235 = t232 + t225*t25 - t226*t24;
     const double t236 = t233 - t228;
     const double t237 = t234 + t225*t24 + t226*t25;
-    const double t238 = 0.038436999999999999*t233 + 0.002117*t17 + 0.041064999999999997*t234 - 0.035548999999999997*t16 + t229*t25 - d5*t236 - t230*t24;
-    const double t239 = -t231 + 0.002117*t16 + 0.011953*t234 - 0.029474*t17 - 0.038436999999999999*t232 + d5*t235;
-    const double t240 = 0.0040369999999999998*t16 - 0.041064999999999997*t232 - 0.011953*t233 - 0.00022900000000000001*t17 + t229*t24 + t230*t25;
-    const double t241 = 0.077586149052539605 + a5*t237 - t16*t238 - t17*t239;
+    const double t238 = 0.038437*t233 + 0.002117*t17 + 0.041065*t234 - 0.035549*t16 + t229*t25 - d5*t236 - t230*t24;
+    const double t239 = -t231 + 0.002117*t16 + 0.011953*t234 - 0.029474*t17 - 0.038437*t232 + d5*t235;
+    const double t240 = 0.004037*t16 - 0.041065*t232 - 0.011953*t233 - 0.000229*t17 + t229*t24 + t230*t25;
+    const double t241 = 0.0775861490525396 + a5*t237 - t16*t238 - t17*t239;
     const double t242 = t24*t31;
     const double t243 = t24*t30;
     const double t244 = a7*t25;
     const double t245 = t244*t30;
     const double t246 = t244*t31;
-    const double t247 = 0.73552200000000001*t245 + 0.0031274395439999996*t25 + 0.045305948633999997*t243;
-    const double t248 = 0.73552200000000001*t246 + 0.0077354848739999999*t25 + 0.045305948633999997*t242;
-    const double t249 = 0.0077354848739999999*t243 - 0.0031274395439999996*t242;
-    const double t250 = 0.012515999999999999*t242 + 0.000428*t243 + 0.001196*t25 + 0.061596999999999999*t248 - 0.0042519999999999997*t249;
-    const double t251 = 0.00074100000000000001*t25 - 0.000428*t242 - 0.061596999999999999*t247 - 0.010026999999999999*t243 - 0.010517*t249;
-    const double t252 = 0.00074100000000000001*t243 - 0.0048149999999999998*t25 - 0.001196*t242 - 0.0042519999999999997*t247 - 0.010517*t248;
+    const double t247 = 0.735522*t245 + 0.0031274395439999996*t25 + 0.045305948634*t243;
+    const double t248 = 0.735522*t246 + 0.007735484874*t25 + 0.045305948634*t242;
+    const double t249 = 0.007735484874*t243 - 0.0031274395439999996*t242;
+    const double t250 = 0.012516*t242 + 0.000428*t243 + 0.001196*t25 + 0.061597*t248 - 0.004252*t249;
+    const double t251 = 0.000741*t25 - 0.000428*t242 - 0.061597*t247 - 0.010027*t243 - 0.010517*t249;
+    const double t252 = 0.000741*t243 - 0.004815*t25 - 0.001196*t242 - 0.004252*t247 - 0.010517*t248;
     const double t253 = 0.017527158935000002*t25;
     const double t254 = 0.017527158935000002*t24;
     const double t255 = 0.10024161669500001*t25 + 0.023526756935*t24;
-    const double t256 = 0.001964*t24 + 0.010517*t254 + 0.00010900000000000001*t25 + 0.014116999999999999*t255 + t250*t31 - t251*t30;
-    const double t257 = -t252 + 0.0043540000000000002*t25 + 0.010517*t253 + 0.00010900000000000001*t24 + 0.060149000000000001*t255 - a7*(-t247*t30 - t248*t31);
-    const double t258 = 0.00034099999999999999*t25 + 0.060149000000000001*t254 - 0.001158*t24 - 0.014116999999999999*t253 + t250*t30 + t251*t31 - a7*t249;
+    const double t256 = 0.001964*t24 + 0.010517*t254 + 0.000109*t25 + 0.014117*t255 + t250*t31 - t251*t30;
+    const double t257 = -t252 + 0.004354*t25 + 0.010517*t253 + 0.000109*t24 + 0.060149*t255 - a7*(-t247*t30 - t248*t31);
+    const double t258 = 0.000341*t25 + 0.060149*t254 - 0.001158*t24 - 0.014117*t253 + t250*t30 + t251*t31 - a7*t249;
     const double t259 = 0.010869510762828563 + t24*t256 + t25*t257;
-    const double t260 = 0.045305948633999997*t31;
-    const double t261 = 0.045305948633999997*t30;
-    const double t262 = 0.73552200000000001*a7 + 0.0031274395439999996*t30 + 0.0077354848739999999*t31;
-    const double t263 = 0.012515999999999999*t30 + 0.061596999999999999*t261 + 0.0042519999999999997*t262 - 0.000428*t31;
-    const double t264 = 0.061596999999999999*t260 + 0.010026999999999999*t31 + 0.010517*t262 - 0.000428*t30;
-    const double t265 = 0.0042519999999999997*t260 - 0.001196*t30 - 0.010517*t261 - 0.00074100000000000001*t31;
+    const double t260 = 0.045305948634*t31;
+    const double t261 = 0.045305948634*t30;
+    const double t262 = 0.735522*a7 + 0.0031274395439999996*t30 + 0.007735484874*t31;
+    const double t263 = 0.012516*t30 + 0.061597*t261 + 0.004252*t262 - 0.000428*t31;
+    const double t264 = 0.061597*t260 + 0.010027*t31 + 0.010517*t262 - 0.000428*t30;
+    const double t265 = 0.004252*t260 - 0.001196*t30 - 0.010517*t261 - 0.000741*t31;
     const double t266 = 0.011794560230238952 + a7*t262 + t263*t30 + t264*t31;
     M[0] = t87;
     M[1] = t86;
@@ -885,10 +970,10 @@ void panda_mass_matrix(const double q[7], const double *p, double M[49])
     M[45] = t221;
     M[46] = t252;
     M[47] = t265;
-    M[48] = 0.0049096519673609458;
+    M[48] = 0.004909651967360946;
 }
 
-void panda_mass_matrix_batch(size_t count, const double *q, const double *p, double *M)
+void panda_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -896,7 +981,7 @@ void panda_mass_matrix_batch(size_t count, const double *q, const double *p, dou
     }
 }
 
-void panda_gravity(const double q[7], const double *p, double G[7])
+void panda_gravity(const double q[7], const double *p, double G[restrict 7])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -910,9 +995,9 @@ void panda_gravity(const double q[7], const double *p, double G[7])
     const double d5 = p[4];
     const double a7 = p[5];
     const double t0 = sin(q2);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = cos(q2);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = cos(q3);
     const double t5 = t1*t4;
     const double t6 = sin(q3);
@@ -933,12 +1018,12 @@ void panda_gravity(const double q[7], const double *p, double G[7])
     const double t21 = cos(q7);
     const double t22 = t18*t21 - t15*t20;
     const double t23 = t15*t21 + t18*t20;
-    const double t24 = 0.73552200000000001*t22;
-    const double t25 = 0.73552200000000001*t23;
-    const double t26 = 0.73552200000000001*t19;
-    const double t27 = 0.061596999999999999*t25 + 0.0042519999999999997*t26;
-    const double t28 = 0.061596999999999999*t24 + 0.010517*t26;
-    const double t29 = 0.0042519999999999997*t24 - 0.010517*t25;
+    const double t24 = 0.735522*t22;
+    const double t25 = 0.735522*t23;
+    const double t26 = 0.735522*t19;
+    const double t27 = 0.061597*t25 + 0.004252*t26;
+    const double t28 = 0.061597*t24 + 0.010517*t26;
+    const double t29 = 0.004252*t24 - 0.010517*t25;
     const double t30 = 1.666555*t18;
     const double t31 = 1.666555*t19;
     const double t32 = 1.666555*t15;
@@ -946,41 +1031,41 @@ void panda_gravity(const double q[7], const double *p, double G[7])
     const double t34 = t26 + t31;
     const double t35 = t20*t24 - t21*t25;
     const double t36 = t35 - t32;
-    const double t37 = 0.010517*t31 + 0.014116999999999999*t32 + t21*t27 - t20*t28;
-    const double t38 = -t29 + 0.060149000000000001*t32 - 0.010517*t30 - a7*t35;
-    const double t39 = 0.014116999999999999*t30 + 0.060149000000000001*t31 + a7*t26 + t20*t27 + t21*t28;
+    const double t37 = 0.010517*t31 + 0.014117*t32 + t21*t27 - t20*t28;
+    const double t38 = -t29 + 0.060149*t32 - 0.010517*t30 - a7*t35;
+    const double t39 = 0.014117*t30 + 0.060149*t31 + a7*t26 + t20*t27 + t21*t28;
     const double t40 = 1.225946*t14;
     const double t41 = 1.225946*t15;
     const double t42 = 1.225946*t11;
     const double t43 = t40 + t17*t33 - t16*t34;
     const double t44 = t41 - t36;
     const double t45 = t42 + t16*t33 + t17*t34;
-    const double t46 = 0.038436999999999999*t41 + 0.041064999999999997*t42 + t17*t37 - d5*t44 - t16*t38;
-    const double t47 = -t39 + 0.011953*t42 - 0.038436999999999999*t40 + d5*t43;
-    const double t48 = -0.041064999999999997*t40 - 0.011953*t41 + t16*t37 + t17*t38;
-    const double t49 = 3.5878950000000001*t10;
-    const double t50 = 3.5878950000000001*t11;
-    const double t51 = 3.5878950000000001*t7;
+    const double t46 = 0.038437*t41 + 0.041065*t42 + t17*t37 - d5*t44 - t16*t38;
+    const double t47 = -t39 + 0.011953*t42 - 0.038437*t40 + d5*t43;
+    const double t48 = -0.041065*t40 - 0.011953*t41 + t16*t37 + t17*t38;
+    const double t49 = 3.587895*t10;
+    const double t50 = 3.587895*t11;
+    const double t51 = 3.587895*t7;
     const double t52 = t49 + t13*t43 - t12*t44;
     const double t53 = t45 + t50;
     const double t54 = t12*t43 + t13*t44;
     const double t55 = t51 + t54;
-    const double t56 = -0.027453999999999999*t50 - 0.104419*t51 + t13*t46 - t12*t47;
-    const double t57 = t48 + 0.027453999999999999*t49 - 0.053170000000000002*t51 + a5*t54;
-    const double t58 = -0.104419*t49 - 0.053170000000000002*t50 + a5*t45 - t12*t46 - t13*t47;
-    const double t59 = 3.2286039999999998*t5;
-    const double t60 = 3.2286039999999998*t7;
-    const double t61 = 3.2286039999999998*t3;
+    const double t56 = -0.027454*t50 - 0.104419*t51 + t13*t46 - t12*t47;
+    const double t57 = t48 + 0.027454*t49 - 0.05317*t51 + a5*t54;
+    const double t58 = -0.104419*t49 - 0.05317*t50 + a5*t45 - t12*t46 - t13*t47;
+    const double t59 = 3.228604*t5;
+    const double t60 = 3.228604*t7;
+    const double t61 = 3.228604*t3;
     const double t62 = -t59 + t52*t9 - t53*t8;
     const double t63 = t55 + t60;
-    const double t64 = 0.066502000000000006*t60 + 0.039252000000000002*t61 + t56*t9 - d3*t63 - t57*t8;
-    const double t65 = -t58 + 0.066502000000000006*t59 - 0.027518000000000001*t61 + d3*t62 - a4*(t52*t8 + t53*t9);
-    const double t66 = 0.027518000000000001*t60 + 0.039252000000000002*t59 + a4*t55 + t56*t8 + t57*t9;
+    const double t64 = 0.066502*t60 + 0.039252*t61 + t56*t9 - d3*t63 - t57*t8;
+    const double t65 = -t58 + 0.066502*t59 - 0.027518*t61 + d3*t62 - a4*(t52*t8 + t53*t9);
+    const double t66 = 0.027518*t60 + 0.039252*t59 + a4*t55 + t56*t8 + t57*t9;
     const double t67 = 0.646926*t1;
     const double t68 = 0.646926*t3;
-    const double t69 = 0.0034949999999999998*t68 + t4*t64 - t6*t65;
-    const double t70 = t66 + 0.0034949999999999998*t67;
-    const double t71 = 0.0031410000000000001*t68 - 0.028719999999999999*t67 + t4*t65 + t6*t64;
+    const double t69 = 0.003495*t68 + t4*t64 - t6*t65;
+    const double t70 = t66 + 0.003495*t67;
+    const double t71 = 0.003141*t68 - 0.02872*t67 + t4*t65 + t6*t64;
     const double t72 = t2*t70 - t0*t69;
     G[0] = t72;
     G[1] = t71;
@@ -991,7 +1076,7 @@ void panda_gravity(const double q[7], const double *p, double G[7])
     G[6] = t29;
 }
 
-void panda_gravity_batch(size_t count, const double *q, const double *p, double *G)
+void panda_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -999,7 +1084,7 @@ void panda_gravity_batch(size_t count, const double *q, const double *p, double 
     }
 }
 
-void panda_coriolis(const double q[7], const double dq[7], const double *p, double c[7])
+void panda_coriolis(const double q[7], const double dq[7], const double *p, double c[restrict 7])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1165,15 +1250,15 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, doub
     const double t143 = t119*t141 + t120*t142;
     const double t144 = t119*t142 - t120*t141;
     const double t145 = t118 + a7*t111;
-    const double t146 = 0.73552200000000001*t143 + 0.045305948633999997*t134 - 0.0031274395439999996*t133 - 0.0077354848739999999*t132;
-    const double t147 = 0.73552200000000001*t144 + 0.0031274395439999996*t136 + 0.0077354848739999999*t135 + 0.045305948633999997*t137;
-    const double t148 = 0.0077354848739999999*t138 - 0.73552200000000001*t145 - 0.0031274395439999996*t139 - 0.045305948633999997*t140;
+    const double t146 = 0.735522*t143 + 0.045305948634*t134 - 0.0031274395439999996*t133 - 0.007735484874*t132;
+    const double t147 = 0.735522*t144 + 0.0031274395439999996*t136 + 0.007735484874*t135 + 0.045305948634*t137;
+    const double t148 = 0.007735484874*t138 - 0.735522*t145 - 0.0031274395439999996*t139 - 0.045305948634*t140;
     const double t149 = t128 - t127;
-    const double t150 = 0.012515999999999999*t124 + 0.000428*t138 + 0.00074100000000000001*t149 - 0.001196*t135 - 0.0052119999999999996*t131 - 0.061596999999999999*t147 - 0.0042519999999999997*t148;
+    const double t150 = 0.012516*t124 + 0.000428*t138 + 0.000741*t149 - 0.001196*t135 - 0.005212*t131 - 0.061597*t147 - 0.004252*t148;
     const double t151 = t126 - t128;
-    const double t152 = 0.0077009999999999995*t130 + 0.001196*t151 + 0.061596999999999999*t146 + 0.00074100000000000001*t133 - 0.000428*t139 - 0.010026999999999999*t125 - 0.010517*t148;
+    const double t152 = 0.0077009999999999995*t130 + 0.001196*t151 + 0.061597*t146 + 0.000741*t133 - 0.000428*t139 - 0.010027*t125 - 0.010517*t148;
     const double t153 = t127 - t126;
-    const double t154 = 0.0048149999999999998*t101 + 0.000428*t153 + 0.001196*t137 + 0.0042519999999999997*t146 + 0.010517*t147 - 0.0024889999999999999*t129 - 0.00074100000000000001*t134;
+    const double t154 = 0.004815*t101 + 0.000428*t153 + 0.001196*t137 + 0.004252*t146 + 0.010517*t147 - 0.002489*t129 - 0.000741*t134;
     const double t155 = 1.666555*t117 - 0.017527158935000002*t110 - 0.10024161669500001*t108 - 0.023526756935*t109;
     const double t156 = 0.10024161669500001*t111 + 0.023526756935*t112 + 1.666555*t118 - 0.017527158935000002*t113;
     const double t157 = 0.017527158935000002*t116 + 0.10024161669500001*t114 + 1.666555*t93 - 0.023526756935*t115;
@@ -1182,57 +1267,57 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, doub
     const double t160 = t119*t147 + t120*t146;
     const double t161 = t157 + t160;
     const double t162 = t103 - t104;
-    const double t163 = 0.0010790000000000001*t107 + 0.001964*t100 + 0.010517*t156 + 0.00034099999999999999*t162 - 0.001158*t111 - 0.00010900000000000001*t114 - 0.014116999999999999*t157 + t119*t150 - t120*t152;
+    const double t163 = 0.001079*t107 + 0.001964*t100 + 0.010517*t156 + 0.000341*t162 - 0.001158*t111 - 0.000109*t114 - 0.014117*t157 + t119*t150 - t120*t152;
     const double t164 = t102 - t104;
-    const double t165 = -t154 + 0.001158*t164 + 0.00010900000000000001*t115 - 0.0043540000000000002*t101 - 0.010517*t155 - 0.00034099999999999999*t109 - 0.0034690000000000003*t106 - 0.060149000000000001*t157 - a7*t160;
+    const double t165 = -t154 + 0.001158*t164 + 0.000109*t115 - 0.004354*t101 - 0.010517*t155 - 0.000341*t109 - 0.0034690000000000003*t106 - 0.060149*t157 - a7*t160;
     const double t166 = t102 - t103;
-    const double t167 = 0.001158*t113 + 0.0023900000000000002*t105 + 0.00034099999999999999*t110 + 0.00010900000000000001*t166 + 0.014116999999999999*t155 + 0.060149000000000001*t156 - 0.0054330000000000003*t74 + t119*t152 + t120*t150 - a7*t148;
-    const double t168 = 1.225946*t92 + 0.050343472489999999*t82 + 0.014653732538*t81 - 0.047121686401999999*t83;
-    const double t169 = 0.047121686401999999*t86 + 0.014653732538*t84 - 1.225946*t93 - 0.050343472489999999*t85;
-    const double t170 = 1.225946*t94 + 0.047121686401999999*t89 + 0.050343472489999999*t88 - 0.014653732538*t87;
+    const double t167 = 0.001158*t113 + 0.00239*t105 + 0.000341*t110 + 0.000109*t166 + 0.014117*t155 + 0.060149*t156 - 0.005433*t74 + t119*t152 + t120*t150 - a7*t148;
+    const double t168 = 1.225946*t92 + 0.05034347249*t82 + 0.014653732538*t81 - 0.047121686402*t83;
+    const double t169 = 0.047121686402*t86 + 0.014653732538*t84 - 1.225946*t93 - 0.05034347249*t85;
+    const double t170 = 1.225946*t94 + 0.047121686402*t89 + 0.05034347249*t88 - 0.014653732538*t87;
     const double t171 = t168 + t158*t95 - t159*t96;
     const double t172 = t169 - t161;
     const double t173 = t170 + t158*t96 + t159*t95;
     const double t174 = t76 - t77;
-    const double t175 = 0.035548999999999997*t73 + 0.038436999999999999*t169 + 0.002117*t87 + 0.0040369999999999998*t84 + 0.041064999999999997*t170 + 0.020847000000000001*t80 + 0.00022900000000000001*t174 + t163*t95 - d5*t172 - t165*t96;
+    const double t175 = 0.035549*t73 + 0.038437*t169 + 0.002117*t87 + 0.004037*t84 + 0.041065*t170 + 0.020847*t80 + 0.000229*t174 + t163*t95 - d5*t172 - t165*t96;
     const double t176 = t75 - t77;
-    const double t177 = -t167 + 0.029474*t74 + 0.0040369999999999998*t176 + 0.011953*t170 + 0.026921999999999998*t79 - 0.038436999999999999*t168 - 0.002117*t88 - 0.00022900000000000001*t82 + d5*t171;
+    const double t177 = -t167 + 0.029474*t74 + 0.004037*t176 + 0.011953*t170 + 0.026921999999999998*t79 - 0.038437*t168 - 0.002117*t88 - 0.000229*t82 + d5*t171;
     const double t178 = t76 - t75;
-    const double t179 = 0.0060749999999999971*t78 + 0.002117*t178 + 0.00022900000000000001*t83 - 0.0086269999999999993*t47 - 0.0040369999999999998*t86 - 0.041064999999999997*t168 - 0.011953*t169 + t163*t96 + t165*t95;
-    const double t180 = 0.37464440800499998*t55 + 0.098502069329999997*t56 + 0.19076837715*t54 + 3.5878950000000001*t65;
-    const double t181 = 0.098502069329999997*t59 + 3.5878950000000001*t66 - 0.37464440800499998*t58 - 0.19076837715*t57;
-    const double t182 = 0.37464440800499998*t61 - 0.098502069329999997*t62 - 0.19076837715*t60 - 3.5878950000000001*t67;
+    const double t179 = 0.006074999999999997*t78 + 0.002117*t178 + 0.000229*t83 - 0.008627*t47 - 0.004037*t86 - 0.041065*t168 - 0.011953*t169 + t163*t96 + t165*t95;
+    const double t180 = 0.374644408005*t55 + 0.09850206933*t56 + 0.19076837715*t54 + 3.587895*t65;
+    const double t181 = 0.09850206933*t59 + 3.587895*t66 - 0.374644408005*t58 - 0.19076837715*t57;
+    const double t182 = 0.374644408005*t61 - 0.09850206933*t62 - 0.19076837715*t60 - 3.587895*t67;
     const double t183 = t180 + t171*t68 - t172*t69;
     const double t184 = t173 + t181;
     const double t185 = t171*t69 + t172*t68;
     const double t186 = t182 - t185;
     const double t187 = t49 - t50;
-    const double t188 = 0.008771000000000001*t53 + 0.025853000000000001*t46 + 0.0086409999999999994*t187 + 0.104419*t182 - 0.027453999999999999*t181 - 0.0013320000000000001*t57 - 0.007796*t60 + t175*t68 - t177*t69;
+    const double t188 = 0.008771000000000001*t53 + 0.025853*t46 + 0.008641*t187 + 0.104419*t182 - 0.027454*t181 - 0.001332*t57 - 0.007796*t60 + t175*t68 - t177*t69;
     const double t189 = t48 - t50;
-    const double t190 = t179 + 0.027453999999999999*t180 + 0.0013320000000000001*t189 + 0.053170000000000002*t182 + 0.007796*t61 - 0.00247*t52 - 0.019552*t47 - 0.0086409999999999994*t55 + a5*t185;
+    const double t190 = t179 + 0.027454*t180 + 0.001332*t189 + 0.05317*t182 + 0.007796*t61 - 0.00247*t52 - 0.019552*t47 - 0.008641*t55 + a5*t185;
     const double t191 = t48 - t49;
-    const double t192 = 0.0086409999999999994*t56 + 0.0013320000000000001*t59 + 0.007796*t191 - 0.006301000000000001*t51 - 0.028323000000000001*t22 - 0.104419*t180 - 0.053170000000000002*t181 + a5*t173 - t175*t69 - t177*t68;
-    const double t193 = 0.12672916420800001*t30 + 3.2286039999999998*t38 - 0.21470862320799999*t31 - 0.088844724872*t29;
-    const double t194 = 3.2286039999999998*t39 + 0.088844724872*t32 - 0.21470862320799999*t34 - 0.12672916420800001*t33;
-    const double t195 = 0.21470862320799999*t37 + 0.12672916420800001*t36 + 0.088844724872*t35 - 3.2286039999999998*t40;
+    const double t192 = 0.008641*t56 + 0.001332*t59 + 0.007796*t191 - 0.006301000000000001*t51 - 0.028323*t22 - 0.104419*t180 - 0.05317*t181 + a5*t173 - t175*t69 - t177*t68;
+    const double t193 = 0.126729164208*t30 + 3.228604*t38 - 0.214708623208*t31 - 0.088844724872*t29;
+    const double t194 = 3.228604*t39 + 0.088844724872*t32 - 0.214708623208*t34 - 0.126729164208*t33;
+    const double t195 = 0.214708623208*t37 + 0.126729164208*t36 + 0.088844724872*t35 - 3.228604*t40;
     const double t196 = t193 + t183*t41 - t184*t42;
     const double t197 = t194 - t186;
     const double t198 = t25 - t24;
-    const double t199 = 0.037241999999999997*t21 + 0.066502000000000006*t194 + 0.0047609999999999996*t35 + 0.012805*t198 + 0.039252000000000002*t195 - 0.025325*t28 - 0.011396*t32 + t188*t41 - d3*t197 - t190*t42;
+    const double t199 = 0.037242*t21 + 0.066502*t194 + 0.004761*t35 + 0.012805*t198 + 0.039252*t195 - 0.025325*t28 - 0.011396*t32 + t188*t41 - d3*t197 - t190*t42;
     const double t200 = t23 - t25;
-    const double t201 = -t192 + 0.011396*t200 + 0.012805*t30 + 0.026411999999999998*t27 + 0.036155*t22 - 0.066502000000000006*t193 - 0.027518000000000001*t195 - 0.0047609999999999996*t36 + d3*t196 - a4*(t183*t42 + t184*t41);
+    const double t201 = -t192 + 0.011396*t200 + 0.012805*t30 + 0.026411999999999998*t27 + 0.036155*t22 - 0.066502*t193 - 0.027518*t195 - 0.004761*t36 + d3*t196 - a4*(t183*t42 + t184*t41);
     const double t202 = t24 - t23;
-    const double t203 = 0.027518000000000001*t194 + 0.0047609999999999996*t202 + 0.011396*t34 - 0.0010869999999999977*t26 - 0.010829999999999999*t6 - 0.012805*t31 - 0.039252000000000002*t193 + t188*t42 + t190*t41 - a4*t186;
+    const double t203 = 0.027518*t194 + 0.004761*t202 + 0.011396*t34 - 0.0010869999999999977*t26 - 0.01083*t6 - 0.012805*t31 - 0.039252*t193 + t188*t42 + t190*t41 - a4*t186;
     const double t204 = 0.002031994566*t11 - 0.018579714719999998*t10;
     const double t205 = 0.018579714719999998*t12 - 0.002031994566*t10;
     const double t206 = 0.002031994566*t13 + 0.018579714719999998*t14 - 0.0022610063699999997*t15;
     const double t207 = t8 - t9;
-    const double t208 = 0.010253999999999999*t10 + 0.00070399999999999998*t207 - 0.0058470000000000015*t5 - 0.0034949999999999998*t205 - 0.0078499999999999993*t6 - 0.028719999999999999*t206 + t17*t199 - t16*t201;
+    const double t208 = 0.010254*t10 + 0.000704*t207 - 0.0058470000000000015*t5 - 0.003495*t205 - 0.00785*t6 - 0.02872*t206 + t17*t199 - t16*t201;
     const double t209 = t9 - t7;
-    const double t210 = -t203 + 0.010253999999999999*t209 + 0.0034949999999999998*t204 + 0.0078499999999999993*t5 + 0.046143000000000003*t6 + 0.0031410000000000001*t206 - 0.00070399999999999998*t10;
+    const double t210 = -t203 + 0.010254*t209 + 0.003495*t204 + 0.00785*t5 + 0.046143*t6 + 0.003141*t206 - 0.000704*t10;
     const double t211 = t8 - t7;
-    const double t212 = 0.020147999999999999*t10 + 0.0039249999999999997*t211 + 0.028719999999999999*t204 - 0.0031410000000000001*t205 + t16*t199 + t17*t201;
-    const double t213 = 0.019261400500000001*t0;
+    const double t212 = 0.020148*t10 + 0.003925*t211 + 0.02872*t204 - 0.003141*t205 + t16*t199 + t17*t201;
+    const double t213 = 0.0192614005*t0;
     const double t214 = 0.010343993404000001*t0;
     const double t215 = 0.002081*t213 - 0.003875*t214 - t1*t208 - t210*t3;
     c[0] = t215;
@@ -1244,7 +1329,7 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, doub
     c[6] = t154;
 }
 
-void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c)
+void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1252,7 +1337,7 @@ void panda_coriolis_batch(size_t count, const double *q, const double *dq, const
     }
 }
 
-void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[49])
+void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[restrict 49])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1311,12 +1396,12 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t36 = t29*t32 - t31*t35;
     const double t37 = t29*t31 + t32*t35;
     const double t38 = t30 + a7*t19;
-    const double t39 = 0.73552200000000001*t36 - 0.0031274395439999996*t28 - 0.045305948633999997*t34;
-    const double t40 = 0.045305948633999997*t33 - 0.73552200000000001*t37 - 0.0077354848739999999*t28;
-    const double t41 = 0.73552200000000001*t38 + 0.0031274395439999996*t33 + 0.0077354848739999999*t34;
-    const double t42 = 0.000428*t34 + 0.001196*t28 - 0.012515999999999999*t33 - 0.061596999999999999*t40 - 0.0042519999999999997*t41;
-    const double t43 = 0.000428*t33 + 0.061596999999999999*t39 + 0.00074100000000000001*t28 - 0.010026999999999999*t34 - 0.010517*t41;
-    const double t44 = 0.001196*t33 + 0.0042519999999999997*t39 + 0.010517*t40 + 0.00074100000000000001*t34 - 0.0048149999999999998*t28;
+    const double t39 = 0.735522*t36 - 0.0031274395439999996*t28 - 0.045305948634*t34;
+    const double t40 = 0.045305948634*t33 - 0.735522*t37 - 0.007735484874*t28;
+    const double t41 = 0.735522*t38 + 0.0031274395439999996*t33 + 0.007735484874*t34;
+    const double t42 = 0.000428*t34 + 0.001196*t28 - 0.012516*t33 - 0.061597*t40 - 0.004252*t41;
+    const double t43 = 0.000428*t33 + 0.061597*t39 + 0.000741*t28 - 0.010027*t34 - 0.010517*t41;
+    const double t44 = 0.001196*t33 + 0.004252*t39 + 0.010517*t40 + 0.000741*t34 - 0.004815*t28;
     const double t45 = 1.666555*t29 - 0.017527158935000002*t28 - 0.023526756935*t19;
     const double t46 = 0.017527158935000002*t27 - 0.10024161669500001*t19 - 1.666555*t30;
     const double t47 = 0.10024161669500001*t28 + 0.023526756935*t27 + 1.666555*t23;
@@ -1326,55 +1411,55 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t51 = t31*t39 + t32*t40;
     const double t52 = t51 - t47;
     const double t53 = t32*t42 - t31*t43;
-    const double t54 = t53 + 0.001964*t27 + 0.001158*t19 + 0.010517*t46 + 0.00010900000000000001*t28 + 0.014116999999999999*t47;
-    const double t55 = -t44 + 0.0043540000000000002*t28 + 0.00010900000000000001*t27 + 0.060149000000000001*t47 - 0.010517*t45 - 0.00034099999999999999*t19 - a7*t51;
+    const double t54 = t53 + 0.001964*t27 + 0.001158*t19 + 0.010517*t46 + 0.000109*t28 + 0.014117*t47;
+    const double t55 = -t44 + 0.004354*t28 + 0.000109*t27 + 0.060149*t47 - 0.010517*t45 - 0.000341*t19 - a7*t51;
     const double t56 = t31*t42 + t32*t43;
-    const double t57 = t56 + 0.00034099999999999999*t28 + 0.014116999999999999*t45 + 0.060149000000000001*t46 - 0.0054330000000000003*t19 - 0.001158*t27 - a7*t41;
-    const double t58 = 1.225946*t21 - 0.047121686401999999*t19 - 0.050343472489999999*t11;
-    const double t59 = 1.225946*t23 + 0.047121686401999999*t18 - 0.014653732538*t11;
-    const double t60 = 0.050343472489999999*t18 + 0.014653732538*t19 - 1.225946*t24;
+    const double t57 = t56 + 0.000341*t28 + 0.014117*t45 + 0.060149*t46 - 0.005433*t19 - 0.001158*t27 - a7*t41;
+    const double t58 = 1.225946*t21 - 0.047121686402*t19 - 0.05034347249*t11;
+    const double t59 = 1.225946*t23 + 0.047121686402*t18 - 0.014653732538*t11;
+    const double t60 = 0.05034347249*t18 + 0.014653732538*t19 - 1.225946*t24;
     const double t61 = t26*t49 - t25*t50;
     const double t62 = t58 + t61;
     const double t63 = t59 - t52;
     const double t64 = t25*t49 + t26*t50;
     const double t65 = t60 + t64;
     const double t66 = t25*t55;
-    const double t67 = -t66 + 0.035548999999999997*t18 + 0.038436999999999999*t59 + 0.041064999999999997*t60 - 0.002117*t19 - 0.0040369999999999998*t11 + t26*t54 - d5*t63;
-    const double t68 = -t57 + 0.029474*t19 + 0.011953*t60 + 0.00022900000000000001*t11 - 0.038436999999999999*t58 - 0.002117*t18 + d5*t62;
+    const double t67 = -t66 + 0.035549*t18 + 0.038437*t59 + 0.041065*t60 - 0.002117*t19 - 0.004037*t11 + t26*t54 - d5*t63;
+    const double t68 = -t57 + 0.029474*t19 + 0.011953*t60 + 0.000229*t11 - 0.038437*t58 - 0.002117*t18 + d5*t62;
     const double t69 = t25*t54 + t26*t55;
-    const double t70 = 0.37464440800499998*t5 + 0.098502069329999997*t11 - 3.5878950000000001*t13;
-    const double t71 = 0.19076837715*t5 - 0.098502069329999997*t10 - 3.5878950000000001*t14;
-    const double t72 = 0.37464440800499998*t10 + 0.19076837715*t11 - 3.5878950000000001*t15;
+    const double t70 = 0.374644408005*t5 + 0.09850206933*t11 - 3.587895*t13;
+    const double t71 = 0.19076837715*t5 - 0.09850206933*t10 - 3.587895*t14;
+    const double t72 = 0.374644408005*t10 + 0.19076837715*t11 - 3.587895*t15;
     const double t73 = t17*t62 - t16*t63;
     const double t74 = t70 + t73;
     const double t75 = t65 + t71;
     const double t76 = t16*t62 + t17*t63;
     const double t77 = t72 - t76;
     const double t78 = t17*t67 - t16*t68;
-    const double t79 = t78 + 0.025853000000000001*t10 + 0.0013320000000000001*t5 + 0.104419*t72 + 0.007796*t11 - 0.027453999999999999*t71;
-    const double t80 = t69 + 0.027453999999999999*t70 + 0.053170000000000002*t72 + 0.028178999999999999*t11 + 0.00022900000000000001*t19 + 0.007796*t10 - 0.0086409999999999994*t5 - 0.0040369999999999998*t18 - 0.041064999999999997*t58 - 0.011953*t59 + a5*t76;
+    const double t79 = t78 + 0.025853*t10 + 0.001332*t5 + 0.104419*t72 + 0.007796*t11 - 0.027454*t71;
+    const double t80 = t69 + 0.027454*t70 + 0.05317*t72 + 0.028179*t11 + 0.000229*t19 + 0.007796*t10 - 0.008641*t5 - 0.004037*t18 - 0.041065*t58 - 0.011953*t59 + a5*t76;
     const double t81 = t16*t67 + t17*t68;
-    const double t82 = -t81 + 0.0086409999999999994*t11 - 0.028323000000000001*t5 - 0.0013320000000000001*t10 - 0.104419*t70 - 0.053170000000000002*t71 + a5*t65;
-    const double t83 = 3.2286039999999998*t6 - 0.21470862320799999*t5 - 0.12672916420800001*t1;
-    const double t84 = 3.2286039999999998*t7 + 0.088844724872*t1 - 0.21470862320799999*t3;
-    const double t85 = 0.12672916420800001*t3 + 0.088844724872*t5;
+    const double t82 = -t81 + 0.008641*t11 - 0.028323*t5 - 0.001332*t10 - 0.104419*t70 - 0.05317*t71 + a5*t65;
+    const double t83 = 3.228604*t6 - 0.214708623208*t5 - 0.126729164208*t1;
+    const double t84 = 3.228604*t7 + 0.088844724872*t1 - 0.214708623208*t3;
+    const double t85 = 0.126729164208*t3 + 0.088844724872*t5;
     const double t86 = t74*t8 - t75*t9;
     const double t87 = t83 + t86;
     const double t88 = t84 - t77;
     const double t89 = t80*t9;
-    const double t90 = -t89 + 0.066502000000000006*t84 - 0.037241999999999997*t3 - 0.0047609999999999996*t5 - 0.011396*t1 - 0.039252000000000002*t85 + t79*t8 - d3*t88;
+    const double t90 = -t89 + 0.066502*t84 - 0.037242*t3 - 0.004761*t5 - 0.011396*t1 - 0.039252*t85 + t79*t8 - d3*t88;
     const double t91 = t74*t9 + t75*t8;
-    const double t92 = -t82 + 0.027518000000000001*t85 + 0.0047609999999999996*t3 + 0.036155*t5 - 0.066502000000000006*t83 - 0.012805*t1 + d3*t87 - a4*t91;
+    const double t92 = -t82 + 0.027518*t85 + 0.004761*t3 + 0.036155*t5 - 0.066502*t83 - 0.012805*t1 + d3*t87 - a4*t91;
     const double t93 = t79*t9;
     const double t94 = t8*t80;
-    const double t95 = t93 + t94 + 0.010829999999999999*t1 + 0.027518000000000001*t84 + 0.011396*t3 - 0.012805*t5 - 0.039252000000000002*t83 - a4*t77;
+    const double t95 = t93 + t94 + 0.01083*t1 + 0.027518*t84 + 0.011396*t3 - 0.012805*t5 - 0.039252*t83 - a4*t77;
     const double t96 = 0.0022610063699999997*t1;
     const double t97 = 0.0022610063699999997*t0;
     const double t98 = 0.018579714719999998*t0 - 0.002031994566*t1;
     const double t99 = t4*t92;
-    const double t100 = -t99 + 0.0039249999999999997*t1 - 0.0034949999999999998*t97 - 0.0079620000000000003*t0 - 0.028719999999999999*t98 + t2*t90;
-    const double t101 = 0.0039249999999999997*t0;
-    const double t102 = t101 - t95 + 0.0031410000000000001*t98 - 0.0034949999999999998*t96 - 0.02811*t1;
+    const double t100 = -t99 + 0.003925*t1 - 0.003495*t97 - 0.007962*t0 - 0.02872*t98 + t2*t90;
+    const double t101 = 0.003925*t0;
+    const double t102 = t101 - t95 + 0.003141*t98 - 0.003495*t96 - 0.02811*t1;
     const double t103 = d3*t2;
     const double t104 = d3*t4;
     const double t105 = t4*t8;
@@ -1399,12 +1484,12 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t124 = t119*t32 + t123*t31;
     const double t125 = t123*t32 - t119*t31;
     const double t126 = t120 + a7*t111;
-    const double t127 = 0.73552200000000001*t124 + 0.0031274395439999996*t118 - 0.045305948633999997*t122;
-    const double t128 = 0.73552200000000001*t125 + 0.0077354848739999999*t118 + 0.045305948633999997*t121;
-    const double t129 = 0.73552200000000001*t126 + 0.0031274395439999996*t121 + 0.0077354848739999999*t122;
-    const double t130 = 0.000428*t122 - 0.012515999999999999*t121 - 0.001196*t118 - 0.061596999999999999*t128 - 0.0042519999999999997*t129;
-    const double t131 = 0.000428*t121 + 0.061596999999999999*t127 - 0.010026999999999999*t122 - 0.010517*t129 - 0.00074100000000000001*t118;
-    const double t132 = 0.0048149999999999998*t118 + 0.001196*t121 + 0.0042519999999999997*t127 + 0.010517*t128 + 0.00074100000000000001*t122;
+    const double t127 = 0.735522*t124 + 0.0031274395439999996*t118 - 0.045305948634*t122;
+    const double t128 = 0.735522*t125 + 0.007735484874*t118 + 0.045305948634*t121;
+    const double t129 = 0.735522*t126 + 0.0031274395439999996*t121 + 0.007735484874*t122;
+    const double t130 = 0.000428*t122 - 0.012516*t121 - 0.001196*t118 - 0.061597*t128 - 0.004252*t129;
+    const double t131 = 0.000428*t121 + 0.061597*t127 - 0.010027*t122 - 0.010517*t129 - 0.000741*t118;
+    const double t132 = 0.004815*t118 + 0.001196*t121 + 0.004252*t127 + 0.010517*t128 + 0.000741*t122;
     const double t133 = 0.017527158935000002*t118 + 1.666555*t119 - 0.023526756935*t111;
     const double t134 = 0.017527158935000002*t117 - 0.10024161669500001*t111 - 1.666555*t120;
     const double t135 = 0.10024161669500001*t118 + 1.666555*t115 - 0.023526756935*t117;
@@ -1414,45 +1499,45 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t139 = t127*t31 + t128*t32;
     const double t140 = t135 + t139;
     const double t141 = t130*t32 - t131*t31;
-    const double t142 = t141 + 0.001964*t117 + 0.001158*t111 + 0.010517*t134 - 0.00010900000000000001*t118 - 0.014116999999999999*t135;
-    const double t143 = -t132 + 0.00010900000000000001*t117 - 0.0043540000000000002*t118 - 0.010517*t133 - 0.00034099999999999999*t111 - 0.060149000000000001*t135 - a7*t139;
+    const double t142 = t141 + 0.001964*t117 + 0.001158*t111 + 0.010517*t134 - 0.000109*t118 - 0.014117*t135;
+    const double t143 = -t132 + 0.000109*t117 - 0.004354*t118 - 0.010517*t133 - 0.000341*t111 - 0.060149*t135 - a7*t139;
     const double t144 = t130*t31 + t131*t32;
-    const double t145 = t144 + 0.014116999999999999*t133 + 0.060149000000000001*t134 - 0.0054330000000000003*t111 - 0.001158*t117 - 0.00034099999999999999*t118 - a7*t129;
-    const double t146 = 1.225946*t113 + 0.050343472489999999*t106 - 0.047121686401999999*t111;
-    const double t147 = 0.047121686401999999*t110 + 0.014653732538*t106 - 1.225946*t115;
-    const double t148 = 0.050343472489999999*t110 + 0.014653732538*t111 - 1.225946*t116;
+    const double t145 = t144 + 0.014117*t133 + 0.060149*t134 - 0.005433*t111 - 0.001158*t117 - 0.000341*t118 - a7*t129;
+    const double t146 = 1.225946*t113 + 0.05034347249*t106 - 0.047121686402*t111;
+    const double t147 = 0.047121686402*t110 + 0.014653732538*t106 - 1.225946*t115;
+    const double t148 = 0.05034347249*t110 + 0.014653732538*t111 - 1.225946*t116;
     const double t149 = t137*t26 - t138*t25;
     const double t150 = t146 + t149;
     const double t151 = t147 - t140;
     const double t152 = t137*t25 + t138*t26;
     const double t153 = t148 + t152;
     const double t154 = t143*t25;
-    const double t155 = -t154 + 0.035548999999999997*t110 + 0.038436999999999999*t147 + 0.0040369999999999998*t106 + 0.041064999999999997*t148 - 0.002117*t111 + t142*t26 - d5*t151;
-    const double t156 = -t145 + 0.029474*t111 + 0.011953*t148 - 0.038436999999999999*t146 - 0.002117*t110 - 0.00022900000000000001*t106 + d5*t150;
+    const double t155 = -t154 + 0.035549*t110 + 0.038437*t147 + 0.004037*t106 + 0.041065*t148 - 0.002117*t111 + t142*t26 - d5*t151;
+    const double t156 = -t145 + 0.029474*t111 + 0.011953*t148 - 0.038437*t146 - 0.002117*t110 - 0.000229*t106 + d5*t150;
     const double t157 = t142*t25 + t143*t26;
-    const double t158 = 0.37464440800499998*t2 - 0.098502069329999997*t106 - 3.5878950000000001*t108;
-    const double t159 = 0.19076837715*t2 - 0.098502069329999997*t105 - 3.5878950000000001*t109;
-    const double t160 = 0.37464440800499998*t105 + 3.5878950000000001*t104 - 0.19076837715*t106;
+    const double t158 = 0.374644408005*t2 - 0.09850206933*t106 - 3.587895*t108;
+    const double t159 = 0.19076837715*t2 - 0.09850206933*t105 - 3.587895*t109;
+    const double t160 = 0.374644408005*t105 + 3.587895*t104 - 0.19076837715*t106;
     const double t161 = t150*t17 - t151*t16;
     const double t162 = t158 + t161;
     const double t163 = t153 + t159;
     const double t164 = t150*t16 + t151*t17;
     const double t165 = t160 - t164;
     const double t166 = t155*t17 - t156*t16;
-    const double t167 = t166 + 0.025853000000000001*t105 + 0.0013320000000000001*t2 + 0.104419*t160 - 0.027453999999999999*t159 - 0.007796*t106;
-    const double t168 = t157 + 0.027453999999999999*t158 + 0.053170000000000002*t160 + 0.00022900000000000001*t111 + 0.007796*t105 - 0.0086409999999999994*t2 - 0.0040369999999999998*t110 - 0.041064999999999997*t146 - 0.011953*t147 - 0.028178999999999999*t106 + a5*t164;
+    const double t167 = t166 + 0.025853*t105 + 0.001332*t2 + 0.104419*t160 - 0.027454*t159 - 0.007796*t106;
+    const double t168 = t157 + 0.027454*t158 + 0.05317*t160 + 0.000229*t111 + 0.007796*t105 - 0.008641*t2 - 0.004037*t110 - 0.041065*t146 - 0.011953*t147 - 0.028179*t106 + a5*t164;
     const double t169 = t155*t16 + t156*t17;
-    const double t170 = -t169 - 0.028323000000000001*t2 - 0.0086409999999999994*t106 - 0.0013320000000000001*t105 - 0.104419*t158 - 0.053170000000000002*t159 + a5*t153;
-    const double t171 = 3.2286039999999998*t103 - 0.21470862320799999*t2;
-    const double t172 = 0.21470862320799999*t4 - 3.2286039999999998*t104;
-    const double t173 = 0.12672916420800001*t4 - 0.088844724872*t2;
+    const double t170 = -t169 - 0.028323*t2 - 0.008641*t106 - 0.001332*t105 - 0.104419*t158 - 0.05317*t159 + a5*t153;
+    const double t171 = 3.228604*t103 - 0.214708623208*t2;
+    const double t172 = 0.214708623208*t4 - 3.228604*t104;
+    const double t173 = 0.126729164208*t4 - 0.088844724872*t2;
     const double t174 = t162*t8 - t163*t9;
     const double t175 = t171 + t174;
     const double t176 = t172 - t165;
     const double t177 = t167*t8 - t168*t9;
-    const double t178 = t177 + 0.037241999999999997*t4 + 0.066502000000000006*t172 + 0.039252000000000002*t173 - 0.0047609999999999996*t2 - d3*t176;
+    const double t178 = t177 + 0.037242*t4 + 0.066502*t172 + 0.039252*t173 - 0.004761*t2 - d3*t176;
     const double t179 = t162*t9 + t163*t8;
-    const double t180 = -t170 + 0.036155*t2 - 0.066502000000000006*t171 - 0.027518000000000001*t173 - 0.0047609999999999996*t4 + d3*t175 - a4*t179;
+    const double t180 = -t170 + 0.036155*t2 - 0.066502*t171 - 0.027518*t173 - 0.004761*t4 + d3*t175 - a4*t179;
     const double t181 = t17*t9;
     const double t182 = t16*t9;
     const double t183 = a4 + a5*t8;
@@ -1469,12 +1554,12 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t194 = t189*t32 - t193*t31;
     const double t195 = t189*t31 + t193*t32;
     const double t196 = t190 - a7*t182;
-    const double t197 = 0.73552200000000001*t194 + 0.045305948633999997*t192 - 0.0031274395439999996*t188;
-    const double t198 = 0.73552200000000001*t195 + 0.0077354848739999999*t188 + 0.045305948633999997*t191;
-    const double t199 = 0.73552200000000001*t196 - 0.0031274395439999996*t191 - 0.0077354848739999999*t192;
-    const double t200 = 0.012515999999999999*t191 + 0.001196*t188 + 0.061596999999999999*t198 - 0.000428*t192 - 0.0042519999999999997*t199;
-    const double t201 = 0.061596999999999999*t197 + 0.010026999999999999*t192 + 0.00074100000000000001*t188 - 0.000428*t191 - 0.010517*t199;
-    const double t202 = 0.0042519999999999997*t197 - 0.0048149999999999998*t188 - 0.001196*t191 - 0.010517*t198 - 0.00074100000000000001*t192;
+    const double t197 = 0.735522*t194 + 0.045305948634*t192 - 0.0031274395439999996*t188;
+    const double t198 = 0.735522*t195 + 0.007735484874*t188 + 0.045305948634*t191;
+    const double t199 = 0.735522*t196 - 0.0031274395439999996*t191 - 0.007735484874*t192;
+    const double t200 = 0.012516*t191 + 0.001196*t188 + 0.061597*t198 - 0.000428*t192 - 0.004252*t199;
+    const double t201 = 0.061597*t197 + 0.010027*t192 + 0.000741*t188 - 0.000428*t191 - 0.010517*t199;
+    const double t202 = 0.004252*t197 - 0.004815*t188 - 0.001196*t191 - 0.010517*t198 - 0.000741*t192;
     const double t203 = 0.023526756935*t182 + 1.666555*t189 - 0.017527158935000002*t188;
     const double t204 = 0.017527158935000002*t187 + 0.10024161669500001*t182 - 1.666555*t190;
     const double t205 = 0.10024161669500001*t188 + 0.023526756935*t187 + 1.666555*t186;
@@ -1484,26 +1569,26 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t209 = t197*t31 - t198*t32;
     const double t210 = t209 - t205;
     const double t211 = t200*t32 - t201*t31;
-    const double t212 = t211 + 0.001964*t187 + 0.010517*t204 + 0.00010900000000000001*t188 + 0.014116999999999999*t205 - 0.001158*t182;
-    const double t213 = -t202 + 0.0043540000000000002*t188 + 0.00034099999999999999*t182 + 0.00010900000000000001*t187 + 0.060149000000000001*t205 - 0.010517*t203 - a7*t209;
+    const double t212 = t211 + 0.001964*t187 + 0.010517*t204 + 0.000109*t188 + 0.014117*t205 - 0.001158*t182;
+    const double t213 = -t202 + 0.004354*t188 + 0.000341*t182 + 0.000109*t187 + 0.060149*t205 - 0.010517*t203 - a7*t209;
     const double t214 = t200*t31 + t201*t32;
-    const double t215 = t214 + 0.0054330000000000003*t182 + 0.00034099999999999999*t188 + 0.014116999999999999*t203 + 0.060149000000000001*t204 - 0.001158*t187 - a7*t199;
-    const double t216 = 1.225946*t184 + 0.047121686401999999*t182 - 0.050343472489999999*t8;
-    const double t217 = 1.225946*t186 + 0.047121686401999999*t181 - 0.014653732538*t8;
-    const double t218 = 0.050343472489999999*t181 - 0.014653732538*t182;
+    const double t215 = t214 + 0.005433*t182 + 0.000341*t188 + 0.014117*t203 + 0.060149*t204 - 0.001158*t187 - a7*t199;
+    const double t216 = 1.225946*t184 + 0.047121686402*t182 - 0.05034347249*t8;
+    const double t217 = 1.225946*t186 + 0.047121686402*t181 - 0.014653732538*t8;
+    const double t218 = 0.05034347249*t181 - 0.014653732538*t182;
     const double t219 = t207*t26 - t208*t25;
     const double t220 = t216 + t219;
     const double t221 = t217 - t210;
     const double t222 = t213*t25;
-    const double t223 = -t222 + 0.035548999999999997*t181 + 0.038436999999999999*t217 + 0.002117*t182 + 0.041064999999999997*t218 - 0.0040369999999999998*t8 + t212*t26 - d5*t221;
-    const double t224 = -t215 + 0.011953*t218 + 0.00022900000000000001*t8 - 0.029474*t182 - 0.038436999999999999*t216 - 0.002117*t181 + d5*t220;
+    const double t223 = -t222 + 0.035549*t181 + 0.038437*t217 + 0.002117*t182 + 0.041065*t218 - 0.004037*t8 + t212*t26 - d5*t221;
+    const double t224 = -t215 + 0.011953*t218 + 0.000229*t8 - 0.029474*t182 - 0.038437*t216 - 0.002117*t181 + d5*t220;
     const double t225 = t212*t25 + t213*t26;
-    const double t226 = 0.098502069329999997*t8;
-    const double t227 = 0.098502069329999997*t9;
-    const double t228 = 0.37464440800499998*t9 + 0.19076837715*t8 - 3.5878950000000001*a4;
+    const double t226 = 0.09850206933*t8;
+    const double t227 = 0.09850206933*t9;
+    const double t228 = 0.374644408005*t9 + 0.19076837715*t8 - 3.587895*a4;
     const double t229 = t17*t223 - t16*t224;
-    const double t230 = t229 + 0.025853000000000001*t9 + 0.027453999999999999*t227 + 0.104419*t228 + 0.007796*t8;
-    const double t231 = t225 + 0.027453999999999999*t226 + 0.053170000000000002*t228 + 0.028178999999999999*t8 + 0.007796*t9 - 0.0040369999999999998*t181 - 0.041064999999999997*t216 - 0.011953*t217 - 0.00022900000000000001*t182 - a5*(-t16*t220 - t17*t221);
+    const double t230 = t229 + 0.025853*t9 + 0.027454*t227 + 0.104419*t228 + 0.007796*t8;
+    const double t231 = t225 + 0.027454*t226 + 0.05317*t228 + 0.028179*t8 + 0.007796*t9 - 0.004037*t181 - 0.041065*t216 - 0.011953*t217 - 0.000229*t182 - a5*(-t16*t220 - t17*t221);
     const double t232 = d5*t17;
     const double t233 = d5*t16;
     const double t234 = t16*t26;
@@ -1516,12 +1601,12 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t241 = t236*t32 - t240*t31;
     const double t242 = t236*t31 + t240*t32;
     const double t243 = t237 + a7*t17;
-    const double t244 = 0.73552200000000001*t241 + 0.045305948633999997*t239 - 0.0031274395439999996*t235;
-    const double t245 = 0.73552200000000001*t242 + 0.0077354848739999999*t235 + 0.045305948633999997*t238;
-    const double t246 = 0.73552200000000001*t243 + 0.0031274395439999996*t238 + 0.0077354848739999999*t239;
-    const double t247 = 0.012515999999999999*t238 + 0.001196*t235 + 0.061596999999999999*t245 + 0.0042519999999999997*t246 - 0.000428*t239;
-    const double t248 = 0.061596999999999999*t244 + 0.010026999999999999*t239 + 0.010517*t246 + 0.00074100000000000001*t235 - 0.000428*t238;
-    const double t249 = 0.0042519999999999997*t244 - 0.0048149999999999998*t235 - 0.001196*t238 - 0.010517*t245 - 0.00074100000000000001*t239;
+    const double t244 = 0.735522*t241 + 0.045305948634*t239 - 0.0031274395439999996*t235;
+    const double t245 = 0.735522*t242 + 0.007735484874*t235 + 0.045305948634*t238;
+    const double t246 = 0.735522*t243 + 0.0031274395439999996*t238 + 0.007735484874*t239;
+    const double t247 = 0.012516*t238 + 0.001196*t235 + 0.061597*t245 + 0.004252*t246 - 0.000428*t239;
+    const double t248 = 0.061597*t244 + 0.010027*t239 + 0.010517*t246 + 0.000741*t235 - 0.000428*t238;
+    const double t249 = 0.004252*t244 - 0.004815*t235 - 0.001196*t238 - 0.010517*t245 - 0.000741*t239;
     const double t250 = 0.023526756935*t17 + 1.666555*t236 - 0.017527158935000002*t235;
     const double t251 = 0.10024161669500001*t17 + 1.666555*t237 - 0.017527158935000002*t234;
     const double t252 = 0.023526756935*t234 - 0.10024161669500001*t235 - 1.666555*t233;
@@ -1531,65 +1616,65 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t256 = t244*t31 - t245*t32;
     const double t257 = t252 + t256;
     const double t258 = t247*t32 - t248*t31;
-    const double t259 = t258 + 0.010517*t251 + 0.00010900000000000001*t235 - 0.001964*t234 - 0.001158*t17 - 0.014116999999999999*t252;
-    const double t260 = -t249 + 0.0043540000000000002*t235 + 0.00034099999999999999*t17 - 0.010517*t250 - 0.00010900000000000001*t234 - 0.060149000000000001*t252 - a7*t256;
+    const double t259 = t258 + 0.010517*t251 + 0.000109*t235 - 0.001964*t234 - 0.001158*t17 - 0.014117*t252;
+    const double t260 = -t249 + 0.004354*t235 + 0.000341*t17 - 0.010517*t250 - 0.000109*t234 - 0.060149*t252 - a7*t256;
     const double t261 = t247*t31 + t248*t32;
-    const double t262 = t261 + 0.0054330000000000003*t17 + 0.001158*t234 + 0.00034099999999999999*t235 + 0.014116999999999999*t250 + 0.060149000000000001*t251 + a7*t246;
-    const double t263 = 0.047121686401999999*t17 - 1.225946*t232;
-    const double t264 = 1.225946*t233 - 0.047121686401999999*t16;
-    const double t265 = 1.225946*a5 - 0.050343472489999999*t16 - 0.014653732538*t17;
+    const double t262 = t261 + 0.005433*t17 + 0.001158*t234 + 0.000341*t235 + 0.014117*t250 + 0.060149*t251 + a7*t246;
+    const double t263 = 0.047121686402*t17 - 1.225946*t232;
+    const double t264 = 1.225946*t233 - 0.047121686402*t16;
+    const double t265 = 1.225946*a5 - 0.05034347249*t16 - 0.014653732538*t17;
     const double t266 = t254*t26 - t25*t255;
     const double t267 = t263 + t266;
     const double t268 = t264 - t257;
     const double t269 = 0.002117*t17;
     const double t270 = t259*t26 - t25*t260;
-    const double t271 = t269 + t270 + 0.038436999999999999*t264 + 0.041064999999999997*t265 - 0.035548999999999997*t16 - d5*t268;
+    const double t271 = t269 + t270 + 0.038437*t264 + 0.041065*t265 - 0.035549*t16 - d5*t268;
     const double t272 = 0.002117*t16;
-    const double t273 = t272 - t262 + 0.011953*t265 - 0.029474*t17 - 0.038436999999999999*t263 + d5*t267;
+    const double t273 = t272 - t262 + 0.011953*t265 - 0.029474*t17 - 0.038437*t263 + d5*t267;
     const double t274 = t25*t32;
     const double t275 = t25*t31;
     const double t276 = a7*t26;
     const double t277 = t276*t31;
     const double t278 = t276*t32;
-    const double t279 = 0.73552200000000001*t277 + 0.0031274395439999996*t26 + 0.045305948633999997*t275;
-    const double t280 = 0.73552200000000001*t278 + 0.0077354848739999999*t26 + 0.045305948633999997*t274;
-    const double t281 = 0.0077354848739999999*t275 - 0.0031274395439999996*t274;
-    const double t282 = 0.012515999999999999*t274 + 0.000428*t275 + 0.001196*t26 + 0.061596999999999999*t280 - 0.0042519999999999997*t281;
-    const double t283 = 0.00074100000000000001*t26 - 0.000428*t274 - 0.061596999999999999*t279 - 0.010026999999999999*t275 - 0.010517*t281;
-    const double t284 = 0.00074100000000000001*t275 - 0.0048149999999999998*t26 - 0.001196*t274 - 0.0042519999999999997*t279 - 0.010517*t280;
+    const double t279 = 0.735522*t277 + 0.0031274395439999996*t26 + 0.045305948634*t275;
+    const double t280 = 0.735522*t278 + 0.007735484874*t26 + 0.045305948634*t274;
+    const double t281 = 0.007735484874*t275 - 0.0031274395439999996*t274;
+    const double t282 = 0.012516*t274 + 0.000428*t275 + 0.001196*t26 + 0.061597*t280 - 0.004252*t281;
+    const double t283 = 0.000741*t26 - 0.000428*t274 - 0.061597*t279 - 0.010027*t275 - 0.010517*t281;
+    const double t284 = 0.000741*t275 - 0.004815*t26 - 0.001196*t274 - 0.004252*t279 - 0.010517*t280;
     const double t285 = 0.017527158935000002*t26;
     const double t286 = 0.017527158935000002*t25;
     const double t287 = 0.10024161669500001*t26 + 0.023526756935*t25;
     const double t288 = t282*t32 - t283*t31;
-    const double t289 = t288 + 0.001964*t25 + 0.010517*t286 + 0.00010900000000000001*t26 + 0.014116999999999999*t287;
-    const double t290 = -t284 + 0.0043540000000000002*t26 + 0.010517*t285 + 0.00010900000000000001*t25 + 0.060149000000000001*t287 - a7*(-t279*t31 - t280*t32);
-    const double t291 = 0.045305948633999997*t32;
-    const double t292 = 0.045305948633999997*t31;
-    const double t293 = 0.73552200000000001*a7 + 0.0031274395439999996*t31 + 0.0077354848739999999*t32;
-    const double t294 = 0.012515999999999999*t31 + 0.061596999999999999*t292 + 0.0042519999999999997*t293 - 0.000428*t32;
-    const double t295 = 0.061596999999999999*t291 + 0.010026999999999999*t32 + 0.010517*t293 - 0.000428*t31;
+    const double t289 = t288 + 0.001964*t25 + 0.010517*t286 + 0.000109*t26 + 0.014117*t287;
+    const double t290 = -t284 + 0.004354*t26 + 0.010517*t285 + 0.000109*t25 + 0.060149*t287 - a7*(-t279*t31 - t280*t32);
+    const double t291 = 0.045305948634*t32;
+    const double t292 = 0.045305948634*t31;
+    const double t293 = 0.735522*a7 + 0.0031274395439999996*t31 + 0.007735484874*t32;
+    const double t294 = 0.012516*t31 + 0.061597*t292 + 0.004252*t293 - 0.000428*t32;
+    const double t295 = 0.061597*t291 + 0.010027*t32 + 0.010517*t293 - 0.000428*t31;
     const double t296 = 0.002031994566*t0 + 0.018579714719999998*t1;
     const double t297 = t1*t2;
     const double t298 = d3*t297;
-    const double t299 = 3.2286039999999998*t298 - 0.21470862320799999*t297 - 0.088844724872*t0;
+    const double t299 = 3.228604*t298 - 0.214708623208*t297 - 0.088844724872*t0;
     const double t300 = t1*t4;
-    const double t301 = 0.12672916420800001*t297 + 0.088844724872*t300;
+    const double t301 = 0.126729164208*t297 + 0.088844724872*t300;
     const double t302 = t0*t9 + t297*t8;
     const double t303 = t297*t9 - t0*t8;
     const double t304 = -t298 + a4*t0;
-    const double t305 = 0.19076837715*t303 + 3.5878950000000001*t304 - 0.37464440800499998*t302;
+    const double t305 = 0.19076837715*t303 + 3.587895*t304 - 0.374644408005*t302;
     const double t306 = d3*t300;
     const double t307 = a4*t300;
     const double t308 = t306*t9 + t307*t8;
-    const double t309 = 0.098502069329999997*t302 + 0.19076837715*t300 - 3.5878950000000001*t308;
+    const double t309 = 0.09850206933*t302 + 0.19076837715*t300 - 3.587895*t308;
     const double t310 = t16*t300 - t17*t302;
     const double t311 = t306*t8 - t307*t9;
     const double t312 = t304 - a5*t303;
     const double t313 = d5*t310 + t16*t311 + t17*t312;
-    const double t314 = 0.047121686401999999*t310 - 1.225946*t313 - 0.014653732538*t303;
+    const double t314 = 0.047121686402*t310 - 1.225946*t313 - 0.014653732538*t303;
     const double t315 = t308 + a5*t300;
     const double t316 = t16*t302 + t17*t300;
-    const double t317 = 0.050343472489999999*t310 + 0.014653732538*t316 - 1.225946*t315;
+    const double t317 = 0.05034347249*t310 + 0.014653732538*t316 - 1.225946*t315;
     const double t318 = t25*t303 + t26*t310;
     const double t319 = d5*t316 + t17*t311 - t16*t312;
     const double t320 = t25*t319 + t26*t315;
@@ -1601,64 +1686,64 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t326 = t26*t319 - t25*t315;
     const double t327 = t313 - a7*t322;
     const double t328 = t32*t327 - t31*t326;
-    const double t329 = 0.73552200000000001*t328 - 0.0077354848739999999*t322 - 0.045305948633999997*t324;
+    const double t329 = 0.735522*t328 - 0.007735484874*t322 - 0.045305948634*t324;
     const double t330 = t320 + a7*t316;
-    const double t331 = 0.73552200000000001*t330 + 0.0077354848739999999*t325 - 0.0031274395439999996*t324;
-    const double t332 = 0.012515999999999999*t324 + 0.000428*t325 + 0.001196*t322 - 0.061596999999999999*t329 - 0.0042519999999999997*t331;
+    const double t331 = 0.735522*t330 + 0.007735484874*t325 - 0.0031274395439999996*t324;
+    const double t332 = 0.012516*t324 + 0.000428*t325 + 0.001196*t322 - 0.061597*t329 - 0.004252*t331;
     const double t333 = t31*t327 + t32*t326;
-    const double t334 = 0.73552200000000001*t333 - 0.0031274395439999996*t322 - 0.045305948633999997*t325;
-    const double t335 = 0.061596999999999999*t334 + 0.00074100000000000001*t322 - 0.000428*t324 - 0.010026999999999999*t325 - 0.010517*t331;
-    const double t336 = 0.001964*t318 + 0.001158*t316 + 0.010517*t321 + 0.00010900000000000001*t322 - 0.014116999999999999*t323 + t32*t332 - t31*t335;
+    const double t334 = 0.735522*t333 - 0.0031274395439999996*t322 - 0.045305948634*t325;
+    const double t335 = 0.061597*t334 + 0.000741*t322 - 0.000428*t324 - 0.010027*t325 - 0.010517*t331;
+    const double t336 = 0.001964*t318 + 0.001158*t316 + 0.010517*t321 + 0.000109*t322 - 0.014117*t323 + t32*t332 - t31*t335;
     const double t337 = t31*t334 + t32*t329;
     const double t338 = t323 + t337;
     const double t339 = t314 - t338;
-    const double t340 = 0.0042519999999999997*t334 + 0.010517*t329 + 0.00074100000000000001*t325 - 0.0048149999999999998*t322 - 0.001196*t324;
+    const double t340 = 0.004252*t334 + 0.010517*t329 + 0.000741*t325 - 0.004815*t322 - 0.001196*t324;
     const double t341 = 1.666555*t326 - 0.017527158935000002*t322 - 0.023526756935*t316;
-    const double t342 = -t340 + 0.0043540000000000002*t322 + 0.00010900000000000001*t318 - 0.010517*t341 - 0.00034099999999999999*t316 - 0.060149000000000001*t323 - a7*t337;
-    const double t343 = 0.035548999999999997*t310 + 0.038436999999999999*t314 + 0.041064999999999997*t317 - 0.002117*t316 - 0.0040369999999999998*t303 + t26*t336 - d5*t339 - t25*t342;
-    const double t344 = 0.00034099999999999999*t322 + 0.014116999999999999*t341 + 0.060149000000000001*t321 - 0.0054330000000000003*t316 - 0.001158*t318 + t31*t332 + t32*t335 - a7*t331;
-    const double t345 = 1.225946*t319 - 0.047121686401999999*t316 - 0.050343472489999999*t303;
+    const double t342 = -t340 + 0.004354*t322 + 0.000109*t318 - 0.010517*t341 - 0.000341*t316 - 0.060149*t323 - a7*t337;
+    const double t343 = 0.035549*t310 + 0.038437*t314 + 0.041065*t317 - 0.002117*t316 - 0.004037*t303 + t26*t336 - d5*t339 - t25*t342;
+    const double t344 = 0.000341*t322 + 0.014117*t341 + 0.060149*t321 - 0.005433*t316 - 0.001158*t318 + t31*t332 + t32*t335 - a7*t331;
+    const double t345 = 1.225946*t319 - 0.047121686402*t316 - 0.05034347249*t303;
     const double t346 = t341 + t32*t334 - t31*t329;
     const double t347 = t321 - t331;
     const double t348 = t345 + t26*t346 - t25*t347;
-    const double t349 = -t344 + 0.029474*t316 + 0.011953*t317 + 0.00022900000000000001*t303 - 0.038436999999999999*t345 - 0.002117*t310 + d5*t348;
-    const double t350 = 0.0013320000000000001*t300 + 0.104419*t305 + 0.007796*t303 - 0.025853000000000001*t302 - 0.027453999999999999*t309 + t17*t343 - t16*t349;
+    const double t349 = -t344 + 0.029474*t316 + 0.011953*t317 + 0.000229*t303 - 0.038437*t345 - 0.002117*t310 + d5*t348;
+    const double t350 = 0.001332*t300 + 0.104419*t305 + 0.007796*t303 - 0.025853*t302 - 0.027454*t309 + t17*t343 - t16*t349;
     const double t351 = t16*t348 + t17*t339;
     const double t352 = t305 - t351;
     const double t353 = t299 - t352;
-    const double t354 = 0.0086269999999999993*t303 + 0.00022900000000000001*t316 - 0.0040369999999999998*t310 - 0.041064999999999997*t345 - 0.011953*t314 + t25*t336 + t26*t342;
-    const double t355 = 0.37464440800499998*t300 + 0.098502069329999997*t303 + 3.5878950000000001*t311;
-    const double t356 = t354 + 0.019552*t303 + 0.027453999999999999*t355 + 0.053170000000000002*t305 - 0.0086409999999999994*t300 - 0.007796*t302 + a5*t351;
-    const double t357 = 0.066502000000000006*t299 + 0.011396*t0 - 0.037241999999999997*t297 - 0.0047609999999999996*t300 - 0.039252000000000002*t301 + t350*t8 - d3*t353 - t356*t9;
+    const double t354 = 0.008627*t303 + 0.000229*t316 - 0.004037*t310 - 0.041065*t345 - 0.011953*t314 + t25*t336 + t26*t342;
+    const double t355 = 0.374644408005*t300 + 0.09850206933*t303 + 3.587895*t311;
+    const double t356 = t354 + 0.019552*t303 + 0.027454*t355 + 0.05317*t305 - 0.008641*t300 - 0.007796*t302 + a5*t351;
+    const double t357 = 0.066502*t299 + 0.011396*t0 - 0.037242*t297 - 0.004761*t300 - 0.039252*t301 + t350*t8 - d3*t353 - t356*t9;
     const double t358 = t317 + t25*t346 + t26*t347;
-    const double t359 = 0.0086409999999999994*t303 + 0.0013320000000000001*t302 - 0.028323000000000001*t300 - 0.104419*t355 - 0.053170000000000002*t309 + a5*t358 - t16*t343 - t17*t349;
-    const double t360 = 0.12672916420800001*t0 + 3.2286039999999998*t306 - 0.21470862320799999*t300;
+    const double t359 = 0.008641*t303 + 0.001332*t302 - 0.028323*t300 - 0.104419*t355 - 0.05317*t309 + a5*t358 - t16*t343 - t17*t349;
+    const double t360 = 0.126729164208*t0 + 3.228604*t306 - 0.214708623208*t300;
     const double t361 = t355 + t17*t348 - t16*t339;
     const double t362 = t309 + t358;
     const double t363 = t360 + t361*t8 - t362*t9;
-    const double t364 = -t359 + 0.027518000000000001*t301 + 0.0047609999999999996*t297 + 0.012805*t0 + 0.036155*t300 - 0.066502000000000006*t360 + d3*t363 - a4*(t361*t9 + t362*t8);
-    const double t365 = -t101 - 0.0034949999999999998*t96 - 0.0079620000000000003*t1 - 0.028719999999999999*t296 + t2*t357 - t364*t4;
-    const double t366 = 0.027518000000000001*t299 + 0.011396*t297 - 0.010829999999999999*t0 - 0.012805*t300 - 0.039252000000000002*t360 + t350*t9 + t356*t8 - a4*t352;
-    const double t367 = -t366 + 0.0034949999999999998*t97 + 0.0039249999999999997*t1 + 0.0031410000000000001*t296 + 0.02811*t0;
+    const double t364 = -t359 + 0.027518*t301 + 0.004761*t297 + 0.012805*t0 + 0.036155*t300 - 0.066502*t360 + d3*t363 - a4*(t361*t9 + t362*t8);
+    const double t365 = -t101 - 0.003495*t96 - 0.007962*t1 - 0.02872*t296 + t2*t357 - t364*t4;
+    const double t366 = 0.027518*t299 + 0.011396*t297 - 0.01083*t0 - 0.012805*t300 - 0.039252*t360 + t350*t9 + t356*t8 - a4*t352;
+    const double t367 = -t366 + 0.003495*t97 + 0.003925*t1 + 0.003141*t296 + 0.02811*t0;
     const double t368 = t100 + t367;
     const double t369 = t102 - t365;
     const double t370 = t0*t369 - t1*t368;
-    const double t371 = 0.21470862320799999*t5 - 3.2286039999999998*t6;
-    const double t372 = 0.12672916420800001*t5 - 0.088844724872*t3;
+    const double t371 = 0.214708623208*t5 - 3.228604*t6;
+    const double t372 = 0.126729164208*t5 - 0.088844724872*t3;
     const double t373 = t5*t8;
     const double t374 = t5*t9;
-    const double t375 = 0.37464440800499998*t373 + 3.5878950000000001*t6 - 0.19076837715*t374;
+    const double t375 = 0.374644408005*t373 + 3.587895*t6 - 0.19076837715*t374;
     const double t376 = a4*t3;
     const double t377 = t376*t8 + t7*t9;
-    const double t378 = 0.19076837715*t3 - 0.098502069329999997*t373 - 3.5878950000000001*t377;
+    const double t378 = 0.19076837715*t3 - 0.09850206933*t373 - 3.587895*t377;
     const double t379 = t16*t3 + t17*t373;
     const double t380 = t7*t8 - t376*t9;
     const double t381 = t6 + a5*t374;
     const double t382 = d5*t379 + t16*t380 + t17*t381;
-    const double t383 = 0.047121686401999999*t379 + 0.014653732538*t374 - 1.225946*t382;
+    const double t383 = 0.047121686402*t379 + 0.014653732538*t374 - 1.225946*t382;
     const double t384 = t377 + a5*t3;
     const double t385 = t17*t3 - t16*t373;
-    const double t386 = 0.050343472489999999*t379 + 0.014653732538*t385 - 1.225946*t384;
+    const double t386 = 0.05034347249*t379 + 0.014653732538*t385 - 1.225946*t384;
     const double t387 = t26*t379 - t25*t374;
     const double t388 = d5*t385 + t17*t380 - t16*t381;
     const double t389 = t25*t388 + t26*t384;
@@ -1670,54 +1755,54 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t395 = t26*t388 - t25*t384;
     const double t396 = t382 + a7*t391;
     const double t397 = t32*t396 - t31*t395;
-    const double t398 = 0.73552200000000001*t397 + 0.0077354848739999999*t391 - 0.045305948633999997*t393;
+    const double t398 = 0.735522*t397 + 0.007735484874*t391 - 0.045305948634*t393;
     const double t399 = t389 + a7*t385;
-    const double t400 = 0.73552200000000001*t399 + 0.0077354848739999999*t394 - 0.0031274395439999996*t393;
-    const double t401 = 0.012515999999999999*t393 + 0.000428*t394 - 0.001196*t391 - 0.061596999999999999*t398 - 0.0042519999999999997*t400;
+    const double t400 = 0.735522*t399 + 0.007735484874*t394 - 0.0031274395439999996*t393;
+    const double t401 = 0.012516*t393 + 0.000428*t394 - 0.001196*t391 - 0.061597*t398 - 0.004252*t400;
     const double t402 = t31*t396 + t32*t395;
-    const double t403 = 0.73552200000000001*t402 + 0.0031274395439999996*t391 - 0.045305948633999997*t394;
-    const double t404 = 0.061596999999999999*t403 - 0.000428*t393 - 0.010026999999999999*t394 - 0.010517*t400 - 0.00074100000000000001*t391;
-    const double t405 = 0.001964*t387 + 0.001158*t385 + 0.010517*t390 - 0.00010900000000000001*t391 - 0.014116999999999999*t392 + t32*t401 - t31*t404;
+    const double t403 = 0.735522*t402 + 0.0031274395439999996*t391 - 0.045305948634*t394;
+    const double t404 = 0.061597*t403 - 0.000428*t393 - 0.010027*t394 - 0.010517*t400 - 0.000741*t391;
+    const double t405 = 0.001964*t387 + 0.001158*t385 + 0.010517*t390 - 0.000109*t391 - 0.014117*t392 + t32*t401 - t31*t404;
     const double t406 = t31*t403 + t32*t398;
     const double t407 = t392 + t406;
     const double t408 = t383 - t407;
-    const double t409 = 0.0048149999999999998*t391 + 0.0042519999999999997*t403 + 0.010517*t398 + 0.00074100000000000001*t394 - 0.001196*t393;
+    const double t409 = 0.004815*t391 + 0.004252*t403 + 0.010517*t398 + 0.000741*t394 - 0.001196*t393;
     const double t410 = 0.017527158935000002*t391 + 1.666555*t395 - 0.023526756935*t385;
-    const double t411 = -t409 + 0.00010900000000000001*t387 - 0.0043540000000000002*t391 - 0.010517*t410 - 0.00034099999999999999*t385 - 0.060149000000000001*t392 - a7*t406;
-    const double t412 = 0.035548999999999997*t379 + 0.038436999999999999*t383 + 0.0040369999999999998*t374 + 0.041064999999999997*t386 - 0.002117*t385 + t26*t405 - d5*t408 - t25*t411;
-    const double t413 = 0.014116999999999999*t410 + 0.060149000000000001*t390 - 0.0054330000000000003*t385 - 0.001158*t387 - 0.00034099999999999999*t391 + t31*t401 + t32*t404 - a7*t400;
-    const double t414 = 1.225946*t388 + 0.050343472489999999*t374 - 0.047121686401999999*t385;
+    const double t411 = -t409 + 0.000109*t387 - 0.004354*t391 - 0.010517*t410 - 0.000341*t385 - 0.060149*t392 - a7*t406;
+    const double t412 = 0.035549*t379 + 0.038437*t383 + 0.004037*t374 + 0.041065*t386 - 0.002117*t385 + t26*t405 - d5*t408 - t25*t411;
+    const double t413 = 0.014117*t410 + 0.060149*t390 - 0.005433*t385 - 0.001158*t387 - 0.000341*t391 + t31*t401 + t32*t404 - a7*t400;
+    const double t414 = 1.225946*t388 + 0.05034347249*t374 - 0.047121686402*t385;
     const double t415 = t410 + t32*t403 - t31*t398;
     const double t416 = t390 - t400;
     const double t417 = t414 + t26*t415 - t25*t416;
-    const double t418 = -t413 + 0.029474*t385 + 0.011953*t386 - 0.038436999999999999*t414 - 0.002117*t379 - 0.00022900000000000001*t374 + d5*t417;
-    const double t419 = 0.025853000000000001*t373 + 0.0013320000000000001*t3 + 0.104419*t375 - 0.027453999999999999*t378 - 0.007796*t374 + t17*t412 - t16*t418;
+    const double t418 = -t413 + 0.029474*t385 + 0.011953*t386 - 0.038437*t414 - 0.002117*t379 - 0.000229*t374 + d5*t417;
+    const double t419 = 0.025853*t373 + 0.001332*t3 + 0.104419*t375 - 0.027454*t378 - 0.007796*t374 + t17*t412 - t16*t418;
     const double t420 = t16*t417 + t17*t408;
     const double t421 = t375 - t420;
     const double t422 = t371 - t421;
-    const double t423 = 0.00022900000000000001*t385 - 0.0086269999999999993*t374 - 0.0040369999999999998*t379 - 0.041064999999999997*t414 - 0.011953*t383 + t25*t405 + t26*t411;
-    const double t424 = 0.37464440800499998*t3 + 3.5878950000000001*t380 - 0.098502069329999997*t374;
-    const double t425 = t423 + 0.027453999999999999*t424 + 0.053170000000000002*t375 + 0.007796*t373 - 0.019552*t374 - 0.0086409999999999994*t3 + a5*t420;
-    const double t426 = 0.037241999999999997*t5 + 0.066502000000000006*t371 + 0.039252000000000002*t372 - 0.0047609999999999996*t3 + t419*t8 - d3*t422 - t425*t9;
+    const double t423 = 0.000229*t385 - 0.008627*t374 - 0.004037*t379 - 0.041065*t414 - 0.011953*t383 + t25*t405 + t26*t411;
+    const double t424 = 0.374644408005*t3 + 3.587895*t380 - 0.09850206933*t374;
+    const double t425 = t423 + 0.027454*t424 + 0.05317*t375 + 0.007796*t373 - 0.019552*t374 - 0.008641*t3 + a5*t420;
+    const double t426 = 0.037242*t5 + 0.066502*t371 + 0.039252*t372 - 0.004761*t3 + t419*t8 - d3*t422 - t425*t9;
     const double t427 = t386 + t25*t415 + t26*t416;
-    const double t428 = -0.028323000000000001*t3 - 0.0086409999999999994*t374 - 0.0013320000000000001*t373 - 0.104419*t424 - 0.053170000000000002*t378 + a5*t427 - t16*t412 - t17*t418;
-    const double t429 = 3.2286039999999998*t7 - 0.21470862320799999*t3;
+    const double t428 = -0.028323*t3 - 0.008641*t374 - 0.001332*t373 - 0.104419*t424 - 0.05317*t378 + a5*t427 - t16*t412 - t17*t418;
+    const double t429 = 3.228604*t7 - 0.214708623208*t3;
     const double t430 = t424 + t17*t417 - t16*t408;
     const double t431 = t378 + t427;
     const double t432 = t429 + t430*t8 - t431*t9;
-    const double t433 = -t428 + 0.036155*t3 - 0.066502000000000006*t429 - 0.027518000000000001*t372 - 0.0047609999999999996*t5 + d3*t432 - a4*(t430*t9 + t431*t8);
+    const double t433 = -t428 + 0.036155*t3 - 0.066502*t429 - 0.027518*t372 - 0.004761*t5 + d3*t432 - a4*(t430*t9 + t431*t8);
     const double t434 = t433 + t90;
     const double t435 = t426 - t92;
     const double t436 = t2*t435 - t4*t434;
-    const double t437 = 0.027518000000000001*t371 - 0.011396*t5 - 0.012805*t3 - 0.039252000000000002*t429 + t419*t9 + t425*t8 - a4*t421;
+    const double t437 = 0.027518*t371 - 0.011396*t5 - 0.012805*t3 - 0.039252*t429 + t419*t9 + t425*t8 - a4*t421;
     const double t438 = t1*t437 - t0*t436;
-    const double t439 = 0.37464440800499998*t11 - 0.19076837715*t10;
-    const double t440 = 3.5878950000000001*t13 - 0.098502069329999997*t11;
+    const double t439 = 0.374644408005*t11 - 0.19076837715*t10;
+    const double t440 = 3.587895*t13 - 0.09850206933*t11;
     const double t441 = t11*t17;
     const double t442 = t14*t16 - d5*t441 - a5*t10*t17;
-    const double t443 = 1.225946*t442 + 0.047121686401999999*t441 + 0.014653732538*t10;
+    const double t443 = 1.225946*t442 + 0.047121686402*t441 + 0.014653732538*t10;
     const double t444 = t11*t16;
-    const double t445 = 1.225946*t13 + 0.050343472489999999*t441 - 0.014653732538*t444;
+    const double t445 = 1.225946*t13 + 0.05034347249*t441 - 0.014653732538*t444;
     const double t446 = t26*t441 - t10*t25;
     const double t447 = d5*t444 + t14*t17 + a5*t10*t16;
     const double t448 = t13*t26 + t25*t447;
@@ -1729,36 +1814,36 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t454 = t13*t25 - t26*t447;
     const double t455 = -t442 + a7*t450;
     const double t456 = t32*t455 - t31*t454;
-    const double t457 = 0.73552200000000001*t456 + 0.0077354848739999999*t450 - 0.045305948633999997*t452;
+    const double t457 = 0.735522*t456 + 0.007735484874*t450 - 0.045305948634*t452;
     const double t458 = t448 + a7*t444;
-    const double t459 = 0.73552200000000001*t458 + 0.0031274395439999996*t452 + 0.0077354848739999999*t453;
-    const double t460 = 0.012515999999999999*t452 + 0.0042519999999999997*t459 - 0.000428*t453 - 0.001196*t450 - 0.061596999999999999*t457;
+    const double t459 = 0.735522*t458 + 0.0031274395439999996*t452 + 0.007735484874*t453;
+    const double t460 = 0.012516*t452 + 0.004252*t459 - 0.000428*t453 - 0.001196*t450 - 0.061597*t457;
     const double t461 = t31*t455 + t32*t454;
-    const double t462 = 0.73552200000000001*t461 + 0.0031274395439999996*t450 + 0.045305948633999997*t453;
-    const double t463 = 0.061596999999999999*t462 + 0.010026999999999999*t453 + 0.010517*t459 - 0.000428*t452 - 0.00074100000000000001*t450;
-    const double t464 = 0.001964*t446 + 0.010517*t449 - 0.001158*t444 - 0.00010900000000000001*t450 - 0.014116999999999999*t451 + t32*t460 - t31*t463;
+    const double t462 = 0.735522*t461 + 0.0031274395439999996*t450 + 0.045305948634*t453;
+    const double t463 = 0.061597*t462 + 0.010027*t453 + 0.010517*t459 - 0.000428*t452 - 0.000741*t450;
+    const double t464 = 0.001964*t446 + 0.010517*t449 - 0.001158*t444 - 0.000109*t450 - 0.014117*t451 + t32*t460 - t31*t463;
     const double t465 = t31*t462 + t32*t457;
     const double t466 = t451 + t465;
     const double t467 = t443 - t466;
-    const double t468 = 0.0048149999999999998*t450 + 0.0042519999999999997*t462 + 0.010517*t457 - 0.001196*t452 - 0.00074100000000000001*t453;
+    const double t468 = 0.004815*t450 + 0.004252*t462 + 0.010517*t457 - 0.001196*t452 - 0.000741*t453;
     const double t469 = 0.017527158935000002*t450 + 0.023526756935*t444 + 1.666555*t454;
-    const double t470 = -t468 + 0.00034099999999999999*t444 + 0.00010900000000000001*t446 - 0.0043540000000000002*t450 - 0.010517*t469 - 0.060149000000000001*t451 - a7*t465;
-    const double t471 = 0.035548999999999997*t441 + 0.038436999999999999*t443 + 0.002117*t444 + 0.0040369999999999998*t10 + 0.041064999999999997*t445 + t26*t464 - d5*t467 - t25*t470;
-    const double t472 = 0.0054330000000000003*t444 + 0.014116999999999999*t469 + 0.060149000000000001*t449 - 0.001158*t446 - 0.00034099999999999999*t450 + a7*t459 + t31*t460 + t32*t463;
-    const double t473 = 0.047121686401999999*t444 + 0.050343472489999999*t10 - 1.225946*t447;
+    const double t470 = -t468 + 0.000341*t444 + 0.000109*t446 - 0.004354*t450 - 0.010517*t469 - 0.060149*t451 - a7*t465;
+    const double t471 = 0.035549*t441 + 0.038437*t443 + 0.002117*t444 + 0.004037*t10 + 0.041065*t445 + t26*t464 - d5*t467 - t25*t470;
+    const double t472 = 0.005433*t444 + 0.014117*t469 + 0.060149*t449 - 0.001158*t446 - 0.000341*t450 + a7*t459 + t31*t460 + t32*t463;
+    const double t473 = 0.047121686402*t444 + 0.05034347249*t10 - 1.225946*t447;
     const double t474 = t469 + t32*t462 - t31*t457;
     const double t475 = t449 + t459;
     const double t476 = t473 + t26*t474 - t25*t475;
-    const double t477 = -t472 + 0.011953*t445 - 0.029474*t444 - 0.038436999999999999*t473 - 0.002117*t441 - 0.00022900000000000001*t10 + d5*t476;
-    const double t478 = 0.025853000000000001*t11 + 0.104419*t439 - 0.027453999999999999*t440 - 0.007796*t10 + t17*t471 - t16*t477;
+    const double t477 = -t472 + 0.011953*t445 - 0.029474*t444 - 0.038437*t473 - 0.002117*t441 - 0.000229*t10 + d5*t476;
+    const double t478 = 0.025853*t11 + 0.104419*t439 - 0.027454*t440 - 0.007796*t10 + t17*t471 - t16*t477;
     const double t479 = t16*t476 + t17*t467;
     const double t480 = t439 - t479;
-    const double t481 = -0.0086269999999999993*t10 - 0.0040369999999999998*t441 - 0.041064999999999997*t473 - 0.011953*t443 - 0.00022900000000000001*t444 + t25*t464 + t26*t470;
-    const double t482 = 0.098502069329999997*t10 + 3.5878950000000001*t14;
-    const double t483 = t481 + 0.053170000000000002*t439 + 0.007796*t11 - 0.019552*t10 - 0.027453999999999999*t482 + a5*t479;
+    const double t481 = -0.008627*t10 - 0.004037*t441 - 0.041065*t473 - 0.011953*t443 - 0.000229*t444 + t25*t464 + t26*t470;
+    const double t482 = 0.09850206933*t10 + 3.587895*t14;
+    const double t483 = t481 + 0.05317*t439 + 0.007796*t11 - 0.019552*t10 - 0.027454*t482 + a5*t479;
     const double t484 = -t93 - t94 + d3*t480 + t478*t8 - t483*t9;
     const double t485 = t445 + t25*t474 + t26*t475;
-    const double t486 = 0.104419*t482 - 0.0086409999999999994*t10 - 0.0013320000000000001*t11 - 0.053170000000000002*t440 + a5*t485 - t16*t471 - t17*t477;
+    const double t486 = 0.104419*t482 - 0.008641*t10 - 0.001332*t11 - 0.05317*t440 + a5*t485 - t16*t471 - t17*t477;
     const double t487 = -t482 + t17*t476 - t16*t467;
     const double t488 = t440 + t485;
     const double t489 = -t91 + t487*t8 - t488*t9;
@@ -1767,8 +1852,8 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t492 = t483 + t79;
     const double t493 = -t89 + t478*t9 + t492*t8 - a4*t480;
     const double t494 = t1*t493 - t0*t491;
-    const double t495 = 0.047121686401999999*t19 - 1.225946*t21;
-    const double t496 = 0.050343472489999999*t19 - 0.014653732538*t18;
+    const double t495 = 0.047121686402*t19 - 1.225946*t21;
+    const double t496 = 0.05034347249*t19 - 0.014653732538*t18;
     const double t497 = t19*t26;
     const double t498 = t23*t25;
     const double t499 = 0.017527158935000002*t497 + 0.10024161669500001*t18 - 1.666555*t498;
@@ -1779,30 +1864,30 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t504 = t23*t26;
     const double t505 = t21 + a7*t500;
     const double t506 = t32*t505 - t31*t504;
-    const double t507 = 0.73552200000000001*t506 + 0.0077354848739999999*t500 - 0.045305948633999997*t502;
+    const double t507 = 0.735522*t506 + 0.007735484874*t500 - 0.045305948634*t502;
     const double t508 = t498 - a7*t18;
-    const double t509 = 0.73552200000000001*t508 - 0.0031274395439999996*t502 - 0.0077354848739999999*t503;
-    const double t510 = 0.012515999999999999*t502 - 0.000428*t503 - 0.001196*t500 - 0.061596999999999999*t507 - 0.0042519999999999997*t509;
+    const double t509 = 0.735522*t508 - 0.0031274395439999996*t502 - 0.007735484874*t503;
+    const double t510 = 0.012516*t502 - 0.000428*t503 - 0.001196*t500 - 0.061597*t507 - 0.004252*t509;
     const double t511 = t31*t505 + t32*t504;
-    const double t512 = 0.73552200000000001*t511 + 0.0031274395439999996*t500 + 0.045305948633999997*t503;
-    const double t513 = 0.061596999999999999*t512 + 0.010026999999999999*t503 - 0.000428*t502 - 0.010517*t509 - 0.00074100000000000001*t500;
-    const double t514 = 0.001964*t497 + 0.010517*t499 - 0.001158*t18 - 0.00010900000000000001*t500 - 0.014116999999999999*t501 + t32*t510 - t31*t513;
+    const double t512 = 0.735522*t511 + 0.0031274395439999996*t500 + 0.045305948634*t503;
+    const double t513 = 0.061597*t512 + 0.010027*t503 - 0.000428*t502 - 0.010517*t509 - 0.000741*t500;
+    const double t514 = 0.001964*t497 + 0.010517*t499 - 0.001158*t18 - 0.000109*t500 - 0.014117*t501 + t32*t510 - t31*t513;
     const double t515 = t31*t512 + t32*t507;
     const double t516 = t501 + t515;
     const double t517 = t495 - t516;
-    const double t518 = 0.0048149999999999998*t500 + 0.0042519999999999997*t512 + 0.010517*t507 - 0.001196*t502 - 0.00074100000000000001*t503;
+    const double t518 = 0.004815*t500 + 0.004252*t512 + 0.010517*t507 - 0.001196*t502 - 0.000741*t503;
     const double t519 = 0.017527158935000002*t500 + 0.023526756935*t18 + 1.666555*t504;
-    const double t520 = -t518 + 0.00034099999999999999*t18 + 0.00010900000000000001*t497 - 0.0043540000000000002*t500 - 0.010517*t519 - 0.060149000000000001*t501 - a7*t515;
-    const double t521 = 0.035548999999999997*t19 + 0.038436999999999999*t495 + 0.002117*t18 + 0.041064999999999997*t496 + t26*t514 - d5*t517 - t25*t520;
-    const double t522 = 0.0054330000000000003*t18 + 0.014116999999999999*t519 + 0.060149000000000001*t499 - 0.001158*t497 - 0.00034099999999999999*t500 + t31*t510 + t32*t513 - a7*t509;
-    const double t523 = 1.225946*t23 + 0.047121686401999999*t18;
+    const double t520 = -t518 + 0.000341*t18 + 0.000109*t497 - 0.004354*t500 - 0.010517*t519 - 0.060149*t501 - a7*t515;
+    const double t521 = 0.035549*t19 + 0.038437*t495 + 0.002117*t18 + 0.041065*t496 + t26*t514 - d5*t517 - t25*t520;
+    const double t522 = 0.005433*t18 + 0.014117*t519 + 0.060149*t499 - 0.001158*t497 - 0.000341*t500 + t31*t510 + t32*t513 - a7*t509;
+    const double t523 = 1.225946*t23 + 0.047121686402*t18;
     const double t524 = t519 + t32*t512 - t31*t507;
     const double t525 = t499 - t509;
     const double t526 = t523 + t26*t524 - t25*t525;
-    const double t527 = -t522 + 0.011953*t496 - 0.029474*t18 - 0.038436999999999999*t523 - 0.002117*t19 + d5*t526;
+    const double t527 = -t522 + 0.011953*t496 - 0.029474*t18 - 0.038437*t523 - 0.002117*t19 + d5*t526;
     const double t528 = -t81 + t17*t521 - t16*t527;
     const double t529 = t73 + t16*t526 + t17*t517;
-    const double t530 = -0.0040369999999999998*t19 - 0.041064999999999997*t523 - 0.011953*t495 - 0.00022900000000000001*t18 + t25*t514 + t26*t520;
+    const double t530 = -0.004037*t19 - 0.041065*t523 - 0.011953*t495 - 0.000229*t18 + t25*t514 + t26*t520;
     const double t531 = t530 + a5*t529;
     const double t532 = t528*t8 - d3*t529 - t531*t9;
     const double t533 = t496 + t25*t524 + t26*t525;
@@ -1819,20 +1904,20 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t544 = t28*t31;
     const double t545 = a7*t27;
     const double t546 = t30*t31 + t32*t545;
-    const double t547 = 0.73552200000000001*t546 + 0.0077354848739999999*t27 - 0.045305948633999997*t543;
-    const double t548 = 0.73552200000000001*t29 + 0.0077354848739999999*t544 - 0.0031274395439999996*t543;
-    const double t549 = 0.012515999999999999*t543 + 0.000428*t544 - 0.001196*t27 - 0.061596999999999999*t547 - 0.0042519999999999997*t548;
+    const double t547 = 0.735522*t546 + 0.007735484874*t27 - 0.045305948634*t543;
+    const double t548 = 0.735522*t29 + 0.007735484874*t544 - 0.0031274395439999996*t543;
+    const double t549 = 0.012516*t543 + 0.000428*t544 - 0.001196*t27 - 0.061597*t547 - 0.004252*t548;
     const double t550 = t31*t545 - t30*t32;
-    const double t551 = 0.73552200000000001*t550 + 0.0031274395439999996*t27 - 0.045305948633999997*t544;
-    const double t552 = 0.061596999999999999*t551 - 0.000428*t543 - 0.010026999999999999*t544 - 0.010517*t548 - 0.00074100000000000001*t27;
-    const double t553 = 0.001964*t28 + 0.010517*t541 - 0.00010900000000000001*t27 - 0.014116999999999999*t542 + t32*t549 - t31*t552;
+    const double t551 = 0.735522*t550 + 0.0031274395439999996*t27 - 0.045305948634*t544;
+    const double t552 = 0.061597*t551 - 0.000428*t543 - 0.010027*t544 - 0.010517*t548 - 0.000741*t27;
+    const double t553 = 0.001964*t28 + 0.010517*t541 - 0.000109*t27 - 0.014117*t542 + t32*t549 - t31*t552;
     const double t554 = t31*t551 + t32*t547;
     const double t555 = t542 + t554;
-    const double t556 = 0.0048149999999999998*t27 + 0.0042519999999999997*t551 + 0.010517*t547 + 0.00074100000000000001*t544 - 0.001196*t543;
+    const double t556 = 0.004815*t27 + 0.004252*t551 + 0.010517*t547 + 0.000741*t544 - 0.001196*t543;
     const double t557 = 0.017527158935000002*t27 - 1.666555*t30;
-    const double t558 = -t556 + 0.00010900000000000001*t28 - 0.0043540000000000002*t27 - 0.010517*t557 - 0.060149000000000001*t542 - a7*t554;
+    const double t558 = -t556 + 0.000109*t28 - 0.004354*t27 - 0.010517*t557 - 0.060149*t542 - a7*t554;
     const double t559 = -t69 + d5*t555 + t26*t553 - t25*t558;
-    const double t560 = 0.014116999999999999*t557 + 0.060149000000000001*t541 - 0.001158*t28 - 0.00034099999999999999*t27 + t31*t549 + t32*t552 - a7*t548;
+    const double t560 = 0.014117*t557 + 0.060149*t541 - 0.001158*t28 - 0.000341*t27 + t31*t549 + t32*t552 - a7*t548;
     const double t561 = t557 + t32*t551 - t31*t547;
     const double t562 = t541 - t548;
     const double t563 = -t64 + t26*t561 - t25*t562;
@@ -1851,14 +1936,14 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t576 = t2*t570 - t4*t575;
     const double t577 = t565*t9 + t569*t8 - a4*t566;
     const double t578 = t1*t577 - t0*t576;
-    const double t579 = 0.045305948633999997*t34 - 0.73552200000000001*t36;
-    const double t580 = 0.0031274395439999996*t34 - 0.0077354848739999999*t33;
-    const double t581 = 0.012515999999999999*t34 + 0.000428*t33 + 0.061596999999999999*t579 + 0.0042519999999999997*t580;
-    const double t582 = 0.045305948633999997*t33 - 0.73552200000000001*t37;
-    const double t583 = 0.000428*t34 + 0.061596999999999999*t582 + 0.010026999999999999*t33 - 0.010517*t580;
+    const double t579 = 0.045305948634*t34 - 0.735522*t36;
+    const double t580 = 0.0031274395439999996*t34 - 0.007735484874*t33;
+    const double t581 = 0.012516*t34 + 0.000428*t33 + 0.061597*t579 + 0.004252*t580;
+    const double t582 = 0.045305948634*t33 - 0.735522*t37;
+    const double t583 = 0.000428*t34 + 0.061597*t582 + 0.010027*t33 - 0.010517*t580;
     const double t584 = t56 + t31*t583 + t32*t581;
     const double t585 = t48 + t31*t582 + t32*t579;
-    const double t586 = 0.001196*t34 + 0.0042519999999999997*t582 + 0.010517*t579 - 0.00074100000000000001*t33;
+    const double t586 = 0.001196*t34 + 0.004252*t582 + 0.010517*t579 - 0.000741*t33;
     const double t587 = t586 + a7*t585;
     const double t588 = d5*t585 + t25*t587 - t26*t584;
     const double t589 = t53 + t32*t583 - a7*t580 - t31*t581;
@@ -1878,27 +1963,27 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t603 = t2*t597 - t4*t602;
     const double t604 = t593*t9 - a4*t594 - t596*t8;
     const double t605 = t1*t604 - t0*t603;
-    const double t606 = 0.00070399999999999998*t0 + 0.028719999999999999*t97 - 0.010253999999999999*t1 - 0.0031410000000000001*t96 + t2*t364 + t357*t4;
+    const double t606 = 0.000704*t0 + 0.02872*t97 - 0.010254*t1 - 0.003141*t96 + t2*t364 + t357*t4;
     const double t607 = -t99 + t2*t434 + t4*t426;
     const double t608 = t2*t490 + t4*t484;
     const double t609 = t2*t537 + t4*t532;
     const double t610 = t2*t575 + t4*t570;
     const double t611 = t2*t602 + t4*t597;
-    const double t612 = 0.12672916420800001*t2 + 0.088844724872*t4;
+    const double t612 = 0.126729164208*t2 + 0.088844724872*t4;
     const double t613 = t2*t8;
     const double t614 = t2*t9;
-    const double t615 = 0.37464440800499998*t613 + 3.5878950000000001*t103 - 0.19076837715*t614;
+    const double t615 = 0.374644408005*t613 + 3.587895*t103 - 0.19076837715*t614;
     const double t616 = a4*t4;
     const double t617 = t104*t9 + t616*t8;
-    const double t618 = 3.5878950000000001*t617 - 0.098502069329999997*t613 - 0.19076837715*t4;
+    const double t618 = 3.587895*t617 - 0.09850206933*t613 - 0.19076837715*t4;
     const double t619 = t17*t613 - t16*t4;
     const double t620 = t616*t9 - t104*t8;
     const double t621 = t103 + a5*t614;
     const double t622 = d5*t619 + t16*t620 + t17*t621;
-    const double t623 = 0.047121686401999999*t619 + 0.014653732538*t614 - 1.225946*t622;
+    const double t623 = 0.047121686402*t619 + 0.014653732538*t614 - 1.225946*t622;
     const double t624 = t617 + a5*t4;
     const double t625 = t16*t613 + t17*t4;
-    const double t626 = 1.225946*t624 + 0.050343472489999999*t619 - 0.014653732538*t625;
+    const double t626 = 1.225946*t624 + 0.05034347249*t619 - 0.014653732538*t625;
     const double t627 = t26*t619 - t25*t614;
     const double t628 = t17*t620 - d5*t625 - t16*t621;
     const double t629 = t26*t624 - t25*t628;
@@ -1910,51 +1995,51 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t635 = t25*t624 + t26*t628;
     const double t636 = t622 + a7*t631;
     const double t637 = t32*t636 - t31*t635;
-    const double t638 = 0.73552200000000001*t637 + 0.0077354848739999999*t631 - 0.045305948633999997*t633;
+    const double t638 = 0.735522*t637 + 0.007735484874*t631 - 0.045305948634*t633;
     const double t639 = t629 + a7*t625;
-    const double t640 = 0.73552200000000001*t639 + 0.0031274395439999996*t633 + 0.0077354848739999999*t634;
-    const double t641 = 0.012515999999999999*t633 + 0.0042519999999999997*t640 - 0.000428*t634 - 0.001196*t631 - 0.061596999999999999*t638;
+    const double t640 = 0.735522*t639 + 0.0031274395439999996*t633 + 0.007735484874*t634;
+    const double t641 = 0.012516*t633 + 0.004252*t640 - 0.000428*t634 - 0.001196*t631 - 0.061597*t638;
     const double t642 = t31*t636 + t32*t635;
-    const double t643 = 0.73552200000000001*t642 + 0.0031274395439999996*t631 + 0.045305948633999997*t634;
-    const double t644 = 0.061596999999999999*t643 + 0.010026999999999999*t634 + 0.010517*t640 - 0.000428*t633 - 0.00074100000000000001*t631;
-    const double t645 = 0.001964*t627 + 0.010517*t630 - 0.001158*t625 - 0.00010900000000000001*t631 - 0.014116999999999999*t632 + t32*t641 - t31*t644;
+    const double t643 = 0.735522*t642 + 0.0031274395439999996*t631 + 0.045305948634*t634;
+    const double t644 = 0.061597*t643 + 0.010027*t634 + 0.010517*t640 - 0.000428*t633 - 0.000741*t631;
+    const double t645 = 0.001964*t627 + 0.010517*t630 - 0.001158*t625 - 0.000109*t631 - 0.014117*t632 + t32*t641 - t31*t644;
     const double t646 = t31*t643 + t32*t638;
     const double t647 = t632 + t646;
     const double t648 = t623 - t647;
-    const double t649 = 0.0048149999999999998*t631 + 0.0042519999999999997*t643 + 0.010517*t638 - 0.001196*t633 - 0.00074100000000000001*t634;
+    const double t649 = 0.004815*t631 + 0.004252*t643 + 0.010517*t638 - 0.001196*t633 - 0.000741*t634;
     const double t650 = 0.017527158935000002*t631 + 0.023526756935*t625 + 1.666555*t635;
-    const double t651 = -t649 + 0.00034099999999999999*t625 + 0.00010900000000000001*t627 - 0.0043540000000000002*t631 - 0.010517*t650 - 0.060149000000000001*t632 - a7*t646;
-    const double t652 = 0.035548999999999997*t619 + 0.038436999999999999*t623 + 0.002117*t625 + 0.0040369999999999998*t614 + 0.041064999999999997*t626 + t26*t645 - d5*t648 - t25*t651;
-    const double t653 = 0.0054330000000000003*t625 + 0.014116999999999999*t650 + 0.060149000000000001*t630 - 0.001158*t627 - 0.00034099999999999999*t631 + a7*t640 + t31*t641 + t32*t644;
-    const double t654 = 1.225946*t628 + 0.047121686401999999*t625 + 0.050343472489999999*t614;
+    const double t651 = -t649 + 0.000341*t625 + 0.000109*t627 - 0.004354*t631 - 0.010517*t650 - 0.060149*t632 - a7*t646;
+    const double t652 = 0.035549*t619 + 0.038437*t623 + 0.002117*t625 + 0.004037*t614 + 0.041065*t626 + t26*t645 - d5*t648 - t25*t651;
+    const double t653 = 0.005433*t625 + 0.014117*t650 + 0.060149*t630 - 0.001158*t627 - 0.000341*t631 + a7*t640 + t31*t641 + t32*t644;
+    const double t654 = 1.225946*t628 + 0.047121686402*t625 + 0.05034347249*t614;
     const double t655 = t650 + t32*t643 - t31*t638;
     const double t656 = t630 + t640;
     const double t657 = t654 + t26*t655 - t25*t656;
-    const double t658 = -t653 + 0.011953*t626 - 0.029474*t625 - 0.038436999999999999*t654 - 0.002117*t619 - 0.00022900000000000001*t614 + d5*t657;
-    const double t659 = 0.025853000000000001*t613 + 0.104419*t615 - 0.027453999999999999*t618 - 0.0013320000000000001*t4 - 0.007796*t614 + t17*t652 - t16*t658;
+    const double t658 = -t653 + 0.011953*t626 - 0.029474*t625 - 0.038437*t654 - 0.002117*t619 - 0.000229*t614 + d5*t657;
+    const double t659 = 0.025853*t613 + 0.104419*t615 - 0.027454*t618 - 0.001332*t4 - 0.007796*t614 + t17*t652 - t16*t658;
     const double t660 = t16*t657 + t17*t648;
     const double t661 = t615 - t660;
     const double t662 = t171 + t661;
-    const double t663 = -0.0086269999999999993*t614 - 0.0040369999999999998*t619 - 0.041064999999999997*t654 - 0.011953*t623 - 0.00022900000000000001*t625 + t25*t645 + t26*t651;
-    const double t664 = 3.5878950000000001*t620 - 0.37464440800499998*t4 - 0.098502069329999997*t614;
-    const double t665 = t663 + 0.0086409999999999994*t4 + 0.027453999999999999*t664 + 0.053170000000000002*t615 + 0.007796*t613 - 0.019552*t614 + a5*t660;
-    const double t666 = 0.037241999999999997*t2 + 0.0047609999999999996*t4 + 0.039252000000000002*t612 - 0.066502000000000006*t171 + d3*t662 + t659*t8 - t665*t9;
+    const double t663 = -0.008627*t614 - 0.004037*t619 - 0.041065*t654 - 0.011953*t623 - 0.000229*t625 + t25*t645 + t26*t651;
+    const double t664 = 3.587895*t620 - 0.374644408005*t4 - 0.09850206933*t614;
+    const double t665 = t663 + 0.008641*t4 + 0.027454*t664 + 0.05317*t615 + 0.007796*t613 - 0.019552*t614 + a5*t660;
+    const double t666 = 0.037242*t2 + 0.004761*t4 + 0.039252*t612 - 0.066502*t171 + d3*t662 + t659*t8 - t665*t9;
     const double t667 = t626 + t25*t655 + t26*t656;
-    const double t668 = 0.028323000000000001*t4 - 0.0086409999999999994*t614 - 0.0013320000000000001*t613 - 0.104419*t664 - 0.053170000000000002*t618 + a5*t667 - t16*t652 - t17*t658;
+    const double t668 = 0.028323*t4 - 0.008641*t614 - 0.001332*t613 - 0.104419*t664 - 0.05317*t618 + a5*t667 - t16*t652 - t17*t658;
     const double t669 = t664 + t17*t657 - t16*t648;
     const double t670 = t618 + t667;
     const double t671 = t172 + t669*t8 - t670*t9;
-    const double t672 = -t668 - 0.066502000000000006*t172 - 0.027518000000000001*t612 - 0.0047609999999999996*t2 - 0.036155*t4 + d3*t671 - a4*(t669*t9 + t670*t8);
+    const double t672 = -t668 - 0.066502*t172 - 0.027518*t612 - 0.004761*t2 - 0.036155*t4 + d3*t671 - a4*(t669*t9 + t670*t8);
     const double t673 = t666 - t180;
     const double t674 = t178 + t672;
     const double t675 = t2*t674 + t4*t673;
-    const double t676 = 0.37464440800499998*t106 + 0.19076837715*t105;
-    const double t677 = 0.098502069329999997*t106 + 3.5878950000000001*t108;
+    const double t676 = 0.374644408005*t106 + 0.19076837715*t105;
+    const double t677 = 0.09850206933*t106 + 3.587895*t108;
     const double t678 = t106*t17;
     const double t679 = d5*t678 + t109*t16 - a5*t105*t17;
-    const double t680 = 1.225946*t679 + 0.014653732538*t105 - 0.047121686401999999*t678;
+    const double t680 = 1.225946*t679 + 0.014653732538*t105 - 0.047121686402*t678;
     const double t681 = t106*t16;
-    const double t682 = 1.225946*t108 + 0.014653732538*t681 - 0.050343472489999999*t678;
+    const double t682 = 1.225946*t108 + 0.014653732538*t681 - 0.05034347249*t678;
     const double t683 = t105*t25 + t26*t678;
     const double t684 = d5*t681 - t109*t17 - a5*t105*t16;
     const double t685 = t108*t26 - t25*t684;
@@ -1966,45 +2051,45 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t691 = t108*t25 + t26*t684;
     const double t692 = t679 + a7*t687;
     const double t693 = t31*t691 + t32*t692;
-    const double t694 = 0.045305948633999997*t689 - 0.73552200000000001*t693 - 0.0077354848739999999*t687;
+    const double t694 = 0.045305948634*t689 - 0.735522*t693 - 0.007735484874*t687;
     const double t695 = -t685 + a7*t681;
-    const double t696 = 0.73552200000000001*t695 + 0.0031274395439999996*t689 - 0.0077354848739999999*t690;
-    const double t697 = 0.001196*t687 - 0.012515999999999999*t689 - 0.000428*t690 - 0.061596999999999999*t694 - 0.0042519999999999997*t696;
+    const double t696 = 0.735522*t695 + 0.0031274395439999996*t689 - 0.007735484874*t690;
+    const double t697 = 0.001196*t687 - 0.012516*t689 - 0.000428*t690 - 0.061597*t694 - 0.004252*t696;
     const double t698 = t32*t691 - t31*t692;
-    const double t699 = 0.73552200000000001*t698 + 0.045305948633999997*t690 - 0.0031274395439999996*t687;
-    const double t700 = 0.000428*t689 + 0.061596999999999999*t699 + 0.010026999999999999*t690 + 0.00074100000000000001*t687 - 0.010517*t696;
-    const double t701 = 0.001158*t681 + 0.010517*t686 + 0.00010900000000000001*t687 - 0.001964*t683 - 0.014116999999999999*t688 + t32*t697 - t31*t700;
+    const double t699 = 0.735522*t698 + 0.045305948634*t690 - 0.0031274395439999996*t687;
+    const double t700 = 0.000428*t689 + 0.061597*t699 + 0.010027*t690 + 0.000741*t687 - 0.010517*t696;
+    const double t701 = 0.001158*t681 + 0.010517*t686 + 0.000109*t687 - 0.001964*t683 - 0.014117*t688 + t32*t697 - t31*t700;
     const double t702 = t31*t699 + t32*t694;
     const double t703 = t688 + t702;
     const double t704 = t680 - t703;
-    const double t705 = 0.001196*t689 + 0.0042519999999999997*t699 + 0.010517*t694 - 0.0048149999999999998*t687 - 0.00074100000000000001*t690;
+    const double t705 = 0.001196*t689 + 0.004252*t699 + 0.010517*t694 - 0.004815*t687 - 0.000741*t690;
     const double t706 = 1.666555*t691 - 0.017527158935000002*t687 - 0.023526756935*t681;
-    const double t707 = -t705 + 0.0043540000000000002*t687 - 0.010517*t706 - 0.00034099999999999999*t681 - 0.00010900000000000001*t683 - 0.060149000000000001*t688 - a7*t702;
-    const double t708 = 0.038436999999999999*t680 + 0.0040369999999999998*t105 + 0.041064999999999997*t682 - 0.035548999999999997*t678 - 0.002117*t681 + t26*t701 - d5*t704 - t25*t707;
-    const double t709 = 0.001158*t683 + 0.00034099999999999999*t687 + 0.014116999999999999*t706 + 0.060149000000000001*t686 - 0.0054330000000000003*t681 + t31*t697 + t32*t700 - a7*t696;
-    const double t710 = 1.225946*t684 + 0.050343472489999999*t105 - 0.047121686401999999*t681;
+    const double t707 = -t705 + 0.004354*t687 - 0.010517*t706 - 0.000341*t681 - 0.000109*t683 - 0.060149*t688 - a7*t702;
+    const double t708 = 0.038437*t680 + 0.004037*t105 + 0.041065*t682 - 0.035549*t678 - 0.002117*t681 + t26*t701 - d5*t704 - t25*t707;
+    const double t709 = 0.001158*t683 + 0.000341*t687 + 0.014117*t706 + 0.060149*t686 - 0.005433*t681 + t31*t697 + t32*t700 - a7*t696;
+    const double t710 = 1.225946*t684 + 0.05034347249*t105 - 0.047121686402*t681;
     const double t711 = t706 + t32*t699 - t31*t694;
     const double t712 = t686 - t696;
     const double t713 = t710 + t26*t711 - t25*t712;
-    const double t714 = -t709 + 0.029474*t681 + 0.002117*t678 + 0.011953*t682 - 0.038436999999999999*t710 - 0.00022900000000000001*t105 + d5*t713;
-    const double t715 = -0.025853000000000001*t106 - 0.027453999999999999*t677 - 0.104419*t676 - 0.007796*t105 + t17*t708 - t16*t714;
+    const double t714 = -t709 + 0.029474*t681 + 0.002117*t678 + 0.011953*t682 - 0.038437*t710 - 0.000229*t105 + d5*t713;
+    const double t715 = -0.025853*t106 - 0.027454*t677 - 0.104419*t676 - 0.007796*t105 + t17*t708 - t16*t714;
     const double t716 = t16*t713 + t17*t704;
     const double t717 = t676 + t716;
-    const double t718 = 0.0040369999999999998*t678 + 0.00022900000000000001*t681 - 0.0086269999999999993*t105 - 0.041064999999999997*t710 - 0.011953*t680 + t25*t701 + t26*t707;
-    const double t719 = 0.098502069329999997*t105 + 3.5878950000000001*t109;
-    const double t720 = t718 - 0.019552*t105 - 0.027453999999999999*t719 - 0.053170000000000002*t676 - 0.007796*t106 + a5*t716;
+    const double t718 = 0.004037*t678 + 0.000229*t681 - 0.008627*t105 - 0.041065*t710 - 0.011953*t680 + t25*t701 + t26*t707;
+    const double t719 = 0.09850206933*t105 + 3.587895*t109;
+    const double t720 = t718 - 0.019552*t105 - 0.027454*t719 - 0.05317*t676 - 0.007796*t106 + a5*t716;
     const double t721 = t167 + t720;
     const double t722 = t715 - t168;
     const double t723 = t722*t8 - d3*t717 - t721*t9;
     const double t724 = t682 + t25*t711 + t26*t712;
-    const double t725 = 0.0013320000000000001*t106 + 0.104419*t719 - 0.0086409999999999994*t105 - 0.053170000000000002*t677 + a5*t724 - t16*t708 - t17*t714;
+    const double t725 = 0.001332*t106 + 0.104419*t719 - 0.008641*t105 - 0.05317*t677 + a5*t724 - t16*t708 - t17*t714;
     const double t726 = -t719 + t17*t713 - t16*t704;
     const double t727 = t677 + t724;
     const double t728 = -t179 + t726*t8 - t727*t9;
     const double t729 = -t725 + d3*t728 - a4*(t174 + t726*t9 + t727*t8);
     const double t730 = t2*t729 + t4*t723;
-    const double t731 = 0.047121686401999999*t111 - 1.225946*t113;
-    const double t732 = 0.050343472489999999*t111 - 0.014653732538*t110;
+    const double t731 = 0.047121686402*t111 - 1.225946*t113;
+    const double t732 = 0.05034347249*t111 - 0.014653732538*t110;
     const double t733 = t111*t26;
     const double t734 = t115*t25;
     const double t735 = 0.017527158935000002*t733 + 0.10024161669500001*t110 + 1.666555*t734;
@@ -2015,30 +2100,30 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t740 = t115*t26;
     const double t741 = t113 + a7*t736;
     const double t742 = t31*t740 + t32*t741;
-    const double t743 = 0.73552200000000001*t742 + 0.0077354848739999999*t736 - 0.045305948633999997*t738;
+    const double t743 = 0.735522*t742 + 0.007735484874*t736 - 0.045305948634*t738;
     const double t744 = t734 + a7*t110;
-    const double t745 = 0.73552200000000001*t744 + 0.0031274395439999996*t738 + 0.0077354848739999999*t739;
-    const double t746 = 0.012515999999999999*t738 + 0.0042519999999999997*t745 - 0.000428*t739 - 0.001196*t736 - 0.061596999999999999*t743;
+    const double t745 = 0.735522*t744 + 0.0031274395439999996*t738 + 0.007735484874*t739;
+    const double t746 = 0.012516*t738 + 0.004252*t745 - 0.000428*t739 - 0.001196*t736 - 0.061597*t743;
     const double t747 = t31*t741 - t32*t740;
-    const double t748 = 0.73552200000000001*t747 + 0.0031274395439999996*t736 + 0.045305948633999997*t739;
-    const double t749 = 0.061596999999999999*t748 + 0.010026999999999999*t739 + 0.010517*t745 - 0.000428*t738 - 0.00074100000000000001*t736;
-    const double t750 = 0.001964*t733 + 0.010517*t735 - 0.001158*t110 - 0.00010900000000000001*t736 - 0.014116999999999999*t737 + t32*t746 - t31*t749;
+    const double t748 = 0.735522*t747 + 0.0031274395439999996*t736 + 0.045305948634*t739;
+    const double t749 = 0.061597*t748 + 0.010027*t739 + 0.010517*t745 - 0.000428*t738 - 0.000741*t736;
+    const double t750 = 0.001964*t733 + 0.010517*t735 - 0.001158*t110 - 0.000109*t736 - 0.014117*t737 + t32*t746 - t31*t749;
     const double t751 = t31*t748 + t32*t743;
     const double t752 = t737 + t751;
     const double t753 = t731 - t752;
-    const double t754 = 0.0048149999999999998*t736 + 0.0042519999999999997*t748 + 0.010517*t743 - 0.001196*t738 - 0.00074100000000000001*t739;
+    const double t754 = 0.004815*t736 + 0.004252*t748 + 0.010517*t743 - 0.001196*t738 - 0.000741*t739;
     const double t755 = 0.017527158935000002*t736 + 0.023526756935*t110 - 1.666555*t740;
-    const double t756 = -t754 + 0.00034099999999999999*t110 + 0.00010900000000000001*t733 - 0.0043540000000000002*t736 - 0.010517*t755 - 0.060149000000000001*t737 - a7*t751;
-    const double t757 = 0.035548999999999997*t111 + 0.038436999999999999*t731 + 0.002117*t110 + 0.041064999999999997*t732 + t26*t750 - d5*t753 - t25*t756;
-    const double t758 = 0.0054330000000000003*t110 + 0.014116999999999999*t755 + 0.060149000000000001*t735 - 0.001158*t733 - 0.00034099999999999999*t736 + a7*t745 + t31*t746 + t32*t749;
-    const double t759 = 0.047121686401999999*t110 - 1.225946*t115;
+    const double t756 = -t754 + 0.000341*t110 + 0.000109*t733 - 0.004354*t736 - 0.010517*t755 - 0.060149*t737 - a7*t751;
+    const double t757 = 0.035549*t111 + 0.038437*t731 + 0.002117*t110 + 0.041065*t732 + t26*t750 - d5*t753 - t25*t756;
+    const double t758 = 0.005433*t110 + 0.014117*t755 + 0.060149*t735 - 0.001158*t733 - 0.000341*t736 + a7*t745 + t31*t746 + t32*t749;
+    const double t759 = 0.047121686402*t110 - 1.225946*t115;
     const double t760 = t755 + t32*t748 - t31*t743;
     const double t761 = t735 + t745;
     const double t762 = t759 + t26*t760 - t25*t761;
-    const double t763 = -t758 + 0.011953*t732 - 0.029474*t110 - 0.038436999999999999*t759 - 0.002117*t111 + d5*t762;
+    const double t763 = -t758 + 0.011953*t732 - 0.029474*t110 - 0.038437*t759 - 0.002117*t111 + d5*t762;
     const double t764 = -t169 + t17*t757 - t16*t763;
     const double t765 = t161 + t16*t762 + t17*t753;
-    const double t766 = -0.0040369999999999998*t111 - 0.041064999999999997*t759 - 0.011953*t731 - 0.00022900000000000001*t110 + t25*t750 + t26*t756;
+    const double t766 = -0.004037*t111 - 0.041065*t759 - 0.011953*t731 - 0.000229*t110 + t25*t750 + t26*t756;
     const double t767 = t766 + a5*t765;
     const double t768 = t764*t8 - d3*t765 - t767*t9;
     const double t769 = t732 + t25*t760 + t26*t761;
@@ -2053,20 +2138,20 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t778 = t118*t31;
     const double t779 = a7*t117;
     const double t780 = t120*t31 + t32*t779;
-    const double t781 = 0.73552200000000001*t780 + 0.0077354848739999999*t117 + 0.045305948633999997*t777;
-    const double t782 = 0.73552200000000001*t119 + 0.0031274395439999996*t777 - 0.0077354848739999999*t778;
-    const double t783 = 0.012515999999999999*t777 + 0.000428*t778 + 0.001196*t117 + 0.061596999999999999*t781 + 0.0042519999999999997*t782;
+    const double t781 = 0.735522*t780 + 0.007735484874*t117 + 0.045305948634*t777;
+    const double t782 = 0.735522*t119 + 0.0031274395439999996*t777 - 0.007735484874*t778;
+    const double t783 = 0.012516*t777 + 0.000428*t778 + 0.001196*t117 + 0.061597*t781 + 0.004252*t782;
     const double t784 = t31*t779 - t120*t32;
-    const double t785 = 0.73552200000000001*t784 + 0.0031274395439999996*t117 + 0.045305948633999997*t778;
-    const double t786 = 0.000428*t777 + 0.061596999999999999*t785 + 0.010026999999999999*t778 - 0.010517*t782 - 0.00074100000000000001*t117;
-    const double t787 = 0.001964*t118 + 0.010517*t775 + 0.00010900000000000001*t117 + 0.014116999999999999*t776 + t31*t786 + t32*t783;
+    const double t785 = 0.735522*t784 + 0.0031274395439999996*t117 + 0.045305948634*t778;
+    const double t786 = 0.000428*t777 + 0.061597*t785 + 0.010027*t778 - 0.010517*t782 - 0.000741*t117;
+    const double t787 = 0.001964*t118 + 0.010517*t775 + 0.000109*t117 + 0.014117*t776 + t31*t786 + t32*t783;
     const double t788 = t31*t785 + t32*t781;
     const double t789 = t776 + t788;
-    const double t790 = 0.0048149999999999998*t117 + 0.001196*t777 + 0.0042519999999999997*t785 + 0.010517*t781 - 0.00074100000000000001*t778;
+    const double t790 = 0.004815*t117 + 0.001196*t777 + 0.004252*t785 + 0.010517*t781 - 0.000741*t778;
     const double t791 = 0.017527158935000002*t117 - 1.666555*t120;
-    const double t792 = t790 + 0.0043540000000000002*t117 + 0.010517*t791 + 0.00010900000000000001*t118 + 0.060149000000000001*t776 + a7*t788;
+    const double t792 = t790 + 0.004354*t117 + 0.010517*t791 + 0.000109*t118 + 0.060149*t776 + a7*t788;
     const double t793 = -t157 + d5*t789 + t25*t792 - t26*t787;
-    const double t794 = 0.001158*t118 + 0.014116999999999999*t791 - 0.00034099999999999999*t117 - 0.060149000000000001*t775 + t32*t786 - a7*t782 - t31*t783;
+    const double t794 = 0.001158*t118 + 0.014117*t791 - 0.000341*t117 - 0.060149*t775 + t32*t786 - a7*t782 - t31*t783;
     const double t795 = t791 + t32*t785 - t31*t781;
     const double t796 = t775 + t782;
     const double t797 = -t152 + t25*t796 + t26*t795;
@@ -2083,14 +2168,14 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t808 = t8*t807 - t805*t9;
     const double t809 = -t806 + d3*t808 - a4*(t8*t805 + t807*t9);
     const double t810 = t2*t809 + t4*t804;
-    const double t811 = 0.045305948633999997*t122 - 0.73552200000000001*t124;
-    const double t812 = 0.0031274395439999996*t122 - 0.0077354848739999999*t121;
-    const double t813 = 0.012515999999999999*t122 + 0.000428*t121 + 0.061596999999999999*t811 + 0.0042519999999999997*t812;
-    const double t814 = 0.73552200000000001*t125 + 0.045305948633999997*t121;
-    const double t815 = 0.000428*t122 + 0.061596999999999999*t814 + 0.010026999999999999*t121 - 0.010517*t812;
+    const double t811 = 0.045305948634*t122 - 0.735522*t124;
+    const double t812 = 0.0031274395439999996*t122 - 0.007735484874*t121;
+    const double t813 = 0.012516*t122 + 0.000428*t121 + 0.061597*t811 + 0.004252*t812;
+    const double t814 = 0.735522*t125 + 0.045305948634*t121;
+    const double t815 = 0.000428*t122 + 0.061597*t814 + 0.010027*t121 - 0.010517*t812;
     const double t816 = t144 + t31*t815 + t32*t813;
     const double t817 = t136 + t31*t814 + t32*t811;
-    const double t818 = 0.001196*t122 + 0.0042519999999999997*t814 + 0.010517*t811 - 0.00074100000000000001*t121;
+    const double t818 = 0.001196*t122 + 0.004252*t814 + 0.010517*t811 - 0.000741*t121;
     const double t819 = t818 + a7*t817;
     const double t820 = d5*t817 + t25*t819 - t26*t816;
     const double t821 = t141 + t32*t815 - a7*t812 - t31*t813;
@@ -2108,18 +2193,18 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t833 = t8*t832 - t830*t9;
     const double t834 = -t831 + d3*t833 - a4*(t8*t830 + t832*t9);
     const double t835 = t2*t834 + t4*t829;
-    const double t836 = 0.012805*t4 - 0.027518000000000001*t171 - 0.011396*t2 - 0.039252000000000002*t172 + t659*t9 + t665*t8 - a4*t661;
+    const double t836 = 0.012805*t4 - 0.027518*t171 - 0.011396*t2 - 0.039252*t172 + t659*t9 + t665*t8 - a4*t661;
     const double t837 = t177 + a4*t717 + t715*t9 + t720*t8;
     const double t838 = a4*t765 + t764*t9 + t767*t8;
     const double t839 = t799*t9 + t8*t803 - a4*t800;
     const double t840 = t825*t9 - a4*t826 - t8*t828;
-    const double t841 = 0.37464440800499998*t8 - 0.19076837715*t9;
+    const double t841 = 0.374644408005*t8 - 0.19076837715*t9;
     const double t842 = t17*t8;
     const double t843 = a5*t9;
     const double t844 = d5*t842 + t17*t843;
-    const double t845 = 0.047121686401999999*t842 + 0.014653732538*t9 - 1.225946*t844;
+    const double t845 = 0.047121686402*t842 + 0.014653732538*t9 - 1.225946*t844;
     const double t846 = t16*t8;
-    const double t847 = 0.050343472489999999*t842 - 0.014653732538*t846;
+    const double t847 = 0.05034347249*t842 - 0.014653732538*t846;
     const double t848 = t26*t842 - t25*t9;
     const double t849 = d5*t846 + t16*t843;
     const double t850 = t25*t849;
@@ -2131,37 +2216,37 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t856 = t26*t849;
     const double t857 = t844 + a7*t852;
     const double t858 = t31*t856 + t32*t857;
-    const double t859 = 0.73552200000000001*t858 + 0.0077354848739999999*t852 - 0.045305948633999997*t854;
+    const double t859 = 0.735522*t858 + 0.007735484874*t852 - 0.045305948634*t854;
     const double t860 = t850 + a7*t846;
-    const double t861 = 0.73552200000000001*t860 + 0.0031274395439999996*t854 + 0.0077354848739999999*t855;
-    const double t862 = 0.012515999999999999*t854 + 0.0042519999999999997*t861 - 0.000428*t855 - 0.001196*t852 - 0.061596999999999999*t859;
+    const double t861 = 0.735522*t860 + 0.0031274395439999996*t854 + 0.007735484874*t855;
+    const double t862 = 0.012516*t854 + 0.004252*t861 - 0.000428*t855 - 0.001196*t852 - 0.061597*t859;
     const double t863 = t31*t857 - t32*t856;
-    const double t864 = 0.73552200000000001*t863 + 0.0031274395439999996*t852 + 0.045305948633999997*t855;
-    const double t865 = 0.061596999999999999*t864 + 0.010026999999999999*t855 + 0.010517*t861 - 0.000428*t854 - 0.00074100000000000001*t852;
-    const double t866 = 0.001964*t848 + 0.010517*t851 - 0.001158*t846 - 0.00010900000000000001*t852 - 0.014116999999999999*t853 + t32*t862 - t31*t865;
+    const double t864 = 0.735522*t863 + 0.0031274395439999996*t852 + 0.045305948634*t855;
+    const double t865 = 0.061597*t864 + 0.010027*t855 + 0.010517*t861 - 0.000428*t854 - 0.000741*t852;
+    const double t866 = 0.001964*t848 + 0.010517*t851 - 0.001158*t846 - 0.000109*t852 - 0.014117*t853 + t32*t862 - t31*t865;
     const double t867 = t31*t864 + t32*t859;
     const double t868 = t853 + t867;
     const double t869 = t845 - t868;
-    const double t870 = 0.0048149999999999998*t852 + 0.0042519999999999997*t864 + 0.010517*t859 - 0.001196*t854 - 0.00074100000000000001*t855;
+    const double t870 = 0.004815*t852 + 0.004252*t864 + 0.010517*t859 - 0.001196*t854 - 0.000741*t855;
     const double t871 = 0.017527158935000002*t852 + 0.023526756935*t846 - 1.666555*t856;
-    const double t872 = -t870 + 0.00034099999999999999*t846 + 0.00010900000000000001*t848 - 0.0043540000000000002*t852 - 0.010517*t871 - 0.060149000000000001*t853 - a7*t867;
-    const double t873 = 0.035548999999999997*t842 + 0.038436999999999999*t845 + 0.002117*t846 + 0.0040369999999999998*t9 + 0.041064999999999997*t847 + t26*t866 - d5*t869 - t25*t872;
-    const double t874 = 0.0054330000000000003*t846 + 0.014116999999999999*t871 + 0.060149000000000001*t851 - 0.001158*t848 - 0.00034099999999999999*t852 + a7*t861 + t31*t862 + t32*t865;
-    const double t875 = 0.047121686401999999*t846 + 0.050343472489999999*t9 - 1.225946*t849;
+    const double t872 = -t870 + 0.000341*t846 + 0.000109*t848 - 0.004354*t852 - 0.010517*t871 - 0.060149*t853 - a7*t867;
+    const double t873 = 0.035549*t842 + 0.038437*t845 + 0.002117*t846 + 0.004037*t9 + 0.041065*t847 + t26*t866 - d5*t869 - t25*t872;
+    const double t874 = 0.005433*t846 + 0.014117*t871 + 0.060149*t851 - 0.001158*t848 - 0.000341*t852 + a7*t861 + t31*t862 + t32*t865;
+    const double t875 = 0.047121686402*t846 + 0.05034347249*t9 - 1.225946*t849;
     const double t876 = t871 + t32*t864 - t31*t859;
     const double t877 = t851 + t861;
     const double t878 = t875 + t26*t876 - t25*t877;
-    const double t879 = -t874 + 0.011953*t847 - 0.029474*t846 - 0.038436999999999999*t875 - 0.002117*t842 - 0.00022900000000000001*t9 + d5*t878;
-    const double t880 = 0.025853000000000001*t8 + 0.027453999999999999*t226 + 0.104419*t841 - 0.007796*t9 + t17*t873 - t16*t879;
-    const double t881 = -0.0086269999999999993*t9 - 0.0040369999999999998*t842 - 0.041064999999999997*t875 - 0.011953*t845 - 0.00022900000000000001*t846 + t25*t866 + t26*t872;
+    const double t879 = -t874 + 0.011953*t847 - 0.029474*t846 - 0.038437*t875 - 0.002117*t842 - 0.000229*t9 + d5*t878;
+    const double t880 = 0.025853*t8 + 0.027454*t226 + 0.104419*t841 - 0.007796*t9 + t17*t873 - t16*t879;
+    const double t881 = -0.008627*t9 - 0.004037*t842 - 0.041065*t875 - 0.011953*t845 - 0.000229*t846 + t25*t866 + t26*t872;
     const double t882 = t16*t878 + t17*t869;
-    const double t883 = t881 + 0.053170000000000002*t841 + 0.007796*t8 - 0.019552*t9 - 0.027453999999999999*t227 + a5*t882;
+    const double t883 = t881 + 0.05317*t841 + 0.007796*t8 - 0.019552*t9 - 0.027454*t227 + a5*t882;
     const double t884 = t841 - t882;
     const double t885 = t880 - t231;
     const double t886 = t230 + t883;
     const double t887 = t8*t886 + t885*t9 - a4*t884;
-    const double t888 = 1.225946*t184 + 0.047121686401999999*t182;
-    const double t889 = 0.050343472489999999*t182 + 0.014653732538*t181;
+    const double t888 = 1.225946*t184 + 0.047121686402*t182;
+    const double t889 = 0.05034347249*t182 + 0.014653732538*t181;
     const double t890 = t182*t26;
     const double t891 = t186*t25;
     const double t892 = 0.10024161669500001*t181 - 0.017527158935000002*t890 - 1.666555*t891;
@@ -2172,31 +2257,31 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t897 = t186*t26;
     const double t898 = t184 - a7*t893;
     const double t899 = t32*t898 - t31*t897;
-    const double t900 = 0.73552200000000001*t899 - 0.0077354848739999999*t893 - 0.045305948633999997*t895;
+    const double t900 = 0.735522*t899 - 0.007735484874*t893 - 0.045305948634*t895;
     const double t901 = t891 - a7*t181;
-    const double t902 = 0.73552200000000001*t901 - 0.0031274395439999996*t895 - 0.0077354848739999999*t896;
-    const double t903 = 0.012515999999999999*t895 + 0.001196*t893 - 0.000428*t896 - 0.061596999999999999*t900 - 0.0042519999999999997*t902;
+    const double t902 = 0.735522*t901 - 0.0031274395439999996*t895 - 0.007735484874*t896;
+    const double t903 = 0.012516*t895 + 0.001196*t893 - 0.000428*t896 - 0.061597*t900 - 0.004252*t902;
     const double t904 = t31*t898 + t32*t897;
-    const double t905 = 0.73552200000000001*t904 + 0.045305948633999997*t896 - 0.0031274395439999996*t893;
-    const double t906 = 0.061596999999999999*t905 + 0.010026999999999999*t896 + 0.00074100000000000001*t893 - 0.000428*t895 - 0.010517*t902;
-    const double t907 = 0.010517*t892 + 0.00010900000000000001*t893 - 0.001964*t890 - 0.001158*t181 - 0.014116999999999999*t894 + t32*t903 - t31*t906;
+    const double t905 = 0.735522*t904 + 0.045305948634*t896 - 0.0031274395439999996*t893;
+    const double t906 = 0.061597*t905 + 0.010027*t896 + 0.000741*t893 - 0.000428*t895 - 0.010517*t902;
+    const double t907 = 0.010517*t892 + 0.000109*t893 - 0.001964*t890 - 0.001158*t181 - 0.014117*t894 + t32*t903 - t31*t906;
     const double t908 = t31*t905 + t32*t900;
     const double t909 = t894 + t908;
     const double t910 = t888 + t909;
-    const double t911 = 0.0042519999999999997*t905 + 0.010517*t900 - 0.0048149999999999998*t893 - 0.001196*t895 - 0.00074100000000000001*t896;
+    const double t911 = 0.004252*t905 + 0.010517*t900 - 0.004815*t893 - 0.001196*t895 - 0.000741*t896;
     const double t912 = 0.023526756935*t181 + 1.666555*t897 - 0.017527158935000002*t893;
-    const double t913 = -t911 + 0.0043540000000000002*t893 + 0.00034099999999999999*t181 - 0.010517*t912 - 0.00010900000000000001*t890 - 0.060149000000000001*t894 - a7*t908;
-    const double t914 = 0.002117*t181 - 0.035548999999999997*t182 - 0.038436999999999999*t888 - 0.041064999999999997*t889 + d5*t910 + t26*t907 - t25*t913;
-    const double t915 = 0.0054330000000000003*t181 + 0.001158*t890 + 0.00034099999999999999*t893 + 0.014116999999999999*t912 + 0.060149000000000001*t892 + t31*t903 + t32*t906 - a7*t902;
-    const double t916 = 1.225946*t186 + 0.047121686401999999*t181;
+    const double t913 = -t911 + 0.004354*t893 + 0.000341*t181 - 0.010517*t912 - 0.000109*t890 - 0.060149*t894 - a7*t908;
+    const double t914 = 0.002117*t181 - 0.035549*t182 - 0.038437*t888 - 0.041065*t889 + d5*t910 + t26*t907 - t25*t913;
+    const double t915 = 0.005433*t181 + 0.001158*t890 + 0.000341*t893 + 0.014117*t912 + 0.060149*t892 + t31*t903 + t32*t906 - a7*t902;
+    const double t916 = 1.225946*t186 + 0.047121686402*t181;
     const double t917 = t912 + t32*t905 - t31*t900;
     const double t918 = t892 - t902;
     const double t919 = t916 + t26*t917 - t25*t918;
-    const double t920 = -t915 + 0.002117*t182 - 0.029474*t181 - 0.038436999999999999*t916 - 0.011953*t889 + d5*t919;
+    const double t920 = -t915 + 0.002117*t182 - 0.029474*t181 - 0.038437*t916 - 0.011953*t889 + d5*t919;
     const double t921 = t914 - t224;
     const double t922 = t223 + t920;
     const double t923 = t17*t921 - t16*t922;
-    const double t924 = 0.0040369999999999998*t182 + 0.011953*t888 - 0.041064999999999997*t916 - 0.00022900000000000001*t181 + t25*t907 + t26*t913;
+    const double t924 = 0.004037*t182 + 0.011953*t888 - 0.041065*t916 - 0.000229*t181 + t25*t907 + t26*t913;
     const double t925 = t910 - t220;
     const double t926 = t221 - t919;
     const double t927 = t16*t926 + t17*t925;
@@ -2208,20 +2293,20 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t933 = t188*t31;
     const double t934 = a7*t187;
     const double t935 = t190*t31 + t32*t934;
-    const double t936 = 0.73552200000000001*t935 + 0.0077354848739999999*t187 - 0.045305948633999997*t932;
-    const double t937 = 0.73552200000000001*t189 + 0.0077354848739999999*t933 - 0.0031274395439999996*t932;
-    const double t938 = 0.012515999999999999*t932 + 0.000428*t933 - 0.001196*t187 - 0.061596999999999999*t936 - 0.0042519999999999997*t937;
+    const double t936 = 0.735522*t935 + 0.007735484874*t187 - 0.045305948634*t932;
+    const double t937 = 0.735522*t189 + 0.007735484874*t933 - 0.0031274395439999996*t932;
+    const double t938 = 0.012516*t932 + 0.000428*t933 - 0.001196*t187 - 0.061597*t936 - 0.004252*t937;
     const double t939 = t31*t934 - t190*t32;
-    const double t940 = 0.73552200000000001*t939 + 0.0031274395439999996*t187 - 0.045305948633999997*t933;
-    const double t941 = 0.061596999999999999*t940 - 0.000428*t932 - 0.010026999999999999*t933 - 0.010517*t937 - 0.00074100000000000001*t187;
-    const double t942 = 0.001964*t188 + 0.010517*t930 - 0.00010900000000000001*t187 - 0.014116999999999999*t931 + t32*t938 - t31*t941;
+    const double t940 = 0.735522*t939 + 0.0031274395439999996*t187 - 0.045305948634*t933;
+    const double t941 = 0.061597*t940 - 0.000428*t932 - 0.010027*t933 - 0.010517*t937 - 0.000741*t187;
+    const double t942 = 0.001964*t188 + 0.010517*t930 - 0.000109*t187 - 0.014117*t931 + t32*t938 - t31*t941;
     const double t943 = t31*t940 + t32*t936;
     const double t944 = t931 + t943;
-    const double t945 = 0.0048149999999999998*t187 + 0.0042519999999999997*t940 + 0.010517*t936 + 0.00074100000000000001*t933 - 0.001196*t932;
+    const double t945 = 0.004815*t187 + 0.004252*t940 + 0.010517*t936 + 0.000741*t933 - 0.001196*t932;
     const double t946 = 0.017527158935000002*t187 - 1.666555*t190;
-    const double t947 = -t945 + 0.00010900000000000001*t188 - 0.0043540000000000002*t187 - 0.010517*t946 - 0.060149000000000001*t931 - a7*t943;
+    const double t947 = -t945 + 0.000109*t188 - 0.004354*t187 - 0.010517*t946 - 0.060149*t931 - a7*t943;
     const double t948 = -t225 + d5*t944 + t26*t942 - t25*t947;
-    const double t949 = 0.014116999999999999*t946 + 0.060149000000000001*t930 - 0.001158*t188 - 0.00034099999999999999*t187 + t31*t938 + t32*t941 - a7*t937;
+    const double t949 = 0.014117*t946 + 0.060149*t930 - 0.001158*t188 - 0.000341*t187 + t31*t938 + t32*t941 - a7*t937;
     const double t950 = t946 + t32*t940 - t31*t936;
     const double t951 = t930 - t937;
     const double t952 = t950 - t208;
@@ -2234,14 +2319,14 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t959 = t17*t944 - t16*t954;
     const double t960 = t958 - a5*t959;
     const double t961 = t8*t960 + t9*t956 - a4*t959;
-    const double t962 = 0.73552200000000001*t194 + 0.045305948633999997*t192;
-    const double t963 = 0.0077354848739999999*t191 - 0.0031274395439999996*t192;
-    const double t964 = 0.012515999999999999*t192 + 0.000428*t191 + 0.061596999999999999*t962 - 0.0042519999999999997*t963;
-    const double t965 = 0.73552200000000001*t195 + 0.045305948633999997*t191;
-    const double t966 = 0.000428*t192 + 0.061596999999999999*t965 + 0.010026999999999999*t191 + 0.010517*t963;
+    const double t962 = 0.735522*t194 + 0.045305948634*t192;
+    const double t963 = 0.007735484874*t191 - 0.0031274395439999996*t192;
+    const double t964 = 0.012516*t192 + 0.000428*t191 + 0.061597*t962 - 0.004252*t963;
+    const double t965 = 0.735522*t195 + 0.045305948634*t191;
+    const double t966 = 0.000428*t192 + 0.061597*t965 + 0.010027*t191 + 0.010517*t963;
     const double t967 = -t214 + t31*t966 + t32*t964;
     const double t968 = t206 - t31*t965 - t32*t962;
-    const double t969 = 0.00074100000000000001*t191 - 0.001196*t192 - 0.0042519999999999997*t965 - 0.010517*t962;
+    const double t969 = 0.000741*t191 - 0.001196*t192 - 0.004252*t965 - 0.010517*t962;
     const double t970 = t969 + a7*t968;
     const double t971 = d5*t968 + t25*t970 + t26*t967;
     const double t972 = t211 + t31*t964 - a7*t963 - t32*t966;
@@ -2254,14 +2339,14 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t979 = t977 - a5*t978;
     const double t980 = t8*t979 + t9*t976 - a4*t978;
     const double t981 = t847 + t25*t876 + t26*t877;
-    const double t982 = 0.104419*t227 + 0.053170000000000002*t226 - 0.0086409999999999994*t9 - 0.0013320000000000001*t8 + a5*t981 - t16*t873 - t17*t879;
+    const double t982 = 0.104419*t227 + 0.05317*t226 - 0.008641*t9 - 0.001332*t8 + a5*t981 - t16*t873 - t17*t879;
     const double t983 = -t889 + t25*t917 + t26*t918;
     const double t984 = -t229 + a5*t983 - t16*t914 - t17*t920;
     const double t985 = t219 + t25*t950 + t26*t951;
     const double t986 = a5*t985 - t16*t948 - t17*t955;
     const double t987 = t25*t973 - t26*t963;
     const double t988 = a5*t987 - t16*t971 - t17*t975;
-    const double t989 = 0.014653732538*t16 - 0.050343472489999999*t17;
+    const double t989 = 0.014653732538*t16 - 0.05034347249*t17;
     const double t990 = t233*t26;
     const double t991 = t17*t25;
     const double t992 = 1.666555*t990 - 0.017527158935000002*t991 - 0.023526756935*t16;
@@ -2269,30 +2354,30 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t994 = t32*t990 - t31*t993;
     const double t995 = t17*t26;
     const double t996 = t31*t995 - t16*t32;
-    const double t997 = 0.73552200000000001*t994 + 0.045305948633999997*t996 - 0.0031274395439999996*t991;
+    const double t997 = 0.735522*t994 + 0.045305948634*t996 - 0.0031274395439999996*t991;
     const double t998 = t31*t990 + t32*t993;
     const double t999 = t16*t31 + t32*t995;
-    const double t1000 = 0.045305948633999997*t999 - 0.73552200000000001*t998 - 0.0077354848739999999*t991;
+    const double t1000 = 0.045305948634*t999 - 0.735522*t998 - 0.007735484874*t991;
     const double t1001 = t992 + t32*t997 - t1000*t31;
     const double t1002 = t233*t25;
     const double t1003 = 0.017527158935000002*t995 + 0.10024161669500001*t16 + 1.666555*t1002;
     const double t1004 = t1002 + a7*t16;
-    const double t1005 = 0.73552200000000001*t1004 + 0.0031274395439999996*t999 - 0.0077354848739999999*t996;
+    const double t1005 = 0.735522*t1004 + 0.0031274395439999996*t999 - 0.007735484874*t996;
     const double t1006 = t1003 + t1005;
     const double t1007 = t989 + t1001*t25 - t1006*t26;
     const double t1008 = 0.023526756935*t995 - 0.10024161669500001*t991 - 1.666555*t232;
-    const double t1009 = 0.001196*t991 - 0.012515999999999999*t999 - 0.000428*t996 - 0.061596999999999999*t1000 - 0.0042519999999999997*t1005;
-    const double t1010 = 0.000428*t999 + 0.061596999999999999*t997 + 0.010026999999999999*t996 + 0.00074100000000000001*t991 - 0.010517*t1005;
-    const double t1011 = 0.001158*t16 + 0.00010900000000000001*t991 - 0.001964*t995 - 0.010517*t1003 - 0.014116999999999999*t1008 + t1009*t32 - t1010*t31;
+    const double t1009 = 0.001196*t991 - 0.012516*t999 - 0.000428*t996 - 0.061597*t1000 - 0.004252*t1005;
+    const double t1010 = 0.000428*t999 + 0.061597*t997 + 0.010027*t996 + 0.000741*t991 - 0.010517*t1005;
+    const double t1011 = 0.001158*t16 + 0.000109*t991 - 0.001964*t995 - 0.010517*t1003 - 0.014117*t1008 + t1009*t32 - t1010*t31;
     const double t1012 = t1000*t32 + t31*t997;
     const double t1013 = t1008 + t1012;
     const double t1014 = t1013 + t263;
-    const double t1015 = 0.001196*t999 + 0.0042519999999999997*t997 + 0.010517*t1000 - 0.0048149999999999998*t991 - 0.00074100000000000001*t996;
-    const double t1016 = -t1015 + 0.0043540000000000002*t991 - 0.010517*t992 - 0.00034099999999999999*t16 - 0.00010900000000000001*t995 - 0.060149000000000001*t1008 - a7*t1012;
-    const double t1017 = -t272 + 0.041064999999999997*t989 - 0.035548999999999997*t17 - 0.038436999999999999*t263 + d5*t1014 + t1011*t26 - t1016*t25;
-    const double t1018 = 0.001158*t995 + 0.00034099999999999999*t991 + 0.014116999999999999*t992 - 0.0054330000000000003*t16 - 0.060149000000000001*t1003 + t1009*t31 + t1010*t32 - a7*t1005;
+    const double t1015 = 0.001196*t999 + 0.004252*t997 + 0.010517*t1000 - 0.004815*t991 - 0.000741*t996;
+    const double t1016 = -t1015 + 0.004354*t991 - 0.010517*t992 - 0.000341*t16 - 0.000109*t995 - 0.060149*t1008 - a7*t1012;
+    const double t1017 = -t272 + 0.041065*t989 - 0.035549*t17 - 0.038437*t263 + d5*t1014 + t1011*t26 - t1016*t25;
+    const double t1018 = 0.001158*t995 + 0.000341*t991 + 0.014117*t992 - 0.005433*t16 - 0.060149*t1003 + t1009*t31 + t1010*t32 - a7*t1005;
     const double t1019 = t264 + t1001*t26 + t1006*t25;
-    const double t1020 = t269 - t1018 + 0.029474*t16 + 0.011953*t989 - 0.038436999999999999*t264 + d5*t1019;
+    const double t1020 = t269 - t1018 + 0.029474*t16 + 0.011953*t989 - 0.038437*t264 + d5*t1019;
     const double t1021 = t1020 + t271;
     const double t1022 = t273 - t1017;
     const double t1023 = a5*t1007 + t1022*t16 - t1021*t17;
@@ -2300,49 +2385,49 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t1025 = a7*t234;
     const double t1026 = t237*t32 - t1025*t31;
     const double t1027 = t235*t31;
-    const double t1028 = 0.73552200000000001*t1026 - 0.0031274395439999996*t234 - 0.045305948633999997*t1027;
+    const double t1028 = 0.735522*t1026 - 0.0031274395439999996*t234 - 0.045305948634*t1027;
     const double t1029 = t1025*t32 + t237*t31;
     const double t1030 = t235*t32;
-    const double t1031 = 0.73552200000000001*t1029 + 0.0077354848739999999*t234 + 0.045305948633999997*t1030;
+    const double t1031 = 0.735522*t1029 + 0.007735484874*t234 + 0.045305948634*t1030;
     const double t1032 = t1024 + t1028*t32 + t1031*t31;
     const double t1033 = 0.017527158935000002*t235 - 1.666555*t236;
-    const double t1034 = 0.73552200000000001*t236 + 0.0077354848739999999*t1027 - 0.0031274395439999996*t1030;
+    const double t1034 = 0.735522*t236 + 0.007735484874*t1027 - 0.0031274395439999996*t1030;
     const double t1035 = t1033 - t1034;
     const double t1036 = t266 + t1032*t25 + t1035*t26;
     const double t1037 = 0.10024161669500001*t234 + 0.023526756935*t235;
-    const double t1038 = 0.012515999999999999*t1030 + 0.000428*t1027 + 0.001196*t234 + 0.061596999999999999*t1031 - 0.0042519999999999997*t1034;
-    const double t1039 = 0.061596999999999999*t1028 + 0.00074100000000000001*t234 - 0.000428*t1030 - 0.010026999999999999*t1027 - 0.010517*t1034;
-    const double t1040 = 0.001964*t235 + 0.010517*t1033 + 0.00010900000000000001*t234 + 0.014116999999999999*t1037 + t1038*t32 - t1039*t31;
+    const double t1038 = 0.012516*t1030 + 0.000428*t1027 + 0.001196*t234 + 0.061597*t1031 - 0.004252*t1034;
+    const double t1039 = 0.061597*t1028 + 0.000741*t234 - 0.000428*t1030 - 0.010027*t1027 - 0.010517*t1034;
+    const double t1040 = 0.001964*t235 + 0.010517*t1033 + 0.000109*t234 + 0.014117*t1037 + t1038*t32 - t1039*t31;
     const double t1041 = t1028*t31 - t1031*t32;
     const double t1042 = t1041 - t1037;
-    const double t1043 = 0.0042519999999999997*t1028 + 0.00074100000000000001*t1027 - 0.0048149999999999998*t234 - 0.001196*t1030 - 0.010517*t1031;
-    const double t1044 = -t1043 + 0.0043540000000000002*t234 + 0.00010900000000000001*t235 + 0.060149000000000001*t1037 - 0.010517*t1024 - a7*t1041;
+    const double t1043 = 0.004252*t1028 + 0.000741*t1027 - 0.004815*t234 - 0.001196*t1030 - 0.010517*t1031;
+    const double t1044 = -t1043 + 0.004354*t234 + 0.000109*t235 + 0.060149*t1037 - 0.010517*t1024 - a7*t1041;
     const double t1045 = t1040 - t260;
     const double t1046 = t1044 + t259;
     const double t1047 = d5*t1042 + t1045*t26 - t1046*t25;
-    const double t1048 = 0.00034099999999999999*t234 + 0.014116999999999999*t1024 + 0.060149000000000001*t1033 - 0.001158*t235 + t1038*t31 + t1039*t32 - a7*t1034;
+    const double t1048 = 0.000341*t234 + 0.014117*t1024 + 0.060149*t1033 - 0.001158*t235 + t1038*t31 + t1039*t32 - a7*t1034;
     const double t1049 = t1032 - t255;
     const double t1050 = t1035 + t254;
     const double t1051 = t1049*t26 - t1050*t25;
     const double t1052 = -t1048 + d5*t1051;
     const double t1053 = a5*t1036 - t1047*t16 - t1052*t17;
-    const double t1054 = 0.73552200000000001*t242 + 0.045305948633999997*t238;
-    const double t1055 = 0.73552200000000001*t241 + 0.045305948633999997*t239;
+    const double t1054 = 0.735522*t242 + 0.045305948634*t238;
+    const double t1055 = 0.735522*t241 + 0.045305948634*t239;
     const double t1056 = -t256 + t1055*t31 - t1054*t32;
-    const double t1057 = 0.0077354848739999999*t238 - 0.0031274395439999996*t239;
+    const double t1057 = 0.007735484874*t238 - 0.0031274395439999996*t239;
     const double t1058 = t1056*t25 - t1057*t26;
-    const double t1059 = 0.012515999999999999*t239 + 0.000428*t238 + 0.061596999999999999*t1055 - 0.0042519999999999997*t1057;
-    const double t1060 = 0.000428*t239 + 0.061596999999999999*t1054 + 0.010026999999999999*t238 + 0.010517*t1057;
+    const double t1059 = 0.012516*t239 + 0.000428*t238 + 0.061597*t1055 - 0.004252*t1057;
+    const double t1060 = 0.000428*t239 + 0.061597*t1054 + 0.010027*t238 + 0.010517*t1057;
     const double t1061 = -t261 + t1059*t32 + t1060*t31;
     const double t1062 = t253 - t1054*t31 - t1055*t32;
-    const double t1063 = 0.00074100000000000001*t238 - 0.001196*t239 - 0.0042519999999999997*t1054 - 0.010517*t1055;
+    const double t1063 = 0.000741*t238 - 0.001196*t239 - 0.004252*t1054 - 0.010517*t1055;
     const double t1064 = t1063 + a7*t1062;
     const double t1065 = d5*t1062 + t1061*t26 + t1064*t25;
     const double t1066 = t258 + t1059*t31 - a7*t1057 - t1060*t32;
     const double t1067 = t1056*t26 + t1057*t25;
     const double t1068 = -t1066 + d5*t1067;
     const double t1069 = a5*t1058 - t1065*t16 - t1068*t17;
-    const double t1070 = 0.0040369999999999998*t17 + 0.011953*t263 + 0.00022900000000000001*t16 - 0.041064999999999997*t264 + t1011*t25 + t1016*t26;
+    const double t1070 = 0.004037*t17 + 0.011953*t263 + 0.000229*t16 - 0.041065*t264 + t1011*t25 + t1016*t26;
     const double t1071 = t270 + t1040*t25 + t1044*t26;
     const double t1072 = t1061*t25 - t1064*t26;
     const double t1073 = 0.10024161669500001*t25 - 0.023526756935*t26;
@@ -2350,38 +2435,38 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     const double t1075 = t26*t31;
     const double t1076 = a7*t25;
     const double t1077 = t1076*t32;
-    const double t1078 = 0.73552200000000001*t1077 + 0.0077354848739999999*t25 - 0.045305948633999997*t1074;
-    const double t1079 = 0.0077354848739999999*t1075 - 0.0031274395439999996*t1074;
-    const double t1080 = 0.012515999999999999*t1074 + 0.000428*t1075 - 0.001196*t25 - 0.061596999999999999*t1078 - 0.0042519999999999997*t1079;
+    const double t1078 = 0.735522*t1077 + 0.007735484874*t25 - 0.045305948634*t1074;
+    const double t1079 = 0.007735484874*t1075 - 0.0031274395439999996*t1074;
+    const double t1080 = 0.012516*t1074 + 0.000428*t1075 - 0.001196*t25 - 0.061597*t1078 - 0.004252*t1079;
     const double t1081 = t1076*t31;
-    const double t1082 = 0.73552200000000001*t1081 + 0.0031274395439999996*t25 - 0.045305948633999997*t1075;
-    const double t1083 = 0.061596999999999999*t1082 - 0.000428*t1074 - 0.010026999999999999*t1075 - 0.010517*t1079 - 0.00074100000000000001*t25;
-    const double t1084 = 0.001964*t26 + 0.010517*t285 - 0.00010900000000000001*t25 - 0.014116999999999999*t1073 + t1080*t32 - t1083*t31;
-    const double t1085 = 0.0048149999999999998*t25 + 0.0042519999999999997*t1082 + 0.010517*t1078 + 0.00074100000000000001*t1075 - 0.001196*t1074;
-    const double t1086 = -t1085 + 0.00010900000000000001*t26 - 0.0043540000000000002*t25 - 0.010517*t286 - 0.060149000000000001*t1073 - a7*(t1078*t32 + t1082*t31);
+    const double t1082 = 0.735522*t1081 + 0.0031274395439999996*t25 - 0.045305948634*t1075;
+    const double t1083 = 0.061597*t1082 - 0.000428*t1074 - 0.010027*t1075 - 0.010517*t1079 - 0.000741*t25;
+    const double t1084 = 0.001964*t26 + 0.010517*t285 - 0.000109*t25 - 0.014117*t1073 + t1080*t32 - t1083*t31;
+    const double t1085 = 0.004815*t25 + 0.004252*t1082 + 0.010517*t1078 + 0.000741*t1075 - 0.001196*t1074;
+    const double t1086 = -t1085 + 0.000109*t26 - 0.004354*t25 - 0.010517*t286 - 0.060149*t1073 - a7*(t1078*t32 + t1082*t31);
     const double t1087 = t1086 + t289;
     const double t1088 = t1084 - t290;
     const double t1089 = t1087*t26 + t1088*t25;
-    const double t1090 = 0.73552200000000001*t277 + 0.045305948633999997*t275;
-    const double t1091 = 0.0031274395439999996*t275 + 0.0077354848739999999*t274;
-    const double t1092 = 0.000428*t274 - 0.012515999999999999*t275 - 0.061596999999999999*t1090 - 0.0042519999999999997*t1091;
-    const double t1093 = 0.73552200000000001*t278 + 0.045305948633999997*t274;
-    const double t1094 = 0.000428*t275 - 0.061596999999999999*t1093 - 0.010026999999999999*t274 - 0.010517*t1091;
+    const double t1090 = 0.735522*t277 + 0.045305948634*t275;
+    const double t1091 = 0.0031274395439999996*t275 + 0.007735484874*t274;
+    const double t1092 = 0.000428*t274 - 0.012516*t275 - 0.061597*t1090 - 0.004252*t1091;
+    const double t1093 = 0.735522*t278 + 0.045305948634*t274;
+    const double t1094 = 0.000428*t275 - 0.061597*t1093 - 0.010027*t274 - 0.010517*t1091;
     const double t1095 = t1092 - t283;
     const double t1096 = t1094 + t282;
     const double t1097 = t1095*t32 - t1096*t31;
-    const double t1098 = 0.001196*t275 + 0.010517*t1090 + 0.00074100000000000001*t274 - 0.0042519999999999997*t1093;
+    const double t1098 = 0.001196*t275 + 0.010517*t1090 + 0.000741*t274 - 0.004252*t1093;
     const double t1099 = t1098 + a7*(t1090*t32 + t280*t31 - t1093*t31 - t279*t32);
     const double t1100 = t1097*t25 - t1099*t26;
-    const double t1101 = 0.014116999999999999*t286 + 0.060149000000000001*t285 - 0.001158*t26 - 0.00034099999999999999*t25 + t1080*t31 + t1083*t32 - a7*t1079;
+    const double t1101 = 0.014117*t286 + 0.060149*t285 - 0.001158*t26 - 0.000341*t25 + t1080*t31 + t1083*t32 - a7*t1079;
     const double t1102 = t288 + t1092*t31 + t1094*t32 - a7*t1091;
-    const double t1103 = 0.0077354848739999999*t31 - 0.0031274395439999996*t32;
-    const double t1104 = 0.012515999999999999*t32 + 0.000428*t31 + 0.061596999999999999*t291 - 0.0042519999999999997*t1103;
-    const double t1105 = 0.000428*t32 + 0.061596999999999999*t292 + 0.010026999999999999*t31 + 0.010517*t1103;
+    const double t1103 = 0.007735484874*t31 - 0.0031274395439999996*t32;
+    const double t1104 = 0.012516*t32 + 0.000428*t31 + 0.061597*t291 - 0.004252*t1103;
+    const double t1105 = 0.000428*t32 + 0.061597*t292 + 0.010027*t31 + 0.010517*t1103;
     const double t1106 = t294 - t1105;
     const double t1107 = t1104 - t295;
     const double t1108 = t1106*t32 + t1107*t31 - a7*t1103;
-    const double t1109 = 0.00074100000000000001*t31 - 0.001196*t32 - 0.0042519999999999997*t292 - 0.010517*t291;
+    const double t1109 = 0.000741*t31 - 0.001196*t32 - 0.004252*t292 - 0.010517*t291;
     const double t1110 = (1.0/2.0)*t370;
     const double t1111 = (1.0/2.0)*dq3;
     const double t1112 = (1.0/2.0)*dq4;
@@ -2532,7 +2617,7 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
     C[48] = 0;
 }
 
-void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C)
+void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -2540,7 +2625,7 @@ void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq
     }
 }
 
-void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[7])
+void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[restrict 7])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -2589,8 +2674,8 @@ void panda_inverse_dynamics(const double q[7], const double dq[7], const double 
     const double t19 = t11 + t6;
     const double t20 = t12 + t5;
     const double t21 = t7 + t8;
-    const double t22 = 9.8100000000000005*t1;
-    const double t23 = 9.8100000000000005*t3;
+    const double t22 = 9.81*t1;
+    const double t23 = 9.81*t3;
     const double t24 = sin(q3);
     const double t25 = cos(q3);
     const double t26 = dq2*t24 - t2*t25;
@@ -2726,15 +2811,15 @@ void panda_inverse_dynamics(const double q[7], const double dq[7], const double 
     const double t156 = t131*t154 + t132*t155;
     const double t157 = t131*t155 - t132*t154;
     const double t158 = t130 + a7*t123;
-    const double t159 = 0.73552200000000001*t156 + 0.045305948633999997*t147 - 0.0031274395439999996*t146 - 0.0077354848739999999*t145;
-    const double t160 = 0.73552200000000001*t157 + 0.0031274395439999996*t149 + 0.0077354848739999999*t148 + 0.045305948633999997*t150;
-    const double t161 = 0.0077354848739999999*t151 - 0.73552200000000001*t158 - 0.0031274395439999996*t152 - 0.045305948633999997*t153;
+    const double t159 = 0.735522*t156 + 0.045305948634*t147 - 0.0031274395439999996*t146 - 0.007735484874*t145;
+    const double t160 = 0.735522*t157 + 0.0031274395439999996*t149 + 0.007735484874*t148 + 0.045305948634*t150;
+    const double t161 = 0.007735484874*t151 - 0.735522*t158 - 0.0031274395439999996*t152 - 0.045305948634*t153;
     const double t162 = t141 - t140;
-    const double t163 = 0.012515999999999999*t136 + 0.000428*t151 + 0.00074100000000000001*t162 - 0.001196*t148 - 0.0052119999999999996*t144 - 0.061596999999999999*t160 - 0.0042519999999999997*t161;
+    const double t163 = 0.012516*t136 + 0.000428*t151 + 0.000741*t162 - 0.001196*t148 - 0.005212*t144 - 0.061597*t160 - 0.004252*t161;
     const double t164 = t139 - t141;
-    const double t165 = 0.0077009999999999995*t143 + 0.001196*t164 + 0.061596999999999999*t159 + 0.010026999999999999*t137 + 0.00074100000000000001*t146 - 0.000428*t152 - 0.010517*t161;
+    const double t165 = 0.0077009999999999995*t143 + 0.001196*t164 + 0.061597*t159 + 0.010027*t137 + 0.000741*t146 - 0.000428*t152 - 0.010517*t161;
     const double t166 = t140 - t139;
-    const double t167 = 0.0048149999999999998*t138 + 0.000428*t166 + 0.001196*t150 + 0.0042519999999999997*t159 + 0.010517*t160 - 0.0024889999999999999*t142 - 0.00074100000000000001*t147;
+    const double t167 = 0.004815*t138 + 0.000428*t166 + 0.001196*t150 + 0.004252*t159 + 0.010517*t160 - 0.002489*t142 - 0.000741*t147;
     const double t168 = 1.666555*t129 - 0.017527158935000002*t122 - 0.10024161669500001*t120 - 0.023526756935*t121;
     const double t169 = 0.10024161669500001*t123 + 0.023526756935*t124 + 1.666555*t130 - 0.017527158935000002*t125;
     const double t170 = 0.017527158935000002*t128 + 0.10024161669500001*t126 + 1.666555*t104 - 0.023526756935*t127;
@@ -2743,59 +2828,59 @@ void panda_inverse_dynamics(const double q[7], const double dq[7], const double 
     const double t173 = t131*t160 + t132*t159;
     const double t174 = t170 + t173;
     const double t175 = t115 - t116;
-    const double t176 = 0.0010790000000000001*t119 + 0.001964*t111 + 0.010517*t169 + 0.00034099999999999999*t175 - 0.001158*t123 - 0.00010900000000000001*t126 - 0.014116999999999999*t170 + t131*t163 - t132*t165;
+    const double t176 = 0.001079*t119 + 0.001964*t111 + 0.010517*t169 + 0.000341*t175 - 0.001158*t123 - 0.000109*t126 - 0.014117*t170 + t131*t163 - t132*t165;
     const double t177 = t114 - t116;
-    const double t178 = -t167 + 0.0043540000000000002*t112 + 0.001158*t177 + 0.00010900000000000001*t127 - 0.010517*t168 - 0.00034099999999999999*t121 - 0.0034690000000000003*t118 - 0.060149000000000001*t170 - a7*t173;
+    const double t178 = -t167 + 0.004354*t112 + 0.001158*t177 + 0.000109*t127 - 0.010517*t168 - 0.000341*t121 - 0.0034690000000000003*t118 - 0.060149*t170 - a7*t173;
     const double t179 = t114 - t115;
-    const double t180 = 0.0054330000000000003*t113 + 0.001158*t125 + 0.0023900000000000002*t117 + 0.00034099999999999999*t122 + 0.00010900000000000001*t179 + 0.014116999999999999*t168 + 0.060149000000000001*t169 + t131*t165 + t132*t163 - a7*t161;
-    const double t181 = 1.225946*t103 + 0.014653732538*t92 - 0.047121686401999999*t94 - 0.050343472489999999*t93;
-    const double t182 = 0.047121686401999999*t97 - 1.225946*t104 - 0.050343472489999999*t96 - 0.014653732538*t95;
-    const double t183 = 1.225946*t105 + 0.047121686401999999*t100 + 0.050343472489999999*t99 - 0.014653732538*t98;
+    const double t180 = 0.005433*t113 + 0.001158*t125 + 0.00239*t117 + 0.000341*t122 + 0.000109*t179 + 0.014117*t168 + 0.060149*t169 + t131*t165 + t132*t163 - a7*t161;
+    const double t181 = 1.225946*t103 + 0.014653732538*t92 - 0.047121686402*t94 - 0.05034347249*t93;
+    const double t182 = 0.047121686402*t97 - 1.225946*t104 - 0.05034347249*t96 - 0.014653732538*t95;
+    const double t183 = 1.225946*t105 + 0.047121686402*t100 + 0.05034347249*t99 - 0.014653732538*t98;
     const double t184 = t181 + t106*t171 - t107*t172;
     const double t185 = t182 - t174;
     const double t186 = t183 + t106*t172 + t107*t171;
     const double t187 = t87 - t88;
-    const double t188 = 0.035548999999999997*t83 + 0.038436999999999999*t182 + 0.002117*t98 + 0.041064999999999997*t183 + 0.020847000000000001*t91 + 0.00022900000000000001*t187 - 0.0040369999999999998*t95 + t106*t176 - d5*t185 - t107*t178;
+    const double t188 = 0.035549*t83 + 0.038437*t182 + 0.002117*t98 + 0.041065*t183 + 0.020847*t91 + 0.000229*t187 - 0.004037*t95 + t106*t176 - d5*t185 - t107*t178;
     const double t189 = t86 - t88;
-    const double t190 = -t180 + 0.0040369999999999998*t189 + 0.011953*t183 + 0.026921999999999998*t90 + 0.00022900000000000001*t93 - 0.029474*t84 - 0.038436999999999999*t181 - 0.002117*t99 + d5*t184;
+    const double t190 = -t180 + 0.004037*t189 + 0.011953*t183 + 0.026921999999999998*t90 + 0.000229*t93 - 0.029474*t84 - 0.038437*t181 - 0.002117*t99 + d5*t184;
     const double t191 = t87 - t86;
-    const double t192 = 0.0060749999999999971*t89 + 0.002117*t191 + 0.0086269999999999993*t85 + 0.00022900000000000001*t94 - 0.0040369999999999998*t97 - 0.041064999999999997*t181 - 0.011953*t182 + t106*t178 + t107*t176;
-    const double t193 = 0.37464440800499998*t65 + 0.098502069329999997*t66 + 0.19076837715*t64 + 3.5878950000000001*t75;
-    const double t194 = 0.098502069329999997*t69 + 3.5878950000000001*t76 - 0.37464440800499998*t68 - 0.19076837715*t67;
-    const double t195 = 0.37464440800499998*t71 - 0.098502069329999997*t72 - 0.19076837715*t70 - 3.5878950000000001*t77;
+    const double t192 = 0.006074999999999997*t89 + 0.002117*t191 + 0.008627*t85 + 0.000229*t94 - 0.004037*t97 - 0.041065*t181 - 0.011953*t182 + t106*t178 + t107*t176;
+    const double t193 = 0.374644408005*t65 + 0.09850206933*t66 + 0.19076837715*t64 + 3.587895*t75;
+    const double t194 = 0.09850206933*t69 + 3.587895*t76 - 0.374644408005*t68 - 0.19076837715*t67;
+    const double t195 = 0.374644408005*t71 - 0.09850206933*t72 - 0.19076837715*t70 - 3.587895*t77;
     const double t196 = t193 + t184*t78 - t185*t79;
     const double t197 = t186 + t194;
     const double t198 = t184*t79 + t185*t78;
     const double t199 = t195 - t198;
     const double t200 = t59 - t60;
-    const double t201 = 0.008771000000000001*t63 + 0.025853000000000001*t55 + 0.0086409999999999994*t200 + 0.104419*t195 - 0.027453999999999999*t194 - 0.0013320000000000001*t67 - 0.007796*t70 + t188*t78 - t190*t79;
+    const double t201 = 0.008771000000000001*t63 + 0.025853*t55 + 0.008641*t200 + 0.104419*t195 - 0.027454*t194 - 0.001332*t67 - 0.007796*t70 + t188*t78 - t190*t79;
     const double t202 = t58 - t60;
-    const double t203 = t192 + 0.019552*t56 + 0.027453999999999999*t193 + 0.0013320000000000001*t202 + 0.053170000000000002*t195 + 0.007796*t71 - 0.00247*t62 - 0.0086409999999999994*t65 + a5*t198;
+    const double t203 = t192 + 0.019552*t56 + 0.027454*t193 + 0.001332*t202 + 0.05317*t195 + 0.007796*t71 - 0.00247*t62 - 0.008641*t65 + a5*t198;
     const double t204 = t58 - t59;
-    const double t205 = 0.028323000000000001*t57 + 0.0086409999999999994*t66 + 0.0013320000000000001*t69 + 0.007796*t204 - 0.006301000000000001*t61 - 0.104419*t193 - 0.053170000000000002*t194 + a5*t186 - t188*t79 - t190*t78;
-    const double t206 = 0.12672916420800001*t39 + 3.2286039999999998*t47 - 0.21470862320799999*t40 - 0.088844724872*t38;
-    const double t207 = 3.2286039999999998*t48 + 0.088844724872*t41 - 0.21470862320799999*t43 - 0.12672916420800001*t42;
-    const double t208 = 0.21470862320799999*t46 + 0.12672916420800001*t45 + 3.2286039999999998*t49 + 0.088844724872*t44;
+    const double t205 = 0.028323*t57 + 0.008641*t66 + 0.001332*t69 + 0.007796*t204 - 0.006301000000000001*t61 - 0.104419*t193 - 0.05317*t194 + a5*t186 - t188*t79 - t190*t78;
+    const double t206 = 0.126729164208*t39 + 3.228604*t47 - 0.214708623208*t40 - 0.088844724872*t38;
+    const double t207 = 3.228604*t48 + 0.088844724872*t41 - 0.214708623208*t43 - 0.126729164208*t42;
+    const double t208 = 0.214708623208*t46 + 0.126729164208*t45 + 3.228604*t49 + 0.088844724872*t44;
     const double t209 = t206 + t196*t50 - t197*t51;
     const double t210 = t207 - t199;
     const double t211 = t34 - t33;
-    const double t212 = 0.037241999999999997*t29 + 0.066502000000000006*t207 + 0.0047609999999999996*t44 + 0.012805*t211 + 0.039252000000000002*t208 - 0.025325*t37 - 0.011396*t41 + t201*t50 - d3*t210 - t203*t51;
+    const double t212 = 0.037242*t29 + 0.066502*t207 + 0.004761*t44 + 0.012805*t211 + 0.039252*t208 - 0.025325*t37 - 0.011396*t41 + t201*t50 - d3*t210 - t203*t51;
     const double t213 = t32 - t34;
-    const double t214 = -t205 + 0.011396*t213 + 0.012805*t39 + 0.026411999999999998*t36 + 0.036155*t30 - 0.066502000000000006*t206 - 0.027518000000000001*t208 - 0.0047609999999999996*t45 + d3*t209 - a4*(t196*t51 + t197*t50);
+    const double t214 = -t205 + 0.011396*t213 + 0.012805*t39 + 0.026411999999999998*t36 + 0.036155*t30 - 0.066502*t206 - 0.027518*t208 - 0.004761*t45 + d3*t209 - a4*(t196*t51 + t197*t50);
     const double t215 = t33 - t32;
-    const double t216 = 0.010829999999999999*t31 + 0.027518000000000001*t207 + 0.0047609999999999996*t215 + 0.011396*t43 - 0.0010869999999999977*t35 - 0.012805*t40 - 0.039252000000000002*t206 + t201*t51 + t203*t50 - a4*t199;
+    const double t216 = 0.01083*t31 + 0.027518*t207 + 0.004761*t215 + 0.011396*t43 - 0.0010869999999999977*t35 - 0.012805*t40 - 0.039252*t206 + t201*t51 + t203*t50 - a4*t199;
     const double t217 = 0.002031994566*t13 + 0.0022610063699999997*t15 - 0.018579714719999998*t14 - 0.646926*t22;
     const double t218 = 0.0022610063699999997*t18 + 0.018579714719999998*t17 - 0.002031994566*t16 - 0.646926*t23;
     const double t219 = 0.002031994566*t19 + 0.018579714719999998*t20 - 0.0022610063699999997*t21;
     const double t220 = t8 - t9;
-    const double t221 = 0.0021149999999999988*t12 + 0.010253999999999999*t16 + 0.00070399999999999998*t220 - 0.0034949999999999998*t218 - 0.0039249999999999997*t19 - 0.0079620000000000003*t5 - 0.028719999999999999*t219 + t212*t25 - t214*t24;
+    const double t221 = 0.002114999999999999*t12 + 0.010254*t16 + 0.000704*t220 - 0.003495*t218 - 0.003925*t19 - 0.007962*t5 - 0.02872*t219 + t212*t25 - t214*t24;
     const double t222 = t9 - t7;
-    const double t223 = -t216 + 0.010253999999999999*t222 + 0.0034949999999999998*t217 + 0.0039249999999999997*t20 + 0.018033*t11 + 0.0031410000000000001*t219 + 0.02811*t6 - 0.00070399999999999998*t14;
+    const double t223 = -t216 + 0.010254*t222 + 0.003495*t217 + 0.003925*t20 + 0.018033*t11 + 0.003141*t219 + 0.02811*t6 - 0.000704*t14;
     const double t224 = t8 - t7;
-    const double t225 = 0.020147999999999999*t10 + 0.0039249999999999997*t224 + 0.00070399999999999998*t15 + 0.025995000000000001*ddq2 + 0.028719999999999999*t217 - 0.010253999999999999*t18 - 0.0031410000000000001*t218 + t212*t24 + t214*t25;
-    const double t226 = 0.019261400500000001*t0 + 0.010343993404000001*ddq1;
-    const double t227 = 0.019261400500000001*ddq1 - 0.010343993404000001*t0;
-    const double t228 = 0.0091170000000000001*ddq1 + 0.003875*t227 + 0.002081*t226 - t1*t221 - t223*t3;
+    const double t225 = 0.020148*t10 + 0.003925*t224 + 0.000704*t15 + 0.025995*ddq2 + 0.02872*t217 - 0.010254*t18 - 0.003141*t218 + t212*t24 + t214*t25;
+    const double t226 = 0.0192614005*t0 + 0.010343993404000001*ddq1;
+    const double t227 = 0.0192614005*ddq1 - 0.010343993404000001*t0;
+    const double t228 = 0.009117*ddq1 + 0.003875*t227 + 0.002081*t226 - t1*t221 - t223*t3;
     tau[0] = t228;
     tau[1] = t225;
     tau[2] = t216;
@@ -2805,7 +2890,7 @@ void panda_inverse_dynamics(const double q[7], const double dq[7], const double 
     tau[6] = t167;
 }
 
-void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau)
+void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -2814,43 +2899,26 @@ void panda_inverse_dynamics_batch(size_t count, const double *q, const double *d
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, double ddq[7])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, double ddq[restrict 7])
 {
     double M[49];
     double bias[7];
     const double zero[7] = { 0 };
-    int i, j, k;
+    int i;
 
     panda_mass_matrix(q, p, M);
     panda_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 7; ++j) {
-        double diagonal = M[j * 7 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 7 + k] * M[j * 7 + k];
+    if (!symkin_cholesky_factor(M, 7)) {
+        for (i = 0; i < 7; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 7 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 7; ++i) {
-            double entry = M[i * 7 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 7 + k] * M[j * 7 + k];
-            }
-            M[i * 7 + j] = entry / M[j * 7 + j];
-        }
+        return;
     }
     for (i = 0; i < 7; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 7 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 7 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 7 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 7; ++k) {
-            value -= M[k * 7 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 7 + i];
-    }
+    symkin_cholesky_solve(M, 7, ddq);
 }

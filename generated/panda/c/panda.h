@@ -16,14 +16,30 @@
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
- * caller-provided arrays. No allocation, no globals, no recursion.
- * q: joint positions q1..q7 (rad for revolute, m for prismatic joints).
+ * caller-provided arrays that must not overlap the inputs or each other (restrict).
+ * No allocation, no globals, no recursion. Units: SI, angles in rad.
+ * q: joint positions q1..q7 (rad).
  * p: parameters d1, d3, a4, a5, d5, a7 in this order.
+ * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3, 4, 5, 6, 7.
  */
 #ifndef PANDA_KINEMATICS_H
 #define PANDA_KINEMATICS_H
 
 #include <stddef.h>
+
+/* C99 restrict on the outputs; empty in C++, which has no restrict. */
+#ifndef SYMKIN_RESTRICT
+#ifdef __cplusplus
+#define SYMKIN_RESTRICT
+#else
+#define SYMKIN_RESTRICT restrict
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define PANDA_DOF 7
 #define PANDA_NUM_PARAMETERS 6
@@ -32,101 +48,117 @@
 
 /* Forward kinematics (145 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_fk(const double q[7], const double *p, double T[16]);
+void panda_fk(const double q[7], const double *p, double T[SYMKIN_RESTRICT 16]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_fk_batch(size_t count, const double *q, const double *p, double *T);
+void panda_fk_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T);
 
 /* Tool position (109 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ *   units: m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_position(const double q[7], const double *p, double p_tool[3]);
+void panda_position(const double q[7], const double *p, double p_tool[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_position_batch(size_t count, const double *q, const double *p, double *p_tool);
+void panda_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
 /* Geometric jacobian (181 operations).
  * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_jacobian(const double q[7], const double *p, double J[42]);
+void panda_jacobian(const double q[7], const double *p, double J[SYMKIN_RESTRICT 42]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_jacobian_batch(size_t count, const double *q, const double *p, double *J);
+void panda_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT J);
 
 /* Analytic position jacobian (330 operations).
  * Jp[21]: dp/dq (3x7)
+ *   units: m per unit of the column's joint (rad)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_position_jacobian(const double q[7], const double *p, double Jp[21]);
+void panda_position_jacobian(const double q[7], const double *p, double Jp[SYMKIN_RESTRICT 21]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp);
+void panda_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
 /* Forward kinematics and jacobian (202 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[42]: geometric Jacobian (6x7, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_fk_jacobian(const double q[7], const double *p, double T[16], double J[42]);
+void panda_fk_jacobian(const double q[7], const double *p, double T[SYMKIN_RESTRICT 16], double J[SYMKIN_RESTRICT 42]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
+void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT J);
 
 /* Mass matrix (1340 operations).
  * M[49]: M(q) (7x7)
+ *   units: kg m^2
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_mass_matrix(const double q[7], const double *p, double M[49]);
+void panda_mass_matrix(const double q[7], const double *p, double M[SYMKIN_RESTRICT 49]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_mass_matrix_batch(size_t count, const double *q, const double *p, double *M);
+void panda_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (210 operations).
  * G[7]: G(q) (7x1)
+ *   units: N m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_gravity(const double q[7], const double *p, double G[7]);
+void panda_gravity(const double q[7], const double *p, double G[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_gravity_batch(size_t count, const double *q, const double *p, double *G);
+void panda_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
 /* Coriolis and centrifugal torques (700 operations).
  * c[7]: c = C(q, dq) dq (7x1)
+ *   units: N m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_coriolis(const double q[7], const double dq[7], const double *p, double c[7]);
+void panda_coriolis(const double q[7], const double dq[7], const double *p, double c[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c);
+void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
 /* Coriolis matrix (christoffel symbols) (5748 operations).
  * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
+ *   units: kg m^2/s
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[49]);
+void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[SYMKIN_RESTRICT 49]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C);
+void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
 /* Inverse dynamics (751 operations).
  * tau[7]: tau = M ddq + C dq + G + F (7x1)
+ *   units: N m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[7]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
- * p[6]: parameters (d1, d3, a4, a5, d5, a7)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[7]);
+void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau);
+void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
- * Inputs as for inverse_dynamics, with tau[7] in place of ddq. */
-void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, double ddq[7]);
+ * Inputs as for inverse_dynamics, with tau[7] (N m) in place of ddq.
+ * ddq[7]: joint accelerations; rad/s^2 */
+void panda_forward_dynamics(const double q[7], const double dq[7], const double tau[7], const double *p, double ddq[SYMKIN_RESTRICT 7]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PANDA_KINEMATICS_H */

@@ -29,6 +29,10 @@
 
 #include "panda.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of panda_ik and result.status). */
 #define PANDA_IK_SUCCESS 0        /* both errors below their tolerances */
 #define PANDA_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void panda_ik_default_options(panda_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int panda_ik(const double T_target[16], const double q_seed[7], const double *p, const panda_ik_options *options, double q[7], panda_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PANDA_IK_H */

@@ -30,7 +30,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 145 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -116,7 +116,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 109 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -176,7 +176,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 181 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns J: geometric Jacobian (6x7, rows x y z wx wy wz, base frame), shape (..., 6, 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -298,7 +298,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 330 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns Jp: dp/dq (3x7), shape (..., 3, 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -418,7 +418,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 202 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x7, rows x y z wx wy wz, base frame), shape (..., 6, 7).
     """
@@ -562,7 +562,7 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     """Mass matrix: 1340 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns M: M(q) (7x7), shape (..., 7, 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -903,7 +903,7 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     """Gravity torques: 210 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns G: G(q) (7x1), shape (..., 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -1009,7 +1009,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
 
     q: joint positions (rad or m), 7 values per state.
     dq: joint velocities (rad/s or m/s), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns c: c = C(q, dq) dq (7x1), shape (..., 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -1266,7 +1266,7 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
 
     q: joint positions (rad or m), 7 values per state.
     dq: joint velocities (rad/s or m/s), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns C: C(q, dq) (7x7), dM/dt - 2C skew-symmetric, shape (..., 7, 7).
     """
     q = numpy.asarray(q, dtype=float)
@@ -2558,7 +2558,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     q: joint positions (rad or m), 7 values per state.
     dq: joint velocities (rad/s or m/s), 7 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 7 values per state.
-    p: parameters (d1, d3, a4, a5, d5, a7), 6 values.
+    p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns tau: tau = M ddq + C dq + G + F (7x1), shape (..., 7).
     """
     q = numpy.asarray(q, dtype=float)

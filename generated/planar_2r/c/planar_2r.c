@@ -21,7 +21,92 @@
 
 #include "planar_2r.h"
 
-void planar_2r_fk(const double q[2], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void planar_2r_fk(const double q[2], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -48,7 +133,7 @@ void planar_2r_fk(const double q[2], const double *p, double T[16])
     T[15] = 1;
 }
 
-void planar_2r_fk_batch(size_t count, const double *q, const double *p, double *T)
+void planar_2r_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -56,7 +141,7 @@ void planar_2r_fk_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void planar_2r_position(const double q[2], const double *p, double p_tool[3])
+void planar_2r_position(const double q[2], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -68,7 +153,7 @@ void planar_2r_position(const double q[2], const double *p, double p_tool[3])
     p_tool[2] = 0;
 }
 
-void planar_2r_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void planar_2r_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -76,7 +161,7 @@ void planar_2r_position_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void planar_2r_jacobian(const double q[2], const double *p, double J[12])
+void planar_2r_jacobian(const double q[2], const double *p, double J[restrict 12])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -99,7 +184,7 @@ void planar_2r_jacobian(const double q[2], const double *p, double J[12])
     J[11] = 1;
 }
 
-void planar_2r_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void planar_2r_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -107,7 +192,7 @@ void planar_2r_jacobian_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void planar_2r_position_jacobian(const double q[2], const double *p, double Jp[6])
+void planar_2r_position_jacobian(const double q[2], const double *p, double Jp[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -124,7 +209,7 @@ void planar_2r_position_jacobian(const double q[2], const double *p, double Jp[6
     Jp[5] = 0;
 }
 
-void planar_2r_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void planar_2r_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -132,7 +217,7 @@ void planar_2r_position_jacobian_batch(size_t count, const double *q, const doub
     }
 }
 
-void planar_2r_fk_jacobian(const double q[2], const double *p, double T[16], double J[12])
+void planar_2r_fk_jacobian(const double q[2], const double *p, double T[restrict 16], double J[restrict 12])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -175,7 +260,7 @@ void planar_2r_fk_jacobian(const double q[2], const double *p, double T[16], dou
     J[11] = 1;
 }
 
-void planar_2r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void planar_2r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -183,7 +268,7 @@ void planar_2r_fk_jacobian_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void planar_2r_det(const double q[2], const double *p, double det[1])
+void planar_2r_det(const double q[2], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -191,7 +276,7 @@ void planar_2r_det(const double q[2], const double *p, double det[1])
     det[0] = L1*L2*sin(q2);
 }
 
-void planar_2r_det_batch(size_t count, const double *q, const double *p, double *det)
+void planar_2r_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -199,7 +284,7 @@ void planar_2r_det_batch(size_t count, const double *q, const double *p, double 
     }
 }
 
-void planar_2r_manipulability(const double q[2], const double *p, double mu[1])
+void planar_2r_manipulability(const double q[2], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -207,7 +292,7 @@ void planar_2r_manipulability(const double q[2], const double *p, double mu[1])
     mu[0] = fabs(L1*L2*sin(q2));
 }
 
-void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -215,7 +300,7 @@ void planar_2r_manipulability_batch(size_t count, const double *q, const double 
     }
 }
 
-void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[4])
+void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[restrict 4])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -249,7 +334,7 @@ void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi,
     M[3] = t14;
 }
 
-void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -257,7 +342,7 @@ void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[2])
+void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[restrict 2])
 {
     (void)q;
     (void)p;
@@ -266,7 +351,7 @@ void planar_2r_gravity(const double q[2], const double *p, const double *pi, dou
     G[1] = 0;
 }
 
-void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -274,7 +359,7 @@ void planar_2r_gravity_batch(size_t count, const double *q, const double *p, con
     }
 }
 
-void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[2])
+void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[restrict 2])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -307,7 +392,7 @@ void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, 
     c[1] = t11;
 }
 
-void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -315,7 +400,7 @@ void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, c
     }
 }
 
-void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[4])
+void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[restrict 4])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -348,7 +433,7 @@ void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const doub
     C[3] = 0;
 }
 
-void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -356,7 +441,7 @@ void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double
     }
 }
 
-void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[2])
+void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[restrict 2])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -395,7 +480,7 @@ void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const dou
     tau[1] = t13;
 }
 
-void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -404,43 +489,26 @@ void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const doubl
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[2])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[restrict 2])
 {
     double M[4];
     double bias[2];
     const double zero[2] = { 0 };
-    int i, j, k;
+    int i;
 
     planar_2r_mass_matrix(q, p, pi, M);
     planar_2r_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 2; ++j) {
-        double diagonal = M[j * 2 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 2 + k] * M[j * 2 + k];
+    if (!symkin_cholesky_factor(M, 2)) {
+        for (i = 0; i < 2; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 2 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 2; ++i) {
-            double entry = M[i * 2 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 2 + k] * M[j * 2 + k];
-            }
-            M[i * 2 + j] = entry / M[j * 2 + j];
-        }
+        return;
     }
     for (i = 0; i < 2; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 2 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 2 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 2 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 2; ++k) {
-            value -= M[k * 2 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 2 + i];
-    }
+    symkin_cholesky_solve(M, 2, ddq);
 }

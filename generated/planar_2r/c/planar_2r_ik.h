@@ -29,6 +29,10 @@
 
 #include "planar_2r.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of planar_2r_ik and result.status). */
 #define PLANAR_2R_IK_SUCCESS 0        /* both errors below their tolerances */
 #define PLANAR_2R_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void planar_2r_ik_default_options(planar_2r_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int planar_2r_ik(const double T_target[16], const double q_seed[2], const double *p, const planar_2r_ik_options *options, double q[2], planar_2r_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PLANAR_2R_IK_H */

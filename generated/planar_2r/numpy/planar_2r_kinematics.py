@@ -32,7 +32,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 12 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -61,7 +61,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 11 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -82,7 +82,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 13 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns J: geometric Jacobian (6x2, rows x y z wx wy wz, base frame), shape (..., 6, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -109,7 +109,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 13 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns Jp: dp/dq (3x2), shape (..., 3, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -134,7 +134,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 14 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x2, rows x y z wx wy wz, base frame), shape (..., 6, 2).
     """
@@ -175,7 +175,7 @@ def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y): 3 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -193,7 +193,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     """Yoshikawa manipulability of the task jacobian (|det j| when square): 3 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -211,8 +211,8 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     """Mass matrix: 35 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns M: M(q) (2x2), shape (..., 2, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -259,8 +259,8 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
     """Gravity torques: 0 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns G: G(q) (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -278,8 +278,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns c: c = C(q, dq) dq (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -327,8 +327,8 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric, shape (..., 2, 2).
     """
     q = numpy.asarray(q, dtype=float)
@@ -376,8 +376,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 2 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2), 20 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns tau: tau = M ddq + C dq + G + F (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)

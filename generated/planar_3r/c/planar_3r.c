@@ -21,7 +21,92 @@
 
 #include "planar_3r.h"
 
-void planar_3r_fk(const double q[3], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void planar_3r_fk(const double q[3], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -51,7 +136,7 @@ void planar_3r_fk(const double q[3], const double *p, double T[16])
     T[15] = 1;
 }
 
-void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *T)
+void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -59,7 +144,7 @@ void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void planar_3r_position(const double q[3], const double *p, double p_tool[3])
+void planar_3r_position(const double q[3], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -74,7 +159,7 @@ void planar_3r_position(const double q[3], const double *p, double p_tool[3])
     p_tool[2] = 0;
 }
 
-void planar_3r_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void planar_3r_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -82,7 +167,7 @@ void planar_3r_position_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void planar_3r_jacobian(const double q[3], const double *p, double J[18])
+void planar_3r_jacobian(const double q[3], const double *p, double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -116,7 +201,7 @@ void planar_3r_jacobian(const double q[3], const double *p, double J[18])
     J[17] = 1;
 }
 
-void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -124,7 +209,7 @@ void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[9])
+void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[restrict 9])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -149,7 +234,7 @@ void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[9
     Jp[8] = 0;
 }
 
-void planar_3r_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void planar_3r_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -157,7 +242,7 @@ void planar_3r_position_jacobian_batch(size_t count, const double *q, const doub
     }
 }
 
-void planar_3r_fk_jacobian(const double q[3], const double *p, double T[16], double J[18])
+void planar_3r_fk_jacobian(const double q[3], const double *p, double T[restrict 16], double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -211,7 +296,7 @@ void planar_3r_fk_jacobian(const double q[3], const double *p, double T[16], dou
     J[17] = 1;
 }
 
-void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -219,7 +304,7 @@ void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void planar_3r_det(const double q[3], const double *p, double det[1])
+void planar_3r_det(const double q[3], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -227,7 +312,7 @@ void planar_3r_det(const double q[3], const double *p, double det[1])
     det[0] = -L1*L2*cos(q2);
 }
 
-void planar_3r_det_batch(size_t count, const double *q, const double *p, double *det)
+void planar_3r_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -235,7 +320,7 @@ void planar_3r_det_batch(size_t count, const double *q, const double *p, double 
     }
 }
 
-void planar_3r_manipulability(const double q[3], const double *p, double mu[1])
+void planar_3r_manipulability(const double q[3], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -243,7 +328,7 @@ void planar_3r_manipulability(const double q[3], const double *p, double mu[1])
     mu[0] = fabs(L1*L2*cos(q2));
 }
 
-void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -251,7 +336,7 @@ void planar_3r_manipulability_batch(size_t count, const double *q, const double 
     }
 }
 
-void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -314,7 +399,7 @@ void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi,
     M[8] = t32;
 }
 
-void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -322,7 +407,7 @@ void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[3])
+void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
 {
     (void)q;
     (void)p;
@@ -332,7 +417,7 @@ void planar_3r_gravity(const double q[3], const double *p, const double *pi, dou
     G[2] = 0;
 }
 
-void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -340,7 +425,7 @@ void planar_3r_gravity_batch(size_t count, const double *q, const double *p, con
     }
 }
 
-void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -391,7 +476,7 @@ void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, 
     c[2] = t17;
 }
 
-void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -399,7 +484,7 @@ void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, c
     }
 }
 
-void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -487,7 +572,7 @@ void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const doub
     C[8] = 0;
 }
 
-void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -495,7 +580,7 @@ void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double
     }
 }
 
-void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -555,7 +640,7 @@ void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const dou
     tau[2] = t20;
 }
 
-void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -564,43 +649,26 @@ void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const doubl
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
-    int i, j, k;
+    int i;
 
     planar_3r_mass_matrix(q, p, pi, M);
     planar_3r_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 3; ++j) {
-        double diagonal = M[j * 3 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 3 + k] * M[j * 3 + k];
+    if (!symkin_cholesky_factor(M, 3)) {
+        for (i = 0; i < 3; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 3 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 3; ++i) {
-            double entry = M[i * 3 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 3 + k] * M[j * 3 + k];
-            }
-            M[i * 3 + j] = entry / M[j * 3 + j];
-        }
+        return;
     }
     for (i = 0; i < 3; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 3 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 3 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 3; ++k) {
-            value -= M[k * 3 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
-    }
+    symkin_cholesky_solve(M, 3, ddq);
 }

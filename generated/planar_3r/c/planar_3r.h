@@ -18,14 +18,30 @@
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
- * caller-provided arrays. No allocation, no globals, no recursion.
- * q: joint positions q1..q3 (rad for revolute, m for prismatic joints).
+ * caller-provided arrays that must not overlap the inputs or each other (restrict).
+ * No allocation, no globals, no recursion. Units: SI, angles in rad.
+ * q: joint positions q1..q3 (rad).
  * p: parameters L1, L2, L3 in this order.
+ * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
+ * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3.
  */
 #ifndef PLANAR_3R_KINEMATICS_H
 #define PLANAR_3R_KINEMATICS_H
 
 #include <stddef.h>
+
+/* C99 restrict on the outputs; empty in C++, which has no restrict. */
+#ifndef SYMKIN_RESTRICT
+#ifdef __cplusplus
+#define SYMKIN_RESTRICT
+#else
+#define SYMKIN_RESTRICT restrict
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define PLANAR_3R_DOF 3
 #define PLANAR_3R_NUM_PARAMETERS 3
@@ -34,124 +50,142 @@
 
 /* Forward kinematics (19 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_fk(const double q[3], const double *p, double T[16]);
+void planar_3r_fk(const double q[3], const double *p, double T[SYMKIN_RESTRICT 16]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *T);
+void planar_3r_fk_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T);
 
 /* Tool position (18 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ *   units: m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_position(const double q[3], const double *p, double p_tool[3]);
+void planar_3r_position(const double q[3], const double *p, double p_tool[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_position_batch(size_t count, const double *q, const double *p, double *p_tool);
+void planar_3r_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
 /* Geometric jacobian (21 operations).
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_jacobian(const double q[3], const double *p, double J[18]);
+void planar_3r_jacobian(const double q[3], const double *p, double J[SYMKIN_RESTRICT 18]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, double *J);
+void planar_3r_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT J);
 
 /* Analytic position jacobian (21 operations).
  * Jp[9]: dp/dq (3x3)
+ *   units: m per unit of the column's joint (rad)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[9]);
+void planar_3r_position_jacobian(const double q[3], const double *p, double Jp[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp);
+void planar_3r_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
 /* Forward kinematics and jacobian (22 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_fk_jacobian(const double q[3], const double *p, double T[16], double J[18]);
+void planar_3r_fk_jacobian(const double q[3], const double *p, double T[SYMKIN_RESTRICT 16], double J[SYMKIN_RESTRICT 18]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
+void planar_3r_fk_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT J);
 
 /* Determinant of the task jacobian (rows x, y, wz) (4 operations).
  * det[1]: det J
+ *   units: m^2/rad^2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_det(const double q[3], const double *p, double det[1]);
+void planar_3r_det(const double q[3], const double *p, double det[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_det_batch(size_t count, const double *q, const double *p, double *det);
+void planar_3r_det_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT det);
 
 /* Yoshikawa manipulability of the task jacobian (|det j| when square) (3 operations).
  * mu[1]: sqrt(det(J J^T))
+ *   units: m^2/rad^2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_manipulability(const double q[3], const double *p, double mu[1]);
+void planar_3r_manipulability(const double q[3], const double *p, double mu[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
+void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
 /* Mass matrix (89 operations).
  * M[9]: M(q) (3x3)
+ *   units: kg m^2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[9]);
+void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M);
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (0 operations).
  * G[3]: G(q) (3x1)
+ *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[3]);
+void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G);
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
 
 /* Coriolis and centrifugal torques (69 operations).
  * c[3]: c = C(q, dq) dq (3x1)
+ *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3]);
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c);
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
 
 /* Coriolis matrix (christoffel symbols) (141 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
+ *   units: kg m^2/s
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9]);
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C);
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
 
 /* Inverse dynamics (98 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
+ *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
- * p[3]: parameters (L1, L2, L3)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3]);
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau);
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
- * Inputs as for inverse_dynamics, with tau[3] in place of ddq. */
-void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3]);
+ * Inputs as for inverse_dynamics, with tau[3] (N m) in place of ddq.
+ * ddq[3]: joint accelerations; rad/s^2 */
+void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 3]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PLANAR_3R_KINEMATICS_H */

@@ -29,6 +29,10 @@
 
 #include "planar_3r.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of planar_3r_ik and result.status). */
 #define PLANAR_3R_IK_SUCCESS 0        /* both errors below their tolerances */
 #define PLANAR_3R_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void planar_3r_ik_default_options(planar_3r_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int planar_3r_ik(const double T_target[16], const double q_seed[3], const double *p, const planar_3r_ik_options *options, double q[3], planar_3r_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PLANAR_3R_IK_H */

@@ -32,7 +32,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 19 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -64,7 +64,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 18 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -88,7 +88,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 21 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -123,7 +123,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 21 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns Jp: dp/dq (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -155,7 +155,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 22 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
@@ -204,7 +204,7 @@ def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, wz): 4 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -222,7 +222,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     """Yoshikawa manipulability of the task jacobian (|det j| when square): 3 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -240,8 +240,8 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     """Mass matrix: 89 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns M: M(q) (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -317,8 +317,8 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
     """Gravity torques: 0 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns G: G(q) (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -336,8 +336,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns c: c = C(q, dq) dq (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -403,8 +403,8 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric, shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -507,8 +507,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 3 values per state.
-    p: parameters (L1, L2, L3), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau: tau = M ddq + C dq + G + F (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)

@@ -21,7 +21,92 @@
 
 #include "puma560.h"
 
-void puma560_fk(const double q[6], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void puma560_fk(const double q[6], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -85,7 +170,7 @@ void puma560_fk(const double q[6], const double *p, double T[16])
     T[15] = 1;
 }
 
-void puma560_fk_batch(size_t count, const double *q, const double *p, double *T)
+void puma560_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -93,7 +178,7 @@ void puma560_fk_batch(size_t count, const double *q, const double *p, double *T)
     }
 }
 
-void puma560_position(const double q[6], const double *p, double p_tool[3])
+void puma560_position(const double q[6], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -115,7 +200,7 @@ void puma560_position(const double q[6], const double *p, double p_tool[3])
     p_tool[2] = a2*sin(q2) + a3*t6 + d4*t4;
 }
 
-void puma560_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void puma560_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -123,7 +208,7 @@ void puma560_position_batch(size_t count, const double *q, const double *p, doub
     }
 }
 
-void puma560_jacobian(const double q[6], const double *p, double J[36])
+void puma560_jacobian(const double q[6], const double *p, double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -198,7 +283,7 @@ void puma560_jacobian(const double q[6], const double *p, double J[36])
     J[35] = t22*t4 - t17*t21*t6;
 }
 
-void puma560_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void puma560_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -206,7 +291,7 @@ void puma560_jacobian_batch(size_t count, const double *q, const double *p, doub
     }
 }
 
-void puma560_position_jacobian(const double q[6], const double *p, double Jp[18])
+void puma560_position_jacobian(const double q[6], const double *p, double Jp[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -249,7 +334,7 @@ void puma560_position_jacobian(const double q[6], const double *p, double Jp[18]
     Jp[17] = 0;
 }
 
-void puma560_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void puma560_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -257,7 +342,7 @@ void puma560_position_jacobian_batch(size_t count, const double *q, const double
     }
 }
 
-void puma560_fk_jacobian(const double q[6], const double *p, double T[16], double J[36])
+void puma560_fk_jacobian(const double q[6], const double *p, double T[restrict 16], double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -372,7 +457,7 @@ void puma560_fk_jacobian(const double q[6], const double *p, double T[16], doubl
     J[35] = t45;
 }
 
-void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -380,7 +465,7 @@ void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, d
     }
 }
 
-void puma560_det(const double q[6], const double *p, double det[1])
+void puma560_det(const double q[6], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -392,7 +477,7 @@ void puma560_det(const double q[6], const double *p, double det[1])
     det[0] = a2*(a3*sin(q3) + d4*cos(q3))*(a2*cos(q2) + a3*cos(t0) - d4*sin(t0))*sin(q5);
 }
 
-void puma560_det_batch(size_t count, const double *q, const double *p, double *det)
+void puma560_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -400,7 +485,7 @@ void puma560_det_batch(size_t count, const double *q, const double *p, double *d
     }
 }
 
-void puma560_manipulability(const double q[6], const double *p, double mu[1])
+void puma560_manipulability(const double q[6], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -412,7 +497,7 @@ void puma560_manipulability(const double q[6], const double *p, double mu[1])
     mu[0] = fabs(a2*(a3*sin(q3) + d4*cos(q3))*(a2*cos(q2) + a3*cos(t0) - d4*sin(t0))*sin(q5));
 }
 
-void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -420,7 +505,7 @@ void puma560_manipulability_batch(size_t count, const double *q, const double *p
     }
 }
 
-void puma560_mass_matrix(const double q[6], const double *p, double M[36])
+void puma560_mass_matrix(const double q[6], const double *p, double M[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -459,42 +544,42 @@ void puma560_mass_matrix(const double q[6], const double *p, double M[36])
     const double t25 = t13*t23 + t18*t22;
     const double t26 = t20*t23 - t15*t22;
     const double t27 = t15*t23 + t20*t22;
-    const double t28 = 0.089999999999999997*t26 - 0.0028799999999999997*t25;
-    const double t29 = 0.089999999999999997*t27 + 0.0028799999999999997*t24;
-    const double t30 = 0.032000000000000001*t29 + 0.00014999999999999999*t24;
-    const double t31 = 0.032000000000000001*t28 - 0.00014999999999999999*t25;
-    const double t32 = 4.0000000000000003e-5*t19;
-    const double t33 = 0.34000000000000002*t20 + t22*t29 + t23*t28;
-    const double t34 = -0.34000000000000002*t15 + t22*t28 - t23*t29;
+    const double t28 = 0.09*t26 - 0.0028799999999999997*t25;
+    const double t29 = 0.09*t27 + 0.0028799999999999997*t24;
+    const double t30 = 0.032*t29 + 0.00015*t24;
+    const double t31 = 0.032*t28 - 0.00015*t25;
+    const double t32 = 4e-05*t19;
+    const double t33 = 0.34*t20 + t22*t29 + t23*t28;
+    const double t34 = -0.34*t15 + t22*t28 - t23*t29;
     const double t35 = 0.43000000000000005*t21;
-    const double t36 = 0.00029999999999999997*t18 + t23*t30 - t22*t31;
-    const double t37 = -0.00040000000000000002*t13 + t22*t30 + t23*t31;
-    const double t38 = t32 + 0.00029999999999999997*t19;
-    const double t39 = 0.81999999999999995*t14 - 0.015579999999999998*t13;
-    const double t40 = 0.81999999999999995*t9;
-    const double t41 = 0.81999999999999995*t15 + 0.015579999999999998*t11;
+    const double t36 = 0.0003*t18 + t23*t30 - t22*t31;
+    const double t37 = -0.0004*t13 + t22*t30 + t23*t31;
+    const double t38 = t32 + 0.0003*t19;
+    const double t39 = 0.82*t14 - 0.015579999999999998*t13;
+    const double t40 = 0.82*t9;
+    const double t41 = 0.82*t15 + 0.015579999999999998*t11;
     const double t42 = t39 + t16*t35 + t17*t33;
     const double t43 = t41 - t34;
     const double t44 = 0.0018*t11 + 0.019*t41 + d4*t43 + t17*t36 - t16*t38;
-    const double t45 = 0.0012999999999999999*t6 + t16*t36 + t17*t38;
+    const double t45 = 0.0013*t6 + t16*t36 + t17*t38;
     const double t46 = -t37 + 0.0018*t13 - 0.019*t39 - d4*t42;
-    const double t47 = 0.06767999999999999*t6 + 4.7999999999999998*t7;
-    const double t48 = 4.7999999999999998*t8 - 0.33600000000000002*t5 - 0.097439999999999985*t6;
-    const double t49 = 0.06767999999999999*t5 + 4.7999999999999998*t9;
+    const double t47 = 0.06767999999999999*t6 + 4.8*t7;
+    const double t48 = 4.8*t8 - 0.336*t5 - 0.09743999999999998*t6;
+    const double t49 = 0.06767999999999999*t5 + 4.8*t9;
     const double t50 = t47 + t10*t42 + t12*t43;
     const double t51 = t48 + t12*t42 - t10*t43;
     const double t52 = -t40 - t49 + t16*t33 - t17*t35;
-    const double t53 = 0.066000000000000003*t5 + 0.0141*t49 - 0.070000000000000007*t48 + t10*t44 + t12*t46 - d3*t52;
-    const double t54 = 0.070000000000000007*t47 - 0.020299999999999999*t49 + t12*t44 - a3*t52 - t10*t46;
-    const double t55 = t45 + 0.012500000000000001*t6 + 0.0141*t47 - 0.020299999999999999*t48 + a3*t51 + d3*t50;
-    const double t56 = 3.9584999999999999*t1;
-    const double t57 = 3.9584999999999999*t0;
-    const double t58 = 0.10439999999999999*t0 + 6.33012*t1 - 17.399999999999999*t2;
+    const double t53 = 0.066*t5 + 0.0141*t49 - 0.07*t48 + t10*t44 + t12*t46 - d3*t52;
+    const double t54 = 0.07*t47 - 0.0203*t49 + t12*t44 - a3*t52 - t10*t46;
+    const double t55 = t45 + 0.0125*t6 + 0.0141*t47 - 0.0203*t48 + a3*t51 + d3*t50;
+    const double t56 = 3.9585*t1;
+    const double t57 = 3.9585*t0;
+    const double t58 = 0.10439999999999999*t0 + 6.33012*t1 - 17.4*t2;
     const double t59 = -t57 + t3*t52 + t4*t50;
     const double t60 = t58 - t51;
-    const double t61 = 0.13*t0 + 0.0060000000000000001*t58 + 0.22750000000000001*t57 + t3*t53 - t4*t55;
-    const double t62 = 0.52400000000000002*t1 + 0.36380000000000001*t58 + 0.22750000000000001*t56 + t3*t55 + t4*t53 - a2*t60;
-    const double t63 = -t54 + 0.36380000000000001*t57 - 0.0060000000000000001*t56 + a2*t59;
+    const double t61 = 0.13*t0 + 0.006*t58 + 0.2275*t57 + t3*t53 - t4*t55;
+    const double t62 = 0.524*t1 + 0.3638*t58 + 0.2275*t56 + t3*t55 + t4*t53 - a2*t60;
+    const double t63 = -t54 + 0.3638*t57 - 0.006*t56 + a2*t59;
     const double t64 = a2*t4;
     const double t65 = a3 + a2*t3;
     const double t66 = t64 - d4;
@@ -509,89 +594,89 @@ void puma560_mass_matrix(const double q[6], const double *p, double M[36])
     const double t75 = t22*t70 - t10*t23;
     const double t76 = t23*t72 - t22*t69;
     const double t77 = t22*t72 + t23*t69;
-    const double t78 = 0.089999999999999997*t76 + 0.0028799999999999997*t75;
-    const double t79 = 0.0028799999999999997*t74 - 0.089999999999999997*t77;
-    const double t80 = 0.032000000000000001*t79 + 0.00014999999999999999*t74;
-    const double t81 = 0.032000000000000001*t78 + 0.00014999999999999999*t75;
-    const double t82 = 4.0000000000000003e-5*t71;
-    const double t83 = 0.34000000000000002*t72 + t23*t78 - t22*t79;
-    const double t84 = -0.34000000000000002*t69 + t22*t78 + t23*t79;
+    const double t78 = 0.09*t76 + 0.0028799999999999997*t75;
+    const double t79 = 0.0028799999999999997*t74 - 0.09*t77;
+    const double t80 = 0.032*t79 + 0.00015*t74;
+    const double t81 = 0.032*t78 + 0.00015*t75;
+    const double t82 = 4e-05*t71;
+    const double t83 = 0.34*t72 + t23*t78 - t22*t79;
+    const double t84 = -0.34*t69 + t22*t78 + t23*t79;
     const double t85 = 0.43000000000000005*t73;
-    const double t86 = 0.00029999999999999997*t70 + t22*t81 + t23*t80;
-    const double t87 = -0.00040000000000000002*t10 + t23*t81 - t22*t80;
-    const double t88 = t82 + 0.00029999999999999997*t71;
-    const double t89 = 0.81999999999999995*t67 - 0.015579999999999998*t10;
-    const double t90 = 0.81999999999999995*t65;
+    const double t86 = 0.0003*t70 + t22*t81 + t23*t80;
+    const double t87 = -0.0004*t10 + t23*t81 - t22*t80;
+    const double t88 = t82 + 0.0003*t71;
+    const double t89 = 0.82*t67 - 0.015579999999999998*t10;
+    const double t90 = 0.82*t65;
     const double t91 = 0.015579999999999998*t12;
-    const double t92 = -t91 + 0.81999999999999995*t69;
+    const double t92 = -t91 + 0.82*t69;
     const double t93 = t89 + t17*t83 - t16*t85;
     const double t94 = t92 - t84;
     const double t95 = 0.0018*t12;
     const double t96 = -t95 + 0.019*t92 + d4*t94 - t16*t88 - t17*t86;
     const double t97 = t17*t88 - t16*t86;
     const double t98 = -t87 + 0.0018*t10 - 0.019*t89 - d4*t93;
-    const double t99 = -0.33600000000000002 + 4.7999999999999998*t64;
-    const double t100 = -0.097439999999999985 + 4.7999999999999998*t65;
+    const double t99 = -0.336 + 4.8*t64;
+    const double t100 = -0.09743999999999998 + 4.8*t65;
     const double t101 = t99 + t10*t93 + t12*t94;
     const double t102 = t100 + t90 + t16*t83 + t17*t85;
-    const double t103 = -0.085999999999999993 + 0.070000000000000007*t99 + 0.020299999999999999*t100 + t12*t96 - a3*t102 - t10*t98;
-    const double t104 = -6.33012 + 17.399999999999999*a2;
+    const double t103 = -0.086 + 0.07*t99 + 0.0203*t100 + t12*t96 - a3*t102 - t10*t98;
+    const double t104 = -6.33012 + 17.4*a2;
     const double t105 = t104 + t101*t4 + t102*t3;
     const double t106 = d4*t10;
     const double t107 = a3*t16 - t106*t17;
     const double t108 = a3*t17 + t106*t16;
     const double t109 = t107*t23 + t22*t68;
     const double t110 = t23*t68 - t107*t22;
-    const double t111 = 0.089999999999999997*t109 + 0.0028799999999999997*t75;
-    const double t112 = 0.089999999999999997*t110 + 0.0028799999999999997*t74;
-    const double t113 = 0.032000000000000001*t112 + 0.00014999999999999999*t74;
-    const double t114 = 0.032000000000000001*t111 + 0.00014999999999999999*t75;
-    const double t115 = 0.34000000000000002*t107 + t111*t23 - t112*t22;
-    const double t116 = 0.34000000000000002*t68 + t111*t22 + t112*t23;
+    const double t111 = 0.09*t109 + 0.0028799999999999997*t75;
+    const double t112 = 0.09*t110 + 0.0028799999999999997*t74;
+    const double t113 = 0.032*t112 + 0.00015*t74;
+    const double t114 = 0.032*t111 + 0.00015*t75;
+    const double t115 = 0.34*t107 + t111*t23 - t112*t22;
+    const double t116 = 0.34*t68 + t111*t22 + t112*t23;
     const double t117 = 0.43000000000000005*t108;
-    const double t118 = 0.00029999999999999997*t70 + t113*t23 + t114*t22;
-    const double t119 = -0.00040000000000000002*t10 + t114*t23 - t113*t22;
-    const double t120 = 0.81999999999999995*t106 + 0.015579999999999998*t10;
-    const double t121 = 0.81999999999999995*a3;
-    const double t122 = t91 + 0.81999999999999995*t68;
+    const double t118 = 0.0003*t70 + t113*t23 + t114*t22;
+    const double t119 = -0.0004*t10 + t114*t23 - t113*t22;
+    const double t120 = 0.82*t106 + 0.015579999999999998*t10;
+    const double t121 = 0.82*a3;
+    const double t122 = t91 + 0.82*t68;
     const double t123 = -t120 + t115*t17 - t117*t16;
     const double t124 = t116 + t122;
     const double t125 = t95 + 0.019*t122 + d4*t124 + t118*t17 + t16*t88;
     const double t126 = t17*t88 - t118*t16;
     const double t127 = -t119 + 0.0018*t10 + 0.019*t120 - d4*t123;
-    const double t128 = -0.097439999999999985 + 4.7999999999999998*a3;
+    const double t128 = -0.09743999999999998 + 4.8*a3;
     const double t129 = t121 + t128 + t115*t16 + t117*t17;
-    const double t130 = -0.10951999999999999 + 0.020299999999999999*t128 - a3*t129 - t10*t127 - t12*t125;
+    const double t130 = -0.10951999999999999 + 0.0203*t128 - a3*t129 - t10*t127 - t12*t125;
     const double t131 = t16*t23;
     const double t132 = t16*t22;
     const double t133 = 0.0028799999999999997*t132;
     const double t134 = 0.0028799999999999997*t131;
-    const double t135 = 0.032000000000000001*t134 + 0.00014999999999999999*t131;
-    const double t136 = 0.032000000000000001*t133 + 0.00014999999999999999*t132;
-    const double t137 = 4.0000000000000003e-5*t17;
-    const double t138 = 0.00029999999999999997*t16 + t135*t23 + t136*t22;
+    const double t135 = 0.032*t134 + 0.00015*t131;
+    const double t136 = 0.032*t133 + 0.00015*t132;
+    const double t137 = 4e-05*t17;
+    const double t138 = 0.0003*t16 + t135*t23 + t136*t22;
     const double t139 = t135*t22 - t136*t23;
-    const double t140 = t137 + 0.00029999999999999997*t17;
+    const double t140 = t137 + 0.0003*t17;
     const double t141 = 0.0028799999999999997*t23;
     const double t142 = 0.0028799999999999997*t22;
-    const double t143 = 0.032000000000000001*t142 + 0.00014999999999999999*t22;
-    const double t144 = 0.032000000000000001*t141 + 0.00014999999999999999*t23;
-    const double t145 = 0.00040000000000000002 + t143*t22 + t144*t23;
-    M[0] = 1.1340299686419999 + t0*t61 + t1*t62;
+    const double t143 = 0.032*t142 + 0.00015*t22;
+    const double t144 = 0.032*t141 + 0.00015*t23;
+    const double t145 = 0.0004 + t143*t22 + t144*t23;
+    M[0] = 1.134029968642 + t0*t61 + t1*t62;
     M[1] = t63;
     M[2] = -t54;
     M[3] = t45;
     M[4] = -t37;
     M[5] = t32;
     M[6] = t63;
-    M[7] = 2.8644412450000001 - t103 - 0.36380000000000001*t104 + a2*t105;
+    M[7] = 2.864441245 - t103 - 0.3638*t104 + a2*t105;
     M[8] = -t103;
     M[9] = t97;
     M[10] = -t87;
     M[11] = t82;
     M[12] = -t54;
     M[13] = -t103;
-    M[14] = 0.57687333193799994 - t130;
+    M[14] = 0.576873331938 - t130;
     M[15] = t126;
     M[16] = -t119;
     M[17] = t82;
@@ -615,7 +700,7 @@ void puma560_mass_matrix(const double q[6], const double *p, double M[36])
     M[35] = 0.19410450566800005;
 }
 
-void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *M)
+void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -623,7 +708,7 @@ void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, d
     }
 }
 
-void puma560_gravity(const double q[6], const double *p, double G[6])
+void puma560_gravity(const double q[6], const double *p, double G[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -635,9 +720,9 @@ void puma560_gravity(const double q[6], const double *p, double G[6])
     const double d3 = p[2];
     const double d4 = p[3];
     const double t0 = sin(q2);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = cos(q2);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = cos(q3);
     const double t5 = sin(q3);
     const double t6 = t1*t4 + t3*t5;
@@ -654,37 +739,37 @@ void puma560_gravity(const double q[6], const double *p, double G[6])
     const double t17 = cos(q6);
     const double t18 = t14*t17 - t11*t16;
     const double t19 = t11*t17 + t14*t16;
-    const double t20 = 0.089999999999999997*t18;
-    const double t21 = 0.089999999999999997*t19;
-    const double t22 = 0.032000000000000001*t21;
-    const double t23 = 0.032000000000000001*t20;
-    const double t24 = 0.34000000000000002*t14 + t16*t21 + t17*t20;
-    const double t25 = -0.34000000000000002*t11 + t16*t20 - t17*t21;
+    const double t20 = 0.09*t18;
+    const double t21 = 0.09*t19;
+    const double t22 = 0.032*t21;
+    const double t23 = 0.032*t20;
+    const double t24 = 0.34*t14 + t16*t21 + t17*t20;
+    const double t25 = -0.34*t11 + t16*t20 - t17*t21;
     const double t26 = 0.43000000000000005*t15;
     const double t27 = t17*t22 - t16*t23;
     const double t28 = t16*t22 + t17*t23;
-    const double t29 = 0.81999999999999995*t9;
-    const double t30 = 0.81999999999999995*t7;
-    const double t31 = 0.81999999999999995*t11;
+    const double t29 = 0.82*t9;
+    const double t30 = 0.82*t7;
+    const double t31 = 0.82*t11;
     const double t32 = t29 + t13*t24 - t12*t26;
     const double t33 = t31 - t25;
     const double t34 = 0.019*t31 + d4*t33 + t13*t27;
     const double t35 = t12*t27;
     const double t36 = t28 + 0.019*t29 + d4*t32;
-    const double t37 = 4.7999999999999998*t6;
-    const double t38 = 4.7999999999999998*t7;
+    const double t37 = 4.8*t6;
+    const double t38 = 4.8*t7;
     const double t39 = t37 + t10*t33 + t32*t8;
     const double t40 = t10*t32 - t33*t8;
     const double t41 = t30 + t38 + t12*t24 + t13*t26;
     const double t42 = -0.0141*t38 + t34*t8 - d3*t41 - t10*t36;
-    const double t43 = 0.070000000000000007*t37 + 0.020299999999999999*t38 + t10*t34 + t36*t8 - a3*t41;
+    const double t43 = 0.07*t37 + 0.0203*t38 + t10*t34 + t36*t8 - a3*t41;
     const double t44 = t35 + 0.0141*t37 + a3*t40 + d3*t39;
-    const double t45 = 17.399999999999999*t1;
-    const double t46 = 17.399999999999999*t3;
+    const double t45 = 17.4*t1;
+    const double t46 = 17.4*t3;
     const double t47 = t46 + t39*t5 + t4*t41;
-    const double t48 = -0.22750000000000001*t46 + t4*t42 - t44*t5;
-    const double t49 = 0.22750000000000001*t45 + a2*t40 + t4*t44 + t42*t5;
-    const double t50 = -t43 - 0.36380000000000001*t46 - 0.0060000000000000001*t45 + a2*t47;
+    const double t48 = -0.2275*t46 + t4*t42 - t44*t5;
+    const double t49 = 0.2275*t45 + a2*t40 + t4*t44 + t42*t5;
+    const double t50 = -t43 - 0.3638*t46 - 0.006*t45 + a2*t47;
     const double t51 = t0*t48 + t2*t49;
     G[0] = t51;
     G[1] = t50;
@@ -694,7 +779,7 @@ void puma560_gravity(const double q[6], const double *p, double G[6])
     G[5] = 0;
 }
 
-void puma560_gravity_batch(size_t count, const double *q, const double *p, double *G)
+void puma560_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -702,7 +787,7 @@ void puma560_gravity_batch(size_t count, const double *q, const double *p, doubl
     }
 }
 
-void puma560_coriolis(const double q[6], const double dq[6], const double *p, double c[6])
+void puma560_coriolis(const double q[6], const double dq[6], const double *p, double c[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -804,42 +889,42 @@ void puma560_coriolis(const double q[6], const double dq[6], const double *p, do
     const double t82 = t76 + t77;
     const double t83 = t67*t69 - t57*t70;
     const double t84 = t57*t69 + t67*t70;
-    const double t85 = 0.089999999999999997*t83 + 0.0028799999999999997*t80;
-    const double t86 = 0.089999999999999997*t84 + 0.0028799999999999997*t81;
-    const double t87 = 0.032000000000000001*t86 + 0.00010999999999999999*t79 + 0.00014999999999999999*t74;
-    const double t88 = 0.032000000000000001*t85 + 0.00010999999999999999*t78 - 0.00014999999999999999*t75;
-    const double t89 = 4.0000000000000003e-5*t64;
-    const double t90 = 0.34000000000000002*t67 + t69*t85 + t70*t86;
-    const double t91 = -0.34000000000000002*t57 + t70*t85 - t69*t86;
+    const double t85 = 0.09*t83 + 0.0028799999999999997*t80;
+    const double t86 = 0.09*t84 + 0.0028799999999999997*t81;
+    const double t87 = 0.032*t86 + 0.00010999999999999999*t79 + 0.00015*t74;
+    const double t88 = 0.032*t85 + 0.00010999999999999999*t78 - 0.00015*t75;
+    const double t89 = 4e-05*t64;
+    const double t90 = 0.34*t67 + t69*t85 + t70*t86;
+    const double t91 = -0.34*t57 + t70*t85 - t69*t86;
     const double t92 = 0.43000000000000005*t68 - 0.0028799999999999997*t82;
-    const double t93 = 0.00010000000000000005*t66 + 0.00029999999999999997*t63 + t69*t87 - t70*t88;
-    const double t94 = -0.00040000000000000002*t47 + t69*t88 + t70*t87;
-    const double t95 = t89 + 0.00010000000000000005*t65 + 0.00029999999999999997*t64;
-    const double t96 = 0.81999999999999995*t55 + 0.015579999999999998*t52;
-    const double t97 = 0.81999999999999995*t56 - 0.015579999999999998*t53;
-    const double t98 = 0.81999999999999995*t57 + 0.015579999999999998*t54;
+    const double t93 = 0.00010000000000000005*t66 + 0.0003*t63 + t69*t87 - t70*t88;
+    const double t94 = -0.0004*t47 + t69*t88 + t70*t87;
+    const double t95 = t89 + 0.00010000000000000005*t65 + 0.0003*t64;
+    const double t96 = 0.82*t55 + 0.015579999999999998*t52;
+    const double t97 = 0.82*t56 - 0.015579999999999998*t53;
+    const double t98 = 0.82*t57 + 0.015579999999999998*t54;
     const double t99 = t96 + t58*t90 - t59*t92;
     const double t100 = t98 - t91;
-    const double t101 = 0.00050000000000000001*t51 + 0.0018*t46 + 0.019*t98 + d4*t100 + t58*t93 + t59*t95;
-    const double t102 = -0.0012999999999999999*t24 + t59*t93 - t58*t95;
-    const double t103 = -t94 + 0.0018*t47 - 0.00050000000000000001*t50 - 0.019*t96 - d4*t99;
-    const double t104 = 4.7999999999999998*t38 + 0.33600000000000002*t29 + 0.097439999999999985*t31 - 0.06767999999999999*t32;
-    const double t105 = 0.06767999999999999*t34 + 4.7999999999999998*t39 + 0.097439999999999985*t33 - 0.33600000000000002*t35;
-    const double t106 = 4.7999999999999998*t40 - 0.06767999999999999*t36 - 0.33600000000000002*t37 - 0.097439999999999985*t29;
+    const double t101 = 0.0005*t51 + 0.0018*t46 + 0.019*t98 + d4*t100 + t58*t93 + t59*t95;
+    const double t102 = -0.0013*t24 + t59*t93 - t58*t95;
+    const double t103 = -t94 + 0.0018*t47 - 0.0005*t50 - 0.019*t96 - d4*t99;
+    const double t104 = 4.8*t38 + 0.336*t29 + 0.09743999999999998*t31 - 0.06767999999999999*t32;
+    const double t105 = 0.06767999999999999*t34 + 4.8*t39 + 0.09743999999999998*t33 - 0.336*t35;
+    const double t106 = 4.8*t40 - 0.06767999999999999*t36 - 0.336*t37 - 0.09743999999999998*t29;
     const double t107 = t104 + t100*t42 + t41*t99;
     const double t108 = t105 + t42*t99 - t100*t41;
     const double t109 = t106 + t97 + t58*t92 + t59*t90;
-    const double t110 = 0.066000000000000003*t23 + 0.073499999999999996*t30 - 0.070000000000000007*t105 - 0.0141*t106 + t101*t41 + t103*t42 - d3*t109;
-    const double t111 = 0.070000000000000007*t104 + 0.020299999999999999*t106 + 0.053500000000000006*t29 + t101*t42 - a3*t109 - t103*t41;
-    const double t112 = t102 + 0.0141*t104 - 0.01999999999999999*t28 - 0.020299999999999999*t105 - 0.012500000000000001*t24 + a3*t108 + d3*t107;
-    const double t113 = 0.10439999999999999*t9 + 6.33012*t10 - 17.399999999999999*t15;
-    const double t114 = 17.399999999999999*t16 - 0.10439999999999999*t11 - 6.33012*t9;
-    const double t115 = 0.10439999999999999*t13 + 17.399999999999999*t17 - 3.9584999999999999*t14 - 6.33012*t12;
+    const double t110 = 0.066*t23 + 0.0735*t30 - 0.07*t105 - 0.0141*t106 + t101*t41 + t103*t42 - d3*t109;
+    const double t111 = 0.07*t104 + 0.0203*t106 + 0.053500000000000006*t29 + t101*t42 - a3*t109 - t103*t41;
+    const double t112 = t102 + 0.0141*t104 - 0.01999999999999999*t28 - 0.0203*t105 - 0.0125*t24 + a3*t108 + d3*t107;
+    const double t113 = 0.10439999999999999*t9 + 6.33012*t10 - 17.4*t15;
+    const double t114 = 17.4*t16 - 0.10439999999999999*t11 - 6.33012*t9;
+    const double t115 = 0.10439999999999999*t13 + 17.4*t17 - 3.9585*t14 - 6.33012*t12;
     const double t116 = t114 + t107*t19 + t109*t18;
     const double t117 = t115 - t108;
-    const double t118 = 0.14500000000000002*t4 + 0.0060000000000000001*t115 - 0.22750000000000001*t114 + t110*t18 - t112*t19;
-    const double t119 = 0.36380000000000001*t115 + 0.22750000000000001*t113 - 0.93300000000000005*t5 + t110*t19 + t112*t18 - a2*t117;
-    const double t120 = -t111 + 0.39400000000000002*t9 - 0.36380000000000001*t114 - 0.0060000000000000001*t113 + a2*t116;
+    const double t118 = 0.14500000000000002*t4 + 0.006*t115 - 0.2275*t114 + t110*t18 - t112*t19;
+    const double t119 = 0.3638*t115 + 0.2275*t113 - 0.933*t5 + t110*t19 + t112*t18 - a2*t117;
+    const double t120 = -t111 + 0.394*t9 - 0.3638*t114 - 0.006*t113 + a2*t116;
     const double t121 = t0*t118 + t119*t2;
     c[0] = t121;
     c[1] = t120;
@@ -849,7 +934,7 @@ void puma560_coriolis(const double q[6], const double dq[6], const double *p, do
     c[5] = -t89;
 }
 
-void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c)
+void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -857,7 +942,7 @@ void puma560_coriolis_batch(size_t count, const double *q, const double *dq, con
     }
 }
 
-void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[36])
+void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -902,25 +987,25 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t25 = t13*t23 + t18*t22;
     const double t26 = t15*t22 - t20*t23;
     const double t27 = t15*t23 + t20*t22;
-    const double t28 = 0.089999999999999997*t26 + 0.0028799999999999997*t25;
-    const double t29 = 0.0028799999999999997*t24 - 0.089999999999999997*t27;
-    const double t30 = 0.032000000000000001*t29 + 0.00014999999999999999*t24;
-    const double t31 = 0.032000000000000001*t28 + 0.00014999999999999999*t25;
-    const double t32 = 0.34000000000000002*t20;
-    const double t33 = 0.34000000000000002*t21;
+    const double t28 = 0.09*t26 + 0.0028799999999999997*t25;
+    const double t29 = 0.0028799999999999997*t24 - 0.09*t27;
+    const double t30 = 0.032*t29 + 0.00015*t24;
+    const double t31 = 0.032*t28 + 0.00015*t25;
+    const double t32 = 0.34*t20;
+    const double t33 = 0.34*t21;
     const double t34 = t22*t29 + t23*t28;
     const double t35 = t32 - t34;
     const double t36 = t23*t29 - t22*t28;
-    const double t37 = t36 - 0.34000000000000002*t15;
-    const double t38 = t33 + 0.089999999999999997*t21;
+    const double t37 = t36 - 0.34*t15;
+    const double t38 = t33 + 0.09*t21;
     const double t39 = t22*t31 - t23*t30;
-    const double t40 = t39 + 0.00029999999999999997*t18;
+    const double t40 = t39 + 0.0003*t18;
     const double t41 = t22*t30 + t23*t31;
-    const double t42 = t41 + 0.00040000000000000002*t13;
+    const double t42 = t41 + 0.0004*t13;
     const double t43 = 0.00033999999999999997*t19;
-    const double t44 = 0.81999999999999995*t14 - 0.015579999999999998*t13;
-    const double t45 = 0.81999999999999995*t9;
-    const double t46 = 0.81999999999999995*t15 + 0.015579999999999998*t11;
+    const double t44 = 0.82*t14 - 0.015579999999999998*t13;
+    const double t45 = 0.82*t9;
+    const double t46 = 0.82*t15 + 0.015579999999999998*t11;
     const double t47 = t16*t38 + t17*t35;
     const double t48 = t44 + t47;
     const double t49 = t16*t35 - t17*t38;
@@ -929,25 +1014,25 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t52 = t51 + 0.0018*t11 + 0.019*t46 + d4*t50;
     const double t53 = t16*t40 + t17*t43;
     const double t54 = t42 + 0.0018*t13 - 0.019*t44 - d4*t48;
-    const double t55 = 0.06767999999999999*t6 + 4.7999999999999998*t7;
-    const double t56 = 4.7999999999999998*t8 - 0.33600000000000002*t5 - 0.097439999999999985*t6;
-    const double t57 = 0.06767999999999999*t5 + 4.7999999999999998*t9;
+    const double t55 = 0.06767999999999999*t6 + 4.8*t7;
+    const double t56 = 4.8*t8 - 0.336*t5 - 0.09743999999999998*t6;
+    const double t57 = 0.06767999999999999*t5 + 4.8*t9;
     const double t58 = t10*t48 + t12*t50;
     const double t59 = t55 + t58;
     const double t60 = t12*t48;
     const double t61 = t10*t50;
     const double t62 = t56 + t60 - t61;
     const double t63 = t49 - t45 - t57;
-    const double t64 = 0.066000000000000003*t5 + 0.0141*t57 - 0.070000000000000007*t56 + t10*t52 + t12*t54 - d3*t63;
-    const double t65 = t53 + 0.0138*t6 + 0.0141*t55 - 0.020299999999999999*t56 + a3*t62 + d3*t59;
-    const double t66 = 3.9584999999999999*t1;
-    const double t67 = 3.9584999999999999*t0;
-    const double t68 = 0.10439999999999999*t0 + 6.33012*t1 - 17.399999999999999*t2;
+    const double t64 = 0.066*t5 + 0.0141*t57 - 0.07*t56 + t10*t52 + t12*t54 - d3*t63;
+    const double t65 = t53 + 0.0138*t6 + 0.0141*t55 - 0.0203*t56 + a3*t62 + d3*t59;
+    const double t66 = 3.9585*t1;
+    const double t67 = 3.9585*t0;
+    const double t68 = 0.10439999999999999*t0 + 6.33012*t1 - 17.4*t2;
     const double t69 = t68 - t62;
     const double t70 = t3*t64 - t4*t65;
-    const double t71 = t70 + 0.13*t0 + 0.0060000000000000001*t68 + 0.22750000000000001*t67;
+    const double t71 = t70 + 0.13*t0 + 0.006*t68 + 0.2275*t67;
     const double t72 = t3*t65 + t4*t64;
-    const double t73 = t72 + 0.52400000000000002*t1 + 0.36380000000000001*t68 + 0.22750000000000001*t66 - a2*t69;
+    const double t73 = t72 + 0.524*t1 + 0.3638*t68 + 0.2275*t66 - a2*t69;
     const double t74 = a2*t4;
     const double t75 = a2*t3;
     const double t76 = a3 + t75;
@@ -963,26 +1048,26 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t86 = t22*t81 - t10*t23;
     const double t87 = t22*t80 + t23*t83;
     const double t88 = t23*t80 - t22*t83;
-    const double t89 = 0.089999999999999997*t87 + 0.0028799999999999997*t86;
-    const double t90 = 0.089999999999999997*t88 + 0.0028799999999999997*t85;
-    const double t91 = 0.032000000000000001*t90 + 0.00014999999999999999*t85;
-    const double t92 = 0.032000000000000001*t89 + 0.00014999999999999999*t86;
-    const double t93 = 0.34000000000000002*t83;
-    const double t94 = 0.34000000000000002*t84;
+    const double t89 = 0.09*t87 + 0.0028799999999999997*t86;
+    const double t90 = 0.09*t88 + 0.0028799999999999997*t85;
+    const double t91 = 0.032*t90 + 0.00015*t85;
+    const double t92 = 0.032*t89 + 0.00015*t86;
+    const double t93 = 0.34*t83;
+    const double t94 = 0.34*t84;
     const double t95 = t23*t89 - t22*t90;
     const double t96 = t93 + t95;
     const double t97 = t22*t89 + t23*t90;
-    const double t98 = t97 + 0.34000000000000002*t80;
-    const double t99 = t94 + 0.089999999999999997*t84;
+    const double t98 = t97 + 0.34*t80;
+    const double t99 = t94 + 0.09*t84;
     const double t100 = t22*t92 + t23*t91;
-    const double t101 = t100 + 0.00029999999999999997*t81;
+    const double t101 = t100 + 0.0003*t81;
     const double t102 = t23*t92 - t22*t91;
-    const double t103 = t102 - 0.00040000000000000002*t10;
+    const double t103 = t102 - 0.0004*t10;
     const double t104 = 0.00033999999999999997*t82;
-    const double t105 = 0.81999999999999995*t78 - 0.015579999999999998*t10;
-    const double t106 = 0.81999999999999995*t76;
+    const double t105 = 0.82*t78 - 0.015579999999999998*t10;
+    const double t106 = 0.82*t76;
     const double t107 = 0.015579999999999998*t12;
-    const double t108 = t107 + 0.81999999999999995*t80;
+    const double t108 = t107 + 0.82*t80;
     const double t109 = t17*t96 - t16*t99;
     const double t110 = t105 + t109;
     const double t111 = t16*t96 + t17*t99;
@@ -991,30 +1076,30 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t114 = t101*t17 + t104*t16;
     const double t115 = t113 + t114 + 0.019*t108 + d4*t112;
     const double t116 = -t103 + 0.0018*t10 - 0.019*t105 - d4*t110;
-    const double t117 = -0.33600000000000002 + 4.7999999999999998*t74 + t10*t110 - t112*t12;
-    const double t118 = -0.097439999999999985 + t106 + t111 + 4.7999999999999998*t76;
+    const double t117 = -0.336 + 4.8*t74 + t10*t110 - t112*t12;
+    const double t118 = -0.09743999999999998 + t106 + t111 + 4.8*t76;
     const double t119 = d4*t10;
     const double t120 = a3*t16 - t119*t17;
     const double t121 = a3*t17 + t119*t16;
     const double t122 = t120*t23 + t22*t79;
     const double t123 = t23*t79 - t120*t22;
-    const double t124 = 0.089999999999999997*t122 + 0.0028799999999999997*t86;
-    const double t125 = 0.089999999999999997*t123 + 0.0028799999999999997*t85;
-    const double t126 = 0.032000000000000001*t125 + 0.00014999999999999999*t85;
-    const double t127 = 0.032000000000000001*t124 + 0.00014999999999999999*t86;
-    const double t128 = 0.34000000000000002*t120;
-    const double t129 = 0.34000000000000002*t121;
+    const double t124 = 0.09*t122 + 0.0028799999999999997*t86;
+    const double t125 = 0.09*t123 + 0.0028799999999999997*t85;
+    const double t126 = 0.032*t125 + 0.00015*t85;
+    const double t127 = 0.032*t124 + 0.00015*t86;
+    const double t128 = 0.34*t120;
+    const double t129 = 0.34*t121;
     const double t130 = t124*t23 - t125*t22;
     const double t131 = t128 + t130;
     const double t132 = t124*t22 + t125*t23;
-    const double t133 = t132 + 0.34000000000000002*t79;
-    const double t134 = t129 + 0.089999999999999997*t121;
+    const double t133 = t132 + 0.34*t79;
+    const double t134 = t129 + 0.09*t121;
     const double t135 = t126*t23 + t127*t22;
-    const double t136 = t135 + 0.00029999999999999997*t81;
+    const double t136 = t135 + 0.0003*t81;
     const double t137 = t127*t23 - t126*t22;
-    const double t138 = t137 - 0.00040000000000000002*t10;
-    const double t139 = 0.81999999999999995*t119 + 0.015579999999999998*t10;
-    const double t140 = t107 + 0.81999999999999995*t79;
+    const double t138 = t137 - 0.0004*t10;
+    const double t139 = 0.82*t119 + 0.015579999999999998*t10;
+    const double t140 = t107 + 0.82*t79;
     const double t141 = t131*t17 - t134*t16;
     const double t142 = t141 - t139;
     const double t143 = t133 + t140;
@@ -1025,86 +1110,86 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t148 = t16*t22;
     const double t149 = 0.0028799999999999997*t148;
     const double t150 = 0.0028799999999999997*t147;
-    const double t151 = 0.032000000000000001*t150 + 0.00014999999999999999*t147;
-    const double t152 = 0.032000000000000001*t149 + 0.00014999999999999999*t148;
+    const double t151 = 0.032*t150 + 0.00015*t147;
+    const double t152 = 0.032*t149 + 0.00015*t148;
     const double t153 = t151*t23 + t152*t22;
-    const double t154 = t153 + 0.00029999999999999997*t16;
+    const double t154 = t153 + 0.0003*t16;
     const double t155 = 0.00033999999999999997*t17;
     const double t156 = a2*t0;
-    const double t157 = 0.10439999999999999*t1 + 17.399999999999999*t156 - 6.33012*t0;
+    const double t157 = 0.10439999999999999*t1 + 17.4*t156 - 6.33012*t0;
     const double t158 = t156 + a3*t5;
-    const double t159 = 0.097439999999999985*t5 - 4.7999999999999998*t158 - 0.33600000000000002*t6;
+    const double t159 = 0.09743999999999998*t5 - 4.8*t158 - 0.336*t6;
     const double t160 = t10*t6;
     const double t161 = d4*t160 + t10*t158 - t12*t9;
-    const double t162 = 0.81999999999999995*t161 + 0.015579999999999998*t160;
+    const double t162 = 0.82*t161 + 0.015579999999999998*t160;
     const double t163 = t12*t6;
     const double t164 = d4*t163 + t10*t9 + t12*t158;
     const double t165 = t16*t7 + t164*t17;
     const double t166 = t161*t22 + t165*t23;
     const double t167 = t160*t17 - t16*t5;
     const double t168 = t163*t23 + t167*t22;
-    const double t169 = 0.089999999999999997*t166 + 0.0028799999999999997*t168;
+    const double t169 = 0.09*t166 + 0.0028799999999999997*t168;
     const double t170 = t165*t22 - t161*t23;
     const double t171 = t167*t23 - t163*t22;
-    const double t172 = 0.089999999999999997*t170 - 0.0028799999999999997*t171;
-    const double t173 = -0.34000000000000002*t161 + t172*t23 - t169*t22;
+    const double t172 = 0.09*t170 - 0.0028799999999999997*t171;
+    const double t173 = -0.34*t161 + t172*t23 - t169*t22;
     const double t174 = t162 - t173;
-    const double t175 = 0.00014999999999999999*t171 - 0.032000000000000001*t172;
-    const double t176 = 0.032000000000000001*t169 + 0.00014999999999999999*t168;
-    const double t177 = 0.00029999999999999997*t167 + t175*t23 + t176*t22;
+    const double t175 = 0.00015*t171 - 0.032*t172;
+    const double t176 = 0.032*t169 + 0.00015*t168;
+    const double t177 = 0.0003*t167 + t175*t23 + t176*t22;
     const double t178 = t16*t160 + t17*t5;
-    const double t179 = 4.0000000000000003e-5*t178;
-    const double t180 = t179 + 0.00029999999999999997*t178;
+    const double t179 = 4e-05*t178;
+    const double t180 = t179 + 0.0003*t178;
     const double t181 = 0.0018*t160 + 0.019*t162 + d4*t174 + t16*t180 + t17*t177;
-    const double t182 = -0.00040000000000000002*t163 + t175*t22 - t176*t23;
-    const double t183 = 0.81999999999999995*t164 + 0.015579999999999998*t163;
-    const double t184 = 0.34000000000000002*t165 + t169*t23 + t172*t22;
+    const double t182 = -0.0004*t163 + t175*t22 - t176*t23;
+    const double t183 = 0.82*t164 + 0.015579999999999998*t163;
+    const double t184 = 0.34*t165 + t169*t23 + t172*t22;
     const double t185 = t16*t164 - t17*t7;
     const double t186 = 0.43000000000000005*t185;
     const double t187 = t183 + t16*t186 + t17*t184;
     const double t188 = -t182 + 0.0018*t163 + 0.019*t183 + d4*t187;
-    const double t189 = 0.81999999999999995*t7;
+    const double t189 = 0.82*t7;
     const double t190 = -t189 - t55 + t17*t186 - t16*t184;
-    const double t191 = 0.066000000000000003*t6 + 0.0141*t55 - 0.070000000000000007*t159 + t10*t181 + t12*t188 - d3*t190;
-    const double t192 = -0.0012999999999999999*t5 + t16*t177 - t17*t180;
+    const double t191 = 0.066*t6 + 0.0141*t55 - 0.07*t159 + t10*t181 + t12*t188 - d3*t190;
+    const double t192 = -0.0013*t5 + t16*t177 - t17*t180;
     const double t193 = t159 - t10*t174 - t12*t187;
     const double t194 = -t57 + t12*t174 - t10*t187;
-    const double t195 = t192 - 0.020299999999999999*t159 - 0.012500000000000001*t5 - 0.0141*t57 + a3*t193 + d3*t194;
-    const double t196 = 0.13*t1 + 0.0060000000000000001*t157 + 0.22750000000000001*t66 + t191*t3 - t195*t4;
+    const double t195 = t192 - 0.0203*t159 - 0.0125*t5 - 0.0141*t57 + a3*t193 + d3*t194;
+    const double t196 = 0.13*t1 + 0.006*t157 + 0.2275*t66 + t191*t3 - t195*t4;
     const double t197 = t157 - t193;
-    const double t198 = 0.36380000000000001*t157 - 0.52400000000000002*t0 - 0.22750000000000001*t67 + t191*t4 + t195*t3 - a2*t197;
+    const double t198 = 0.3638*t157 - 0.524*t0 - 0.2275*t67 + t191*t4 + t195*t3 - a2*t197;
     const double t199 = t198 + t71;
     const double t200 = t196 - t73;
     const double t201 = t0*t200 + t1*t199;
     const double t202 = a3*t5;
-    const double t203 = 0.097439999999999985*t5 - 4.7999999999999998*t202 - 0.33600000000000002*t6;
+    const double t203 = 0.09743999999999998*t5 - 4.8*t202 - 0.336*t6;
     const double t204 = d4*t160 + t10*t202 - t12*t9;
-    const double t205 = 0.81999999999999995*t204 + 0.015579999999999998*t160;
+    const double t205 = 0.82*t204 + 0.015579999999999998*t160;
     const double t206 = d4*t163 + t10*t9 + t12*t202;
     const double t207 = t16*t7 + t17*t206;
     const double t208 = t204*t22 + t207*t23;
-    const double t209 = 0.089999999999999997*t208 + 0.0028799999999999997*t168;
+    const double t209 = 0.09*t208 + 0.0028799999999999997*t168;
     const double t210 = t207*t22 - t204*t23;
-    const double t211 = 0.089999999999999997*t210 - 0.0028799999999999997*t171;
-    const double t212 = -0.34000000000000002*t204 + t211*t23 - t209*t22;
+    const double t211 = 0.09*t210 - 0.0028799999999999997*t171;
+    const double t212 = -0.34*t204 + t211*t23 - t209*t22;
     const double t213 = t205 - t212;
-    const double t214 = 0.00014999999999999999*t171 - 0.032000000000000001*t211;
-    const double t215 = 0.032000000000000001*t209 + 0.00014999999999999999*t168;
-    const double t216 = 0.00029999999999999997*t167 + t214*t23 + t215*t22;
+    const double t214 = 0.00015*t171 - 0.032*t211;
+    const double t215 = 0.032*t209 + 0.00015*t168;
+    const double t216 = 0.0003*t167 + t214*t23 + t215*t22;
     const double t217 = 0.0018*t160 + 0.019*t205 + d4*t213 + t16*t180 + t17*t216;
-    const double t218 = -0.00040000000000000002*t163 + t214*t22 - t215*t23;
-    const double t219 = 0.81999999999999995*t206 + 0.015579999999999998*t163;
-    const double t220 = 0.34000000000000002*t207 + t209*t23 + t211*t22;
+    const double t218 = -0.0004*t163 + t214*t22 - t215*t23;
+    const double t219 = 0.82*t206 + 0.015579999999999998*t163;
+    const double t220 = 0.34*t207 + t209*t23 + t211*t22;
     const double t221 = t16*t206 - t17*t7;
     const double t222 = 0.43000000000000005*t221;
     const double t223 = t219 + t16*t222 + t17*t220;
     const double t224 = -t218 + 0.0018*t163 + 0.019*t219 + d4*t223;
     const double t225 = -t189 - t55 + t17*t222 - t16*t220;
-    const double t226 = 0.066000000000000003*t6 + 0.0141*t55 - 0.070000000000000007*t203 + t10*t217 + t12*t224 - d3*t225;
-    const double t227 = -0.0012999999999999999*t5 + t16*t216 - t17*t180;
+    const double t226 = 0.066*t6 + 0.0141*t55 - 0.07*t203 + t10*t217 + t12*t224 - d3*t225;
+    const double t227 = -0.0013*t5 + t16*t216 - t17*t180;
     const double t228 = t203 - t10*t213 - t12*t223;
     const double t229 = -t57 + t12*t213 - t10*t223;
-    const double t230 = t227 - 0.020299999999999999*t203 - 0.012500000000000001*t5 - 0.0141*t57 + a3*t228 + d3*t229;
+    const double t230 = t227 - 0.0203*t203 - 0.0125*t5 - 0.0141*t57 + a3*t228 + d3*t229;
     const double t231 = -t72 + t226*t3 - t230*t4;
     const double t232 = t70 + a2*t228 + t226*t4 + t230*t3;
     const double t233 = t0*t231 + t1*t232;
@@ -1112,21 +1197,21 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t235 = t14*t22 + t23*t234;
     const double t236 = t13*t17;
     const double t237 = t22*t236 - t11*t23;
-    const double t238 = 0.0028799999999999997*t237 - 0.089999999999999997*t235;
+    const double t238 = 0.0028799999999999997*t237 - 0.09*t235;
     const double t239 = t22*t234 - t14*t23;
     const double t240 = t11*t22 + t23*t236;
-    const double t241 = 0.089999999999999997*t239 + 0.0028799999999999997*t240;
-    const double t242 = -0.34000000000000002*t14 + t22*t238 + t23*t241;
+    const double t241 = 0.09*t239 + 0.0028799999999999997*t240;
+    const double t242 = -0.34*t14 + t22*t238 + t23*t241;
     const double t243 = t44 - t242;
-    const double t244 = 0.032000000000000001*t241 + 0.00014999999999999999*t240;
-    const double t245 = 0.032000000000000001*t238 + 0.00014999999999999999*t237;
-    const double t246 = 0.00029999999999999997*t236 + t22*t245 + t23*t244;
+    const double t244 = 0.032*t241 + 0.00015*t240;
+    const double t245 = 0.032*t238 + 0.00015*t237;
+    const double t246 = 0.0003*t236 + t22*t245 + t23*t244;
     const double t247 = t13*t16;
-    const double t248 = 4.0000000000000003e-5*t247;
-    const double t249 = t248 + 0.00029999999999999997*t247;
+    const double t248 = 4e-05*t247;
+    const double t249 = t248 + 0.0003*t247;
     const double t250 = 0.019*t44 - 0.0018*t13 + d4*t243 - t16*t249 - t17*t246;
-    const double t251 = -0.00040000000000000002*t11 + t23*t245 - t22*t244;
-    const double t252 = -0.34000000000000002*t234 + t23*t238 - t22*t241;
+    const double t251 = -0.0004*t11 + t23*t245 - t22*t244;
+    const double t252 = -0.34*t234 + t23*t238 - t22*t241;
     const double t253 = t15*t16;
     const double t254 = 0.43000000000000005*t253;
     const double t255 = -t46 + t17*t252 - t16*t254;
@@ -1144,20 +1229,20 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t267 = t0*t265 + t1*t266;
     const double t268 = t21*t23;
     const double t269 = t19*t22;
-    const double t270 = 0.089999999999999997*t268 + 0.0028799999999999997*t269;
+    const double t270 = 0.09*t268 + 0.0028799999999999997*t269;
     const double t271 = t21*t22;
     const double t272 = t19*t23;
-    const double t273 = 0.089999999999999997*t271 - 0.0028799999999999997*t272;
+    const double t273 = 0.09*t271 - 0.0028799999999999997*t272;
     const double t274 = t23*t273 - t22*t270;
-    const double t275 = 0.00014999999999999999*t272 - 0.032000000000000001*t273;
-    const double t276 = 0.032000000000000001*t270 + 0.00014999999999999999*t269;
-    const double t277 = 0.00029999999999999997*t19 + t22*t276 + t23*t275;
-    const double t278 = 4.0000000000000003e-5*t18;
-    const double t279 = t278 + 0.00029999999999999997*t18;
+    const double t275 = 0.00015*t272 - 0.032*t273;
+    const double t276 = 0.032*t270 + 0.00015*t269;
+    const double t277 = 0.0003*t19 + t22*t276 + t23*t275;
+    const double t278 = 4e-05*t18;
+    const double t279 = t278 + 0.0003*t18;
     const double t280 = -t53 + t16*t279 + t17*t277 - d4*t274;
     const double t281 = t22*t275 - t23*t276;
     const double t282 = t33 + t22*t273 + t23*t270;
-    const double t283 = t32 + 0.089999999999999997*t20;
+    const double t283 = t32 + 0.09*t20;
     const double t284 = -t49 + t16*t283 - t17*t282;
     const double t285 = t281 + d4*t284;
     const double t286 = t47 - t16*t282 - t17*t283;
@@ -1185,10 +1270,10 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t308 = t3*t303 - t307*t4;
     const double t309 = a2*t305 + t3*t307 + t303*t4;
     const double t310 = t0*t308 + t1*t309;
-    const double t311 = -0.070000000000000007*t57 - 0.020299999999999999*t55 + t12*t181 - a3*t190 - t10*t188;
+    const double t311 = -0.07*t57 - 0.0203*t55 + t12*t181 - a3*t190 - t10*t188;
     const double t312 = -t66 + t190*t3 + t194*t4;
-    const double t313 = -t311 + 0.36380000000000001*t66 + 0.0060000000000000001*t67 + a2*t312;
-    const double t314 = -0.070000000000000007*t57 - 0.020299999999999999*t55 + t12*t217 - a3*t225 - t10*t224;
+    const double t313 = -t311 + 0.3638*t66 + 0.006*t67 + a2*t312;
+    const double t314 = -0.07*t57 - 0.0203*t55 + t12*t217 - a3*t225 - t10*t224;
     const double t315 = t229 - t63;
     const double t316 = t225 + t59;
     const double t317 = t3*t316 + t315*t4;
@@ -1202,32 +1287,32 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t325 = t10*t301 + t12*t297 - a3*t302;
     const double t326 = t3*t302 + t306*t4;
     const double t327 = -t325 + a2*t326;
-    const double t328 = 4.7999999999999998*t75;
-    const double t329 = 4.7999999999999998*t74;
+    const double t328 = 4.8*t75;
+    const double t329 = 4.8*t74;
     const double t330 = t12*t75;
-    const double t331 = 0.81999999999999995*t330;
+    const double t331 = 0.82*t330;
     const double t332 = t10*t75;
     const double t333 = t17*t332 - t16*t74;
     const double t334 = t23*t333 - t22*t330;
-    const double t335 = 0.089999999999999997*t334;
+    const double t335 = 0.09*t334;
     const double t336 = t22*t333 + t23*t330;
-    const double t337 = 0.089999999999999997*t336;
-    const double t338 = -0.34000000000000002*t330 + t22*t335 - t23*t337;
+    const double t337 = 0.09*t336;
+    const double t338 = -0.34*t330 + t22*t335 - t23*t337;
     const double t339 = t331 - t338;
-    const double t340 = 0.032000000000000001*t337;
-    const double t341 = 0.032000000000000001*t335;
+    const double t340 = 0.032*t337;
+    const double t341 = 0.032*t335;
     const double t342 = t23*t340 - t22*t341;
     const double t343 = 0.019*t331 + d4*t339 + t17*t342;
-    const double t344 = 0.81999999999999995*t74;
-    const double t345 = 0.34000000000000002*t333 + t22*t337 + t23*t335;
+    const double t344 = 0.82*t74;
+    const double t345 = 0.34*t333 + t22*t337 + t23*t335;
     const double t346 = t16*t332 + t17*t74;
     const double t347 = 0.43000000000000005*t346;
     const double t348 = -t329 - t344 + t16*t345 - t17*t347;
     const double t349 = t22*t340 + t23*t341;
-    const double t350 = 0.81999999999999995*t332;
+    const double t350 = 0.82*t332;
     const double t351 = t350 + t16*t347 + t17*t345;
     const double t352 = t349 + 0.019*t350 + d4*t351;
-    const double t353 = 0.070000000000000007*t328 - 0.020299999999999999*t329 + t10*t352 + t12*t343 - a3*t348;
+    const double t353 = 0.07*t328 - 0.0203*t329 + t10*t352 + t12*t343 - a3*t348;
     const double t354 = t328 + t10*t351 + t12*t339;
     const double t355 = t354 - t118;
     const double t356 = t117 + t348;
@@ -1235,31 +1320,31 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t358 = -t353 + a2*t357;
     const double t359 = t77 - t119;
     const double t360 = 0.015579999999999998*t10;
-    const double t361 = -t360 + 0.81999999999999995*t359;
+    const double t361 = -t360 + 0.82*t359;
     const double t362 = t17*t80;
     const double t363 = t23*t362 - t22*t359;
     const double t364 = t10*t17;
     const double t365 = t12*t23;
     const double t366 = t365 + t22*t364;
-    const double t367 = 0.089999999999999997*t363 + 0.0028799999999999997*t366;
+    const double t367 = 0.09*t363 + 0.0028799999999999997*t366;
     const double t368 = t22*t362 + t23*t359;
     const double t369 = t12*t22 - t23*t364;
-    const double t370 = 0.089999999999999997*t368 + 0.0028799999999999997*t369;
-    const double t371 = -0.34000000000000002*t359 + t22*t367 - t23*t370;
+    const double t370 = 0.09*t368 + 0.0028799999999999997*t369;
+    const double t371 = -0.34*t359 + t22*t367 - t23*t370;
     const double t372 = t361 - t371;
-    const double t373 = 0.032000000000000001*t370 + 0.00014999999999999999*t369;
-    const double t374 = 0.032000000000000001*t367 + 0.00014999999999999999*t366;
-    const double t375 = -0.00029999999999999997*t364 + t23*t373 - t22*t374;
+    const double t373 = 0.032*t370 + 0.00015*t369;
+    const double t374 = 0.032*t367 + 0.00015*t366;
+    const double t375 = -0.0003*t364 + t23*t373 - t22*t374;
     const double t376 = t10*t16;
-    const double t377 = 4.0000000000000003e-5*t376;
-    const double t378 = t377 + 0.00029999999999999997*t376;
+    const double t377 = 4e-05*t376;
+    const double t378 = t377 + 0.0003*t376;
     const double t379 = 0.0018*t10;
     const double t380 = -t379 + 0.019*t361 + d4*t372 + t17*t375 - t16*t378;
-    const double t381 = 0.34000000000000002*t362 + t22*t370 + t23*t367;
+    const double t381 = 0.34*t362 + t22*t370 + t23*t367;
     const double t382 = t16*t80;
     const double t383 = 0.43000000000000005*t382;
     const double t384 = t16*t381 - t17*t383;
-    const double t385 = 0.00040000000000000002*t12;
+    const double t385 = 0.0004*t12;
     const double t386 = t385 + t22*t373 + t23*t374;
     const double t387 = t108 + t16*t383 + t17*t381;
     const double t388 = t113 + t386 + 0.019*t108 + d4*t387;
@@ -1273,21 +1358,21 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t396 = -t391 + a2*t395;
     const double t397 = t23*t84;
     const double t398 = t22*t82;
-    const double t399 = 0.089999999999999997*t397 - 0.0028799999999999997*t398;
+    const double t399 = 0.09*t397 - 0.0028799999999999997*t398;
     const double t400 = t22*t84;
     const double t401 = t23*t82;
-    const double t402 = 0.089999999999999997*t400 + 0.0028799999999999997*t401;
+    const double t402 = 0.09*t400 + 0.0028799999999999997*t401;
     const double t403 = t22*t399 - t23*t402;
-    const double t404 = 0.032000000000000001*t402 + 0.00014999999999999999*t401;
-    const double t405 = 0.032000000000000001*t399 - 0.00014999999999999999*t398;
-    const double t406 = 0.00029999999999999997*t82 + t23*t404 - t22*t405;
-    const double t407 = 4.0000000000000003e-5*t81;
-    const double t408 = t407 + 0.00029999999999999997*t81;
+    const double t404 = 0.032*t402 + 0.00015*t401;
+    const double t405 = 0.032*t399 - 0.00015*t398;
+    const double t406 = 0.0003*t82 + t23*t404 - t22*t405;
+    const double t407 = 4e-05*t81;
+    const double t408 = t407 + 0.0003*t81;
     const double t409 = t406 - t104;
     const double t410 = t101 - t408;
     const double t411 = t16*t410 + t17*t409 - d4*t403;
     const double t412 = t94 + t22*t402 + t23*t399;
-    const double t413 = t93 + 0.089999999999999997*t83;
+    const double t413 = t93 + 0.09*t83;
     const double t414 = t109 + t16*t412 - t17*t413;
     const double t415 = t22*t404 + t23*t405;
     const double t416 = -t111 + t16*t413 + t17*t412;
@@ -1312,19 +1397,19 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t435 = t16*t375 + t17*t378;
     const double t436 = -t114 + t16*t406 + t17*t408;
     const double t437 = t16*t423;
-    const double t438 = t360 + 0.81999999999999995*t119;
+    const double t438 = t360 + 0.82*t119;
     const double t439 = t17*t79;
     const double t440 = t119*t22 + t23*t439;
-    const double t441 = 0.089999999999999997*t440 + 0.0028799999999999997*t366;
+    const double t441 = 0.09*t440 + 0.0028799999999999997*t366;
     const double t442 = t119*t23 - t22*t439;
-    const double t443 = 0.089999999999999997*t442 - 0.0028799999999999997*t369;
-    const double t444 = 0.34000000000000002*t119 + t22*t441 + t23*t443;
+    const double t443 = 0.09*t442 - 0.0028799999999999997*t369;
+    const double t444 = 0.34*t119 + t22*t441 + t23*t443;
     const double t445 = t438 + t444;
-    const double t446 = 0.00014999999999999999*t369 - 0.032000000000000001*t443;
-    const double t447 = 0.032000000000000001*t441 + 0.00014999999999999999*t366;
-    const double t448 = -0.00029999999999999997*t364 + t23*t446 - t22*t447;
+    const double t446 = 0.00015*t369 - 0.032*t443;
+    const double t447 = 0.032*t441 + 0.00015*t366;
+    const double t448 = -0.0003*t364 + t23*t446 - t22*t447;
     const double t449 = -t379 - 0.019*t438 + t17*t448 - d4*t445 - t16*t378;
-    const double t450 = 0.34000000000000002*t439 + t23*t441 - t22*t443;
+    const double t450 = 0.34*t439 + t23*t441 - t22*t443;
     const double t451 = t16*t79;
     const double t452 = 0.43000000000000005*t451;
     const double t453 = t16*t450 - t17*t452;
@@ -1335,18 +1420,18 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t458 = t456 - t145;
     const double t459 = t10*t458 + t12*t457 - a3*t453;
     const double t460 = t121*t23;
-    const double t461 = 0.089999999999999997*t460 - 0.0028799999999999997*t398;
+    const double t461 = 0.09*t460 - 0.0028799999999999997*t398;
     const double t462 = t121*t22;
-    const double t463 = 0.089999999999999997*t462 + 0.0028799999999999997*t401;
+    const double t463 = 0.09*t462 + 0.0028799999999999997*t401;
     const double t464 = t22*t461 - t23*t463;
-    const double t465 = 0.032000000000000001*t463 + 0.00014999999999999999*t401;
-    const double t466 = 0.032000000000000001*t461 - 0.00014999999999999999*t398;
-    const double t467 = 0.00029999999999999997*t82 + t23*t465 - t22*t466;
+    const double t465 = 0.032*t463 + 0.00015*t401;
+    const double t466 = 0.032*t461 - 0.00015*t398;
+    const double t467 = 0.0003*t82 + t23*t465 - t22*t466;
     const double t468 = t467 - t104;
     const double t469 = t136 - t408;
     const double t470 = t16*t469 + t17*t468 - d4*t464;
     const double t471 = t129 + t22*t463 + t23*t461;
-    const double t472 = t128 + 0.089999999999999997*t120;
+    const double t472 = t128 + 0.09*t120;
     const double t473 = t141 + t16*t471 - t17*t472;
     const double t474 = t22*t465 + t23*t466;
     const double t475 = t471 - t134;
@@ -1368,13 +1453,13 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     const double t491 = t16*t481;
     const double t492 = t17*t23;
     const double t493 = 0.0028799999999999997*t492;
-    const double t494 = 0.032000000000000001*t493 + 0.00014999999999999999*t492;
+    const double t494 = 0.032*t493 + 0.00015*t492;
     const double t495 = t17*t22;
     const double t496 = 0.0028799999999999997*t495;
-    const double t497 = 0.032000000000000001*t496 + 0.00014999999999999999*t495;
-    const double t498 = 0.00029999999999999997*t17 + t22*t497 + t23*t494;
-    const double t499 = 4.0000000000000003e-5*t16;
-    const double t500 = t499 + 0.00029999999999999997*t16;
+    const double t497 = 0.032*t496 + 0.00015*t495;
+    const double t498 = 0.0003*t17 + t22*t497 + t23*t494;
+    const double t499 = 4e-05*t16;
+    const double t500 = t499 + 0.0003*t16;
     const double t501 = t154 - t500;
     const double t502 = t498 - t155;
     const double t503 = t16*t502 + t17*t501;
@@ -1479,7 +1564,7 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
     C[35] = 0;
 }
 
-void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C)
+void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1487,7 +1572,7 @@ void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *
     }
 }
 
-void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[6])
+void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1531,8 +1616,8 @@ void puma560_inverse_dynamics(const double q[6], const double dq[6], const doubl
     const double t18 = t10 - t5;
     const double t19 = t11 + t4;
     const double t20 = t6 + t7;
-    const double t21 = 9.8100000000000005*t0 - a2*t12;
-    const double t22 = 9.8100000000000005*t2 + a2*t15;
+    const double t21 = 9.81*t0 - a2*t12;
+    const double t22 = 9.81*t2 + a2*t15;
     const double t23 = a2*t18;
     const double t24 = cos(q3);
     const double t25 = sin(q3);
@@ -1607,50 +1692,50 @@ void puma560_inverse_dynamics(const double q[6], const double dq[6], const doubl
     const double t94 = t88 + t89;
     const double t95 = t78*t80 - t67*t81;
     const double t96 = t67*t80 + t78*t81;
-    const double t97 = 0.089999999999999997*t95 + 0.0028799999999999997*t92;
-    const double t98 = 0.089999999999999997*t96 + 0.0028799999999999997*t93;
-    const double t99 = 0.032000000000000001*t98 + 0.00010999999999999999*t91 + 0.00014999999999999999*t85;
-    const double t100 = 0.032000000000000001*t97 + 0.00010999999999999999*t90 - 0.00014999999999999999*t86;
-    const double t101 = 4.0000000000000003e-5*t87;
-    const double t102 = 0.34000000000000002*t78 + t80*t97 + t81*t98;
-    const double t103 = -0.34000000000000002*t67 + t81*t97 - t80*t98;
+    const double t97 = 0.09*t95 + 0.0028799999999999997*t92;
+    const double t98 = 0.09*t96 + 0.0028799999999999997*t93;
+    const double t99 = 0.032*t98 + 0.00010999999999999999*t91 + 0.00015*t85;
+    const double t100 = 0.032*t97 + 0.00010999999999999999*t90 - 0.00015*t86;
+    const double t101 = 4e-05*t87;
+    const double t102 = 0.34*t78 + t80*t97 + t81*t98;
+    const double t103 = -0.34*t67 + t81*t97 - t80*t98;
     const double t104 = 0.43000000000000005*t79 - 0.0028799999999999997*t94;
-    const double t105 = 0.00010000000000000005*t77 + 0.00029999999999999997*t73 + t80*t99 - t100*t81;
-    const double t106 = -0.00040000000000000002*t74 + t100*t80 + t81*t99;
-    const double t107 = t101 + 0.00029999999999999997*t75 - 0.00010000000000000005*t76;
-    const double t108 = 0.81999999999999995*t65 + 0.015579999999999998*t62;
-    const double t109 = 0.81999999999999995*t66 - 0.015579999999999998*t63;
-    const double t110 = 0.81999999999999995*t67 + 0.015579999999999998*t64;
+    const double t105 = 0.00010000000000000005*t77 + 0.0003*t73 + t80*t99 - t100*t81;
+    const double t106 = -0.0004*t74 + t100*t80 + t81*t99;
+    const double t107 = t101 + 0.0003*t75 - 0.00010000000000000005*t76;
+    const double t108 = 0.82*t65 + 0.015579999999999998*t62;
+    const double t109 = 0.82*t66 - 0.015579999999999998*t63;
+    const double t110 = 0.82*t67 + 0.015579999999999998*t64;
     const double t111 = t108 + t102*t68 - t104*t69;
     const double t112 = t110 - t103;
-    const double t113 = 0.00050000000000000001*t61 + 0.0018*t55 + 0.019*t110 + d4*t112 + t105*t68 - t107*t69;
-    const double t114 = 0.0012999999999999999*t56 + t105*t69 + t107*t68;
-    const double t115 = -t106 + 0.0018*t57 - 0.00050000000000000001*t60 - 0.019*t108 - d4*t111;
-    const double t116 = 0.06767999999999999*t39 + 4.7999999999999998*t47 + 0.33600000000000002*t40 + 0.097439999999999985*t38;
-    const double t117 = 0.06767999999999999*t42 + 4.7999999999999998*t48 - 0.33600000000000002*t43 - 0.097439999999999985*t41;
-    const double t118 = 4.7999999999999998*t49 - 0.06767999999999999*t45 - 0.33600000000000002*t46 - 0.097439999999999985*t44;
+    const double t113 = 0.0005*t61 + 0.0018*t55 + 0.019*t110 + d4*t112 + t105*t68 - t107*t69;
+    const double t114 = 0.0013*t56 + t105*t69 + t107*t68;
+    const double t115 = -t106 + 0.0018*t57 - 0.0005*t60 - 0.019*t108 - d4*t111;
+    const double t116 = 0.06767999999999999*t39 + 4.8*t47 + 0.336*t40 + 0.09743999999999998*t38;
+    const double t117 = 0.06767999999999999*t42 + 4.8*t48 - 0.336*t43 - 0.09743999999999998*t41;
+    const double t118 = 4.8*t49 - 0.06767999999999999*t45 - 0.336*t46 - 0.09743999999999998*t44;
     const double t119 = t116 + t111*t50 + t112*t51;
     const double t120 = t117 + t111*t51 - t112*t50;
     const double t121 = t109 + t118 + t102*t69 + t104*t68;
-    const double t122 = 0.066000000000000003*t29 + 0.073499999999999996*t37 - 0.070000000000000007*t117 - 0.0141*t118 + t113*t50 + t115*t51 - d3*t121;
-    const double t123 = 0.070000000000000007*t116 + 0.020299999999999999*t118 + 0.053500000000000006*t36 - 0.085999999999999993*t30 + t113*t51 - a3*t121 - t115*t50;
-    const double t124 = t114 + 0.012500000000000001*t31 + 0.0141*t116 - 0.01999999999999999*t35 - 0.020299999999999999*t117 + a3*t120 + d3*t119;
-    const double t125 = 0.10439999999999999*t13 + 17.399999999999999*t21 + 3.9584999999999999*t14 + 6.33012*t12;
-    const double t126 = 17.399999999999999*t22 + 3.9584999999999999*t17 - 0.10439999999999999*t16 - 6.33012*t15;
-    const double t127 = 0.10439999999999999*t19 + 17.399999999999999*t23 - 3.9584999999999999*t20 - 6.33012*t18;
+    const double t122 = 0.066*t29 + 0.0735*t37 - 0.07*t117 - 0.0141*t118 + t113*t50 + t115*t51 - d3*t121;
+    const double t123 = 0.07*t116 + 0.0203*t118 + 0.053500000000000006*t36 - 0.086*t30 + t113*t51 - a3*t121 - t115*t50;
+    const double t124 = t114 + 0.0125*t31 + 0.0141*t116 - 0.01999999999999999*t35 - 0.0203*t117 + a3*t120 + d3*t119;
+    const double t125 = 0.10439999999999999*t13 + 17.4*t21 + 3.9585*t14 + 6.33012*t12;
+    const double t126 = 17.4*t22 + 3.9585*t17 - 0.10439999999999999*t16 - 6.33012*t15;
+    const double t127 = 0.10439999999999999*t19 + 17.4*t23 - 3.9585*t20 - 6.33012*t18;
     const double t128 = t126 + t119*t25 + t121*t24;
     const double t129 = t127 - t120;
-    const double t130 = 0.015000000000000013*t11 + 0.13*t4 + 0.0060000000000000001*t127 - 0.22750000000000001*t126 + t122*t24 - t124*t25;
-    const double t131 = 0.52400000000000002*t5 + 0.36380000000000001*t127 + 0.22750000000000001*t125 - 0.40900000000000003*t10 + t122*t25 + t124*t24 - a2*t129;
-    tau[0] = 1.1340299686419999*ddq1 + t0*t130 + t131*t2;
-    tau[1] = -t123 + 2.8638148450000003*ddq2 + 0.39400000000000002*t9 - 0.36380000000000001*t126 - 0.0060000000000000001*t125 + a2*t128;
-    tau[2] = -t123 + 0.57687333193799994*ddq3;
+    const double t130 = 0.015000000000000013*t11 + 0.13*t4 + 0.006*t127 - 0.2275*t126 + t122*t24 - t124*t25;
+    const double t131 = 0.524*t5 + 0.3638*t127 + 0.2275*t125 - 0.40900000000000003*t10 + t122*t25 + t124*t24 - a2*t129;
+    tau[0] = 1.134029968642*ddq1 + t0*t130 + t131*t2;
+    tau[1] = -t123 + 2.8638148450000003*ddq2 + 0.394*t9 - 0.3638*t126 - 0.006*t125 + a2*t128;
+    tau[2] = -t123 + 0.576873331938*ddq3;
     tau[3] = t114 + 0.19079062612368*ddq4;
     tau[4] = -t106 + 0.17070629165700002*ddq5;
     tau[5] = t101 + 0.19406450566800004*ddq6;
 }
 
-void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau)
+void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1659,43 +1744,26 @@ void puma560_inverse_dynamics_batch(size_t count, const double *q, const double 
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[6])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
     const double zero[6] = { 0 };
-    int i, j, k;
+    int i;
 
     puma560_mass_matrix(q, p, M);
     puma560_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 6; ++j) {
-        double diagonal = M[j * 6 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 6 + k] * M[j * 6 + k];
+    if (!symkin_cholesky_factor(M, 6)) {
+        for (i = 0; i < 6; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 6 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 6; ++i) {
-            double entry = M[i * 6 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 6 + k] * M[j * 6 + k];
-            }
-            M[i * 6 + j] = entry / M[j * 6 + j];
-        }
+        return;
     }
     for (i = 0; i < 6; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 6 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 6 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 6; ++k) {
-            value -= M[k * 6 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
-    }
+    symkin_cholesky_solve(M, 6, ddq);
 }

@@ -18,14 +18,30 @@
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
- * caller-provided arrays. No allocation, no globals, no recursion.
- * q: joint positions q1..q6 (rad for revolute, m for prismatic joints).
+ * caller-provided arrays that must not overlap the inputs or each other (restrict).
+ * No allocation, no globals, no recursion. Units: SI, angles in rad.
+ * q: joint positions q1..q6 (rad).
  * p: parameters a2, a3, d3, d4 in this order.
+ * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3, 4, 5, 6.
  */
 #ifndef PUMA560_KINEMATICS_H
 #define PUMA560_KINEMATICS_H
 
 #include <stddef.h>
+
+/* C99 restrict on the outputs; empty in C++, which has no restrict. */
+#ifndef SYMKIN_RESTRICT
+#ifdef __cplusplus
+#define SYMKIN_RESTRICT
+#else
+#define SYMKIN_RESTRICT restrict
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define PUMA560_DOF 6
 #define PUMA560_NUM_PARAMETERS 4
@@ -34,119 +50,137 @@
 
 /* Forward kinematics (115 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_fk(const double q[6], const double *p, double T[16]);
+void puma560_fk(const double q[6], const double *p, double T[SYMKIN_RESTRICT 16]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_fk_batch(size_t count, const double *q, const double *p, double *T);
+void puma560_fk_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T);
 
 /* Tool position (29 operations).
  * p_tool[3]: tool position in the base frame (3x1)
+ *   units: m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_position(const double q[6], const double *p, double p_tool[3]);
+void puma560_position(const double q[6], const double *p, double p_tool[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_position_batch(size_t count, const double *q, const double *p, double *p_tool);
+void puma560_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
 /* Geometric jacobian (89 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_jacobian(const double q[6], const double *p, double J[36]);
+void puma560_jacobian(const double q[6], const double *p, double J[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_jacobian_batch(size_t count, const double *q, const double *p, double *J);
+void puma560_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT J);
 
 /* Analytic position jacobian (44 operations).
  * Jp[18]: dp/dq (3x6)
+ *   units: m per unit of the column's joint (rad)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_position_jacobian(const double q[6], const double *p, double Jp[18]);
+void puma560_position_jacobian(const double q[6], const double *p, double Jp[SYMKIN_RESTRICT 18]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp);
+void puma560_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
 /* Forward kinematics and jacobian (135 operations).
  * T[16]: pose of the tool in the base frame (4x4)
+ *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
+ *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_fk_jacobian(const double q[6], const double *p, double T[16], double J[36]);
+void puma560_fk_jacobian(const double q[6], const double *p, double T[SYMKIN_RESTRICT 16], double J[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J);
+void puma560_fk_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT J);
 
 /* Determinant of the task jacobian (rows x, y, z, wx, wy, wz) (18 operations).
  * det[1]: det J
+ *   units: m^3/rad^3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_det(const double q[6], const double *p, double det[1]);
+void puma560_det(const double q[6], const double *p, double det[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_det_batch(size_t count, const double *q, const double *p, double *det);
+void puma560_det_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT det);
 
 /* Yoshikawa manipulability of the task jacobian (|det j| when square) (18 operations).
  * mu[1]: sqrt(det(J J^T))
+ *   units: m^3/rad^3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_manipulability(const double q[6], const double *p, double mu[1]);
+void puma560_manipulability(const double q[6], const double *p, double mu[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *mu);
+void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
 /* Mass matrix (489 operations).
  * M[36]: M(q) (6x6)
+ *   units: kg m^2
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_mass_matrix(const double q[6], const double *p, double M[36]);
+void puma560_mass_matrix(const double q[6], const double *p, double M[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *M);
+void puma560_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (136 operations).
  * G[6]: G(q) (6x1)
+ *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_gravity(const double q[6], const double *p, double G[6]);
+void puma560_gravity(const double q[6], const double *p, double G[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_gravity_batch(size_t count, const double *q, const double *p, double *G);
+void puma560_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
 /* Coriolis and centrifugal torques (371 operations).
  * c[6]: c = C(q, dq) dq (6x1)
+ *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_coriolis(const double q[6], const double dq[6], const double *p, double c[6]);
+void puma560_coriolis(const double q[6], const double dq[6], const double *p, double c[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *c);
+void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
 /* Coriolis matrix (christoffel symbols) (1825 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
+ *   units: kg m^2/s
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[36]);
+void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *C);
+void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
 /* Inverse dynamics (414 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
+ *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
- * p[4]: parameters (a2, a3, d3, d4)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
  */
-void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[6]);
+void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *tau);
+void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
- * Inputs as for inverse_dynamics, with tau[6] in place of ddq. */
-void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[6]);
+ * Inputs as for inverse_dynamics, with tau[6] (N m) in place of ddq.
+ * ddq[6]: joint accelerations; rad/s^2 */
+void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[SYMKIN_RESTRICT 6]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PUMA560_KINEMATICS_H */

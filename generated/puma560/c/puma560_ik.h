@@ -29,6 +29,10 @@
 
 #include "puma560.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of puma560_ik and result.status). */
 #define PUMA560_IK_SUCCESS 0        /* both errors below their tolerances */
 #define PUMA560_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void puma560_ik_default_options(puma560_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int puma560_ik(const double T_target[16], const double q_seed[6], const double *p, const puma560_ik_options *options, double q[6], puma560_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PUMA560_IK_H */

@@ -11,6 +11,185 @@
 
 #include "puma560_ik_closed.h"
 
+#define SYMKIN_CLOSED_FORM_TWO_LINK
+#define SYMKIN_CLOSED_FORM_ELBOW_UP
+#define SYMKIN_CLOSED_FORM_CLAMPED_SQRT
+#define SYMKIN_CLOSED_FORM_SHOULDER
+#define SYMKIN_CLOSED_FORM_SHOULDER_RIGHT
+#define SYMKIN_CLOSED_FORM_UNROTATE
+/* ---- symkin C library (symkin_real_double.h, symkin_closed_form.h, symkin_closed_form.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: the steps the closed-form IK families share (the Python twin is
+ * symkin.kernels.ik.closed_form_steps): the two-link elbow, the waist angle with a shoulder
+ * offset, square roots clamped at the edge of the workspace, the branch-flag tests and the
+ * inverse elementary rotations.
+ *
+ * A generated file pastes this part with only the functions its family calls: it defines
+ * SYMKIN_CLOSED_FORM_<NAME> for each (static functions nobody calls would be warned about).
+ * Compiled on its own, every function is compiled. */
+#ifndef SYMKIN_CLOSED_FORM_H
+#define SYMKIN_CLOSED_FORM_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#define SYMKIN_CLOSED_FORM_TWO_LINK
+#define SYMKIN_CLOSED_FORM_CLAMPED_SQRT
+#define SYMKIN_CLOSED_FORM_SHOULDER
+#define SYMKIN_CLOSED_FORM_SHOULDER_RIGHT
+#define SYMKIN_CLOSED_FORM_ELBOW_UP
+#define SYMKIN_CLOSED_FORM_UNROTATE
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_TWO_LINK
+/* Both (beta_1, delta) with l1 (cos beta_1, sin beta_1) + l2 (cos(beta_1 + delta),
+ * sin(beta_1 + delta)) = (x, y), the one with sin delta >= 0 first, without acos:
+ * cos delta = (x^2 + y^2 - l1^2 - l2^2) / (2 l1 l2), clamped to [-1, 1] when it is off by up to
+ * tolerance (rounding at full stretch). Returns 2, or 0 when out of reach. l1, l2 != 0. */
+SYMKIN_API int symkin_two_link(real_t x, real_t y, real_t l1, real_t l2, real_t tolerance, real_t beta[2], real_t delta[2]);
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_CLAMPED_SQRT
+/* *root = sqrt(value); a value below 0 by at most tolerance * scale2 gives 0 (rounding at the
+ * edge of the workspace). Returns 1, or 0 (no real root, *root = 0) for a value clearly below 0. */
+SYMKIN_API int symkin_clamped_sqrt(real_t value, real_t scale2, real_t tolerance, real_t *root);
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_SHOULDER
+/* Both (X, theta_1) with Rz(theta_1) (X, offset) = (x, y), X >= 0 first: the waist angle that
+ * puts a point at the horizontal offset `offset` from the arm's plane. Returns 2, or 0 when the
+ * point is closer to the waist axis than |offset| (square root clamped as symkin_clamped_sqrt,
+ * relative to scale^2). */
+SYMKIN_API int symkin_shoulder(real_t x, real_t y, real_t offset, real_t scale, real_t tolerance, real_t X[2], real_t theta1[2]);
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_SHOULDER_RIGHT
+/* 1 when the shoulder offset lies right of the reach direction seen from above
+ * (X offset < 0); without an offset, when reaching forward (X >= 0). */
+SYMKIN_API int symkin_shoulder_right(real_t X, real_t offset);
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_ELBOW_UP
+/* 1 when the elbow of two-link solution k (0: sin delta >= 0) lies above the line from the
+ * shoulder to the wrist: -sign(sin delta) sign(X) twist > 0, twist = sin(alpha_1) = +-1. */
+SYMKIN_API int symkin_elbow_up(int k, real_t X, int twist);
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_UNROTATE
+/* v = Rz(angle)^T v for the angle with cosine c and sine s. */
+SYMKIN_API void symkin_unrotate_z(real_t c, real_t s, real_t v[3]);
+
+/* v = Rx(alpha)^T v for the twist with cosine c and sine s. */
+SYMKIN_API void symkin_unrotate_x(real_t c, real_t s, real_t v[3]);
+#endif
+
+#endif /* SYMKIN_CLOSED_FORM_H */
+
+/* symkin C library: closed-form IK steps (see symkin_closed_form.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_closed_form.h"
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_TWO_LINK
+SYMKIN_API int symkin_two_link(real_t x, real_t y, real_t l1, real_t l2, real_t tolerance, real_t beta[2], real_t delta[2])
+{
+    real_t cos_delta = (x * x + y * y - l1 * l1 - l2 * l2) / (REAL(2.0) * l1 * l2);
+    real_t sin_delta, direction;
+    int k;
+    if (!(SYMKIN_FABS(cos_delta) <= REAL(1.0) + tolerance)) {
+        return 0;
+    }
+    cos_delta = cos_delta > REAL(1.0) ? REAL(1.0) : (cos_delta < REAL(-1.0) ? REAL(-1.0) : cos_delta);
+    sin_delta = SYMKIN_SQRT((REAL(1.0) - cos_delta) * (REAL(1.0) + cos_delta));
+    direction = SYMKIN_ATAN2(y, x);
+    for (k = 0; k < 2; ++k) {
+        const real_t s = k == 0 ? sin_delta : -sin_delta;
+        beta[k] = direction - SYMKIN_ATAN2(l2 * s, l1 + l2 * cos_delta);
+        delta[k] = SYMKIN_ATAN2(s, cos_delta);
+    }
+    return 2;
+}
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_CLAMPED_SQRT
+SYMKIN_API int symkin_clamped_sqrt(real_t value, real_t scale2, real_t tolerance, real_t *root)
+{
+    if (value >= REAL(0.0)) {
+        *root = SYMKIN_SQRT(value);
+        return 1;
+    }
+    *root = REAL(0.0);
+    return value >= -tolerance * scale2;
+}
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_SHOULDER
+SYMKIN_API int symkin_shoulder(real_t x, real_t y, real_t offset, real_t scale, real_t tolerance, real_t X[2], real_t theta1[2])
+{
+    real_t reach, direction;
+    int k;
+    if (!symkin_clamped_sqrt(x * x + y * y - offset * offset, scale * scale, tolerance, &reach)) {
+        return 0;
+    }
+    direction = SYMKIN_ATAN2(y, x);
+    X[0] = reach;
+    X[1] = -reach;
+    for (k = 0; k < 2; ++k) {
+        theta1[k] = direction - SYMKIN_ATAN2(offset, X[k]);
+    }
+    return 2;
+}
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_SHOULDER_RIGHT
+SYMKIN_API int symkin_shoulder_right(real_t X, real_t offset)
+{
+    return offset != REAL(0.0) ? X * offset < REAL(0.0) : X >= REAL(0.0);
+}
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_ELBOW_UP
+SYMKIN_API int symkin_elbow_up(int k, real_t X, int twist)
+{
+    const int sign = k == 0 ? 1 : -1;
+    const int forward = X >= REAL(0.0) ? 1 : -1;
+    return -sign * forward * twist > 0;
+}
+#endif
+
+#ifdef SYMKIN_CLOSED_FORM_UNROTATE
+SYMKIN_API void symkin_unrotate_z(real_t c, real_t s, real_t v[3])
+{
+    const real_t x = c * v[0] + s * v[1];
+    v[1] = c * v[1] - s * v[0];
+    v[0] = x;
+}
+
+SYMKIN_API void symkin_unrotate_x(real_t c, real_t s, real_t v[3])
+{
+    const real_t y = c * v[1] + s * v[2];
+    v[2] = c * v[2] - s * v[1];
+    v[1] = y;
+}
+#endif
+/* ---- end of the symkin C library ---- */
+
 #define DOF 6
 #define MAX_SOLUTIONS PUMA560_IK_CLOSED_MAX_SOLUTIONS
 #define PI 3.141592653589793
@@ -94,98 +273,14 @@ static void chain_frame(const double T[16], const constants *c, double out[16])
 /* Arm solutions (joints 1-3) at most; each has up to two wrists. */
 #define MAX_ARM (MAX_SOLUTIONS / 2)
 
-/* *root = sqrt(value); a value below 0 by less than REACH_TOLERANCE * scale2 gives 0. Returns
- * 0 (no real root) for a value clearly below 0 (closed_form_planar.clamped_sqrt). */
-static int clamped_sqrt(double value, double scale2, double *root)
-{
-    if (value >= 0) {
-        *root = sqrt(value);
-        return 1;
-    }
-    *root = 0;
-    return value >= -REACH_TOLERANCE * scale2;
-}
-
-/* Both (X, theta_1) with Rz(theta_1) (X, offset) = (x, y), X >= 0 first; 0 when the point is
- * closer to the waist axis than |offset| (closed_form_wrist.shoulder). */
-static int shoulder(double x, double y, double offset, double scale, double X[2], double theta1[2])
-{
-    double reach, direction;
-    int k;
-    if (!clamped_sqrt(x * x + y * y - offset * offset, scale * scale, &reach)) {
-        return 0;
-    }
-    direction = atan2(y, x);
-    X[0] = reach;
-    X[1] = -reach;
-    for (k = 0; k < 2; ++k) {
-        theta1[k] = direction - atan2(offset, X[k]);
-    }
-    return 2;
-}
-
-/* Right when the shoulder offset lies right of the reach direction seen from above (X offset < 0);
- * without an offset, when reaching forward (closed_form_wrist.shoulder_flag). */
-static int shoulder_flag(double X, double offset)
-{
-    const int right = offset != 0 ? X * offset < 0 : X >= 0;
-    return right ? PUMA560_IK_CLOSED_SHOULDER_RIGHT : PUMA560_IK_CLOSED_SHOULDER_LEFT;
-}
-
-/* Both (beta_1, delta) with l1 (cos beta_1, sin beta_1) + l2 (cos(beta_1 + delta),
- * sin(beta_1 + delta)) = (x, y), the one with sin delta >= 0 first; 0 when out of reach
- * (closed_form_planar.two_link: no acos, cos delta clamped at full stretch). */
-static int two_link(double x, double y, double l1, double l2, double beta[2], double delta[2])
-{
-    double cos_delta = (x * x + y * y - l1 * l1 - l2 * l2) / (2 * l1 * l2);
-    double sin_delta, direction;
-    int k;
-    if (!(fabs(cos_delta) <= 1 + REACH_TOLERANCE)) {
-        return 0;
-    }
-    cos_delta = cos_delta > 1 ? 1 : (cos_delta < -1 ? -1 : cos_delta);
-    sin_delta = sqrt((1 - cos_delta) * (1 + cos_delta));
-    direction = atan2(y, x);
-    for (k = 0; k < 2; ++k) {
-        const double s = k == 0 ? sin_delta : -sin_delta;
-        beta[k] = direction - atan2(l2 * s, l1 + l2 * cos_delta);
-        delta[k] = atan2(s, cos_delta);
-    }
-    return 2;
-}
-
-/* Up when -sign(sin delta) sign(X) sin(alpha_1) > 0 (closed_form_wrist.elbow_flag). */
-static int elbow_flag(int k, double X)
-{
-    const int sign = k == 0 ? 1 : -1;
-    const int forward = X >= 0 ? 1 : -1;
-    return -sign * forward * TWIST1 > 0 ? PUMA560_IK_CLOSED_ELBOW_UP : PUMA560_IK_CLOSED_ELBOW_DOWN;
-}
-
-/* v = Rz(angle)^T v for the angle with cosine c and sine s. */
-static void unrotate_z(double c, double s, double v[3])
-{
-    const double x = c * v[0] + s * v[1];
-    v[1] = c * v[1] - s * v[0];
-    v[0] = x;
-}
-
-/* v = Rx(alpha)^T v for the twist with cosine c and sine s. */
-static void unrotate_x(double c, double s, double v[3])
-{
-    const double y = c * v[1] + s * v[2];
-    v[2] = c * v[2] - s * v[1];
-    v[1] = y;
-}
-
 /* RRR arm (closed_form_wrist.ArticulatedArm): the shoulder, then the 2R elbow in frame 1. */
 static int arm_solutions(const constants *c, const double centre[3], double q[MAX_ARM][3], double angles[MAX_ARM][3], int branch[MAX_ARM])
 {
     double X[2], theta1[2], beta[2], delta[2];
-    const int shoulders = shoulder(centre[0], centre[1], c->offset, c->scale, X, theta1);
+    const int shoulders = symkin_shoulder(centre[0], centre[1], c->offset, c->scale, REACH_TOLERANCE, X, theta1);
     int i, k, j, count = 0;
     for (i = 0; i < shoulders; ++i) {
-        const int elbows = two_link(X[i] - c->a1, TWIST1 * (centre[2] - c->d1), c->link2[0], c->link3[0], beta, delta);
+        const int elbows = symkin_two_link(X[i] - c->a1, TWIST1 * (centre[2] - c->d1), c->link2[0], c->link3[0], REACH_TOLERANCE, beta, delta);
         for (k = 0; k < elbows; ++k) {
             angles[count][0] = theta1[i];
             angles[count][1] = beta[k] - c->link2[1];
@@ -193,7 +288,8 @@ static int arm_solutions(const constants *c, const double centre[3], double q[MA
             for (j = 0; j < 3; ++j) {
                 q[count][j] = angles[count][j] - c->theta[j];
             }
-            branch[count] = shoulder_flag(X[i], c->offset) | elbow_flag(k, X[i]);
+            branch[count] = (symkin_shoulder_right(X[i], c->offset) ? PUMA560_IK_CLOSED_SHOULDER_RIGHT : PUMA560_IK_CLOSED_SHOULDER_LEFT)
+                            | (symkin_elbow_up(k, X[i], TWIST1) ? PUMA560_IK_CLOSED_ELBOW_UP : PUMA560_IK_CLOSED_ELBOW_DOWN);
             ++count;
         }
     }
@@ -219,9 +315,9 @@ static int wrist_solutions(const constants *c, const double x[3], const double u
             theta4 = c->theta[3];
             theta5 = atan2(0, cos5);
             branch[k] = arm_branch | PUMA560_IK_CLOSED_WRIST_SINGULAR;
-            unrotate_z(cos(theta4), sin(theta4), v);
-            unrotate_x(c->twist_cos[3], c->twist_sin[3], v);
-            unrotate_z(cos(theta5), sin(theta5), v);
+            symkin_unrotate_z(cos(theta4), sin(theta4), v);
+            symkin_unrotate_x(c->twist_cos[3], c->twist_sin[3], v);
+            symkin_unrotate_z(cos(theta5), sin(theta5), v);
         } else {
             const double sin5 = k == 0 ? rho : -rho;
             const double sigma = sin5 > 0 ? TWIST5 : -TWIST5;
@@ -229,11 +325,11 @@ static int wrist_solutions(const constants *c, const double x[3], const double u
             theta5 = atan2(sin5, cos5);
             branch[k] = arm_branch | (TWIST4 * sin5 < 0 ? PUMA560_IK_CLOSED_WRIST_NO_FLIP : PUMA560_IK_CLOSED_WRIST_FLIP);
             /* the cosines and sines of theta4 and theta5 without calling cos and sin again */
-            unrotate_z(sigma * u[0] / rho, sigma * u[1] / rho, v);
-            unrotate_x(c->twist_cos[3], c->twist_sin[3], v);
-            unrotate_z(cos5, sin5, v);
+            symkin_unrotate_z(sigma * u[0] / rho, sigma * u[1] / rho, v);
+            symkin_unrotate_x(c->twist_cos[3], c->twist_sin[3], v);
+            symkin_unrotate_z(cos5, sin5, v);
         }
-        unrotate_x(c->twist_cos[4], c->twist_sin[4], v);
+        symkin_unrotate_x(c->twist_cos[4], c->twist_sin[4], v);
         for (j = 0; j < 3; ++j) {
             q[k][j] = arm[j];
         }
@@ -265,10 +361,10 @@ static int candidates(const double T[16], const constants *c, double q[MAX_SOLUT
         }
         for (j = 0; j < 3; ++j) {
             const double cj = cos(arm_angles[i][j]), sj = sin(arm_angles[i][j]);
-            unrotate_z(cj, sj, x);
-            unrotate_x(c->twist_cos[j], c->twist_sin[j], x);
-            unrotate_z(cj, sj, u);
-            unrotate_x(c->twist_cos[j], c->twist_sin[j], u);
+            symkin_unrotate_z(cj, sj, x);
+            symkin_unrotate_x(c->twist_cos[j], c->twist_sin[j], x);
+            symkin_unrotate_z(cj, sj, u);
+            symkin_unrotate_x(c->twist_cos[j], c->twist_sin[j], u);
         }
         count += wrist_solutions(c, x, u, arm_q[i], arm_branch[i], q + count, branch + count);
     }
@@ -320,7 +416,7 @@ static int within_limit(double value, int joint)
 static void joint_values(double q[DOF])
 {
     const int shift[DOF] = { 1, 1, 1, 1, 1, 0 };
-    const int turns[4] = { -1, 1, -2, 2 };
+    const double turns[4] = { -1, 1, -2, 2 };
     int i, k;
     for (i = 0; i < DOF; ++i) {
         if (!is_revolute(i)) {

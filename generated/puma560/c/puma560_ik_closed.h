@@ -17,6 +17,10 @@
 
 #include "puma560.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Solutions per pose at most: the size of the output arrays. */
 #define PUMA560_IK_CLOSED_MAX_SOLUTIONS 8
 /* Returned for a T or p that holds NaN or inf, p == NULL when the robot has parameters, or a
@@ -42,5 +46,9 @@
  * 1e-09 (rotation entries; positions relative to the robot's size, at least 1 m).
  * Returns the number of solutions (0: out of reach) or PUMA560_IK_CLOSED_INVALID_INPUT. */
 int puma560_ik_closed(const double T[16], const double *p, double q[PUMA560_IK_CLOSED_MAX_SOLUTIONS * 6], int branch[PUMA560_IK_CLOSED_MAX_SOLUTIONS], int within_limits[PUMA560_IK_CLOSED_MAX_SOLUTIONS]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* PUMA560_IK_CLOSED_H */

@@ -32,7 +32,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 115 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -103,7 +103,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 29 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -135,7 +135,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 89 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -206,7 +206,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 44 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns Jp: dp/dq (3x6), shape (..., 3, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -249,7 +249,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 135 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
@@ -359,7 +359,7 @@ def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, z, wx, wy, wz): 18 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -381,7 +381,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     """Yoshikawa manipulability of the task jacobian (|det j| when square): 18 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -403,7 +403,7 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     """Mass matrix: 489 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns M: M(q) (6x6), shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -606,7 +606,7 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     """Gravity torques: 136 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns G: G(q) (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -687,7 +687,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
 
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns c: c = C(q, dq) dq (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -846,7 +846,7 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
 
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns C: C(q, dq) (6x6), dM/dt - 2C skew-symmetric, shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -1479,7 +1479,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 6 values per state.
-    p: parameters (a2, a3, d3, d4), 4 values.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns tau: tau = M ddq + C dq + G + F (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)

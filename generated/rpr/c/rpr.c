@@ -21,7 +21,92 @@
 
 #include "rpr.h"
 
-void rpr_fk(const double q[3], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void rpr_fk(const double q[3], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -51,7 +136,7 @@ void rpr_fk(const double q[3], const double *p, double T[16])
     T[15] = 1;
 }
 
-void rpr_fk_batch(size_t count, const double *q, const double *p, double *T)
+void rpr_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -59,7 +144,7 @@ void rpr_fk_batch(size_t count, const double *q, const double *p, double *T)
     }
 }
 
-void rpr_position(const double q[3], const double *p, double p_tool[3])
+void rpr_position(const double q[3], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -73,7 +158,7 @@ void rpr_position(const double q[3], const double *p, double p_tool[3])
     p_tool[2] = L3*cos(q3);
 }
 
-void rpr_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void rpr_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -81,7 +166,7 @@ void rpr_position_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void rpr_jacobian(const double q[3], const double *p, double J[18])
+void rpr_jacobian(const double q[3], const double *p, double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -111,7 +196,7 @@ void rpr_jacobian(const double q[3], const double *p, double J[18])
     J[17] = 0;
 }
 
-void rpr_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void rpr_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -119,7 +204,7 @@ void rpr_jacobian_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void rpr_position_jacobian(const double q[3], const double *p, double Jp[9])
+void rpr_position_jacobian(const double q[3], const double *p, double Jp[restrict 9])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -140,7 +225,7 @@ void rpr_position_jacobian(const double q[3], const double *p, double Jp[9])
     Jp[8] = -t1;
 }
 
-void rpr_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void rpr_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -148,7 +233,7 @@ void rpr_position_jacobian_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void rpr_fk_jacobian(const double q[3], const double *p, double T[16], double J[18])
+void rpr_fk_jacobian(const double q[3], const double *p, double T[restrict 16], double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -201,7 +286,7 @@ void rpr_fk_jacobian(const double q[3], const double *p, double T[16], double J[
     J[17] = 0;
 }
 
-void rpr_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void rpr_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -209,7 +294,7 @@ void rpr_fk_jacobian_batch(size_t count, const double *q, const double *p, doubl
     }
 }
 
-void rpr_det(const double q[3], const double *p, double det[1])
+void rpr_det(const double q[3], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -218,7 +303,7 @@ void rpr_det(const double q[3], const double *p, double det[1])
     det[0] = t0*(q2 + t0);
 }
 
-void rpr_det_batch(size_t count, const double *q, const double *p, double *det)
+void rpr_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -226,7 +311,7 @@ void rpr_det_batch(size_t count, const double *q, const double *p, double *det)
     }
 }
 
-void rpr_manipulability(const double q[3], const double *p, double mu[1])
+void rpr_manipulability(const double q[3], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -235,7 +320,7 @@ void rpr_manipulability(const double q[3], const double *p, double mu[1])
     mu[0] = fabs(t0*(q2 + t0));
 }
 
-void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -243,7 +328,7 @@ void rpr_manipulability_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -302,7 +387,7 @@ void rpr_mass_matrix(const double q[3], const double *p, const double *pi, doubl
     M[8] = t24;
 }
 
-void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -310,7 +395,7 @@ void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const
     }
 }
 
-void rpr_gravity(const double q[3], const double *p, const double *pi, double G[3])
+void rpr_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
 {
     const double q3 = q[2];
     const double L3 = p[0];
@@ -319,9 +404,9 @@ void rpr_gravity(const double q[3], const double *p, const double *pi, double G[
     const double cy3 = pi[22];
     const double cz3 = pi[23];
     const double t0 = cos(q3);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = sin(q3);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = t1*m3;
     const double t5 = t3*m3;
     const double t6 = cz3*t5;
@@ -335,7 +420,7 @@ void rpr_gravity(const double q[3], const double *p, const double *pi, double G[
     G[2] = -t9;
 }
 
-void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -343,7 +428,7 @@ void rpr_gravity_batch(size_t count, const double *q, const double *p, const dou
     }
 }
 
-void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -410,7 +495,7 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, const 
     c[2] = t29;
 }
 
-void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -418,7 +503,7 @@ void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const d
     }
 }
 
-void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -480,7 +565,7 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
     C[8] = 0;
 }
 
-void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -488,7 +573,7 @@ void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, 
     }
 }
 
-void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -541,8 +626,8 @@ void rpr_inverse_dynamics(const double q[3], const double dq[3], const double dd
     const double t21 = t13 + t8;
     const double t22 = t7 - t14;
     const double t23 = t10 + t9;
-    const double t24 = 9.8100000000000005*t3 + t1*t5 - L3*t15;
-    const double t25 = -9.8100000000000005*t5 + L3*t18 + t1*t3;
+    const double t24 = 9.81*t3 + t1*t5 - L3*t15;
+    const double t25 = -9.81*t5 + L3*t18 + t1*t3;
     const double t26 = t2 + L3*t21;
     const double t27 = m3*(t24 + cz3*t17 - cx3*t15 - cy3*t16);
     const double t28 = m3*(t25 + cx3*t18 - cy3*t19 - cz3*t20);
@@ -564,7 +649,7 @@ void rpr_inverse_dynamics(const double q[3], const double dq[3], const double dd
     tau[2] = t33;
 }
 
-void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -573,43 +658,26 @@ void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
-    int i, j, k;
+    int i;
 
     rpr_mass_matrix(q, p, pi, M);
     rpr_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 3; ++j) {
-        double diagonal = M[j * 3 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 3 + k] * M[j * 3 + k];
+    if (!symkin_cholesky_factor(M, 3)) {
+        for (i = 0; i < 3; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 3 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 3; ++i) {
-            double entry = M[i * 3 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 3 + k] * M[j * 3 + k];
-            }
-            M[i * 3 + j] = entry / M[j * 3 + j];
-        }
+        return;
     }
     for (i = 0; i < 3; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 3 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 3 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 3; ++k) {
-            value -= M[k * 3 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
-    }
+    symkin_cholesky_solve(M, 3, ddq);
 }

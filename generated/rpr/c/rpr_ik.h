@@ -29,6 +29,10 @@
 
 #include "rpr.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of rpr_ik and result.status). */
 #define RPR_IK_SUCCESS 0        /* both errors below their tolerances */
 #define RPR_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void rpr_ik_default_options(rpr_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int rpr_ik(const double T_target[16], const double q_seed[3], const double *p, const rpr_ik_options *options, double q[3], rpr_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RPR_IK_H */

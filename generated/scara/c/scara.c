@@ -21,7 +21,92 @@
 
 #include "scara.h"
 
-void scara_fk(const double q[3], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void scara_fk(const double q[3], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -49,7 +134,7 @@ void scara_fk(const double q[3], const double *p, double T[16])
     T[15] = 1;
 }
 
-void scara_fk_batch(size_t count, const double *q, const double *p, double *T)
+void scara_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -57,7 +142,7 @@ void scara_fk_batch(size_t count, const double *q, const double *p, double *T)
     }
 }
 
-void scara_position(const double q[3], const double *p, double p_tool[3])
+void scara_position(const double q[3], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -70,7 +155,7 @@ void scara_position(const double q[3], const double *p, double p_tool[3])
     p_tool[2] = q3;
 }
 
-void scara_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void scara_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -78,7 +163,7 @@ void scara_position_batch(size_t count, const double *q, const double *p, double
     }
 }
 
-void scara_jacobian(const double q[3], const double *p, double J[18])
+void scara_jacobian(const double q[3], const double *p, double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -107,7 +192,7 @@ void scara_jacobian(const double q[3], const double *p, double J[18])
     J[17] = 0;
 }
 
-void scara_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void scara_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -115,7 +200,7 @@ void scara_jacobian_batch(size_t count, const double *q, const double *p, double
     }
 }
 
-void scara_position_jacobian(const double q[3], const double *p, double Jp[9])
+void scara_position_jacobian(const double q[3], const double *p, double Jp[restrict 9])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -135,7 +220,7 @@ void scara_position_jacobian(const double q[3], const double *p, double Jp[9])
     Jp[8] = 1;
 }
 
-void scara_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void scara_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -143,7 +228,7 @@ void scara_position_jacobian_batch(size_t count, const double *q, const double *
     }
 }
 
-void scara_fk_jacobian(const double q[3], const double *p, double T[16], double J[18])
+void scara_fk_jacobian(const double q[3], const double *p, double T[restrict 16], double J[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -193,7 +278,7 @@ void scara_fk_jacobian(const double q[3], const double *p, double T[16], double 
     J[17] = 0;
 }
 
-void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -201,7 +286,7 @@ void scara_fk_jacobian_batch(size_t count, const double *q, const double *p, dou
     }
 }
 
-void scara_det(const double q[3], const double *p, double det[1])
+void scara_det(const double q[3], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -209,7 +294,7 @@ void scara_det(const double q[3], const double *p, double det[1])
     det[0] = L1*L2*sin(q2);
 }
 
-void scara_det_batch(size_t count, const double *q, const double *p, double *det)
+void scara_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -217,7 +302,7 @@ void scara_det_batch(size_t count, const double *q, const double *p, double *det
     }
 }
 
-void scara_manipulability(const double q[3], const double *p, double mu[1])
+void scara_manipulability(const double q[3], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -225,7 +310,7 @@ void scara_manipulability(const double q[3], const double *p, double mu[1])
     mu[0] = fabs(L1*L2*sin(q2));
 }
 
-void scara_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void scara_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -233,7 +318,7 @@ void scara_manipulability_batch(size_t count, const double *q, const double *p, 
     }
 }
 
-void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[9])
+void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
 {
     const double q2 = q[1];
     const double L1 = p[0];
@@ -282,7 +367,7 @@ void scara_mass_matrix(const double q[3], const double *p, const double *pi, dou
     M[8] = m3;
 }
 
-void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -290,18 +375,18 @@ void scara_mass_matrix_batch(size_t count, const double *q, const double *p, con
     }
 }
 
-void scara_gravity(const double q[3], const double *p, const double *pi, double G[3])
+void scara_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
 {
     (void)q;
     (void)p;
     const double m3 = pi[20];
-    const double t0 = 9.8100000000000005*m3;
+    const double t0 = 9.81*m3;
     G[0] = 0;
     G[1] = 0;
     G[2] = t0;
 }
 
-void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -309,7 +394,7 @@ void scara_gravity_batch(size_t count, const double *q, const double *p, const d
     }
 }
 
-void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[3])
+void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -349,7 +434,7 @@ void scara_coriolis(const double q[3], const double dq[3], const double *p, cons
     c[2] = 0;
 }
 
-void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -357,7 +442,7 @@ void scara_coriolis_batch(size_t count, const double *q, const double *dq, const
     }
 }
 
-void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[9])
+void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -401,7 +486,7 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
     C[8] = 0;
 }
 
-void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -409,7 +494,7 @@ void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq
     }
 }
 
-void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[3])
+void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -441,7 +526,7 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
     const double t7 = sin(q2);
     const double t8 = t1*t6 + t2*t7 - L2*t5;
     const double t9 = L2*t4 + t2*t6 - t1*t7;
-    const double t10 = 9.8100000000000005 + ddq3;
+    const double t10 = 9.81 + ddq3;
     const double t11 = m3*(t8 - cx3*t5 - cy3*t4);
     const double t12 = m3*(t9 + cx3*t4 - cy3*t5);
     const double t13 = t10*m3;
@@ -460,7 +545,7 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
     tau[2] = t13;
 }
 
-void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -469,43 +554,26 @@ void scara_inverse_dynamics_batch(size_t count, const double *q, const double *d
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[3])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
-    int i, j, k;
+    int i;
 
     scara_mass_matrix(q, p, pi, M);
     scara_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 3; ++j) {
-        double diagonal = M[j * 3 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 3 + k] * M[j * 3 + k];
+    if (!symkin_cholesky_factor(M, 3)) {
+        for (i = 0; i < 3; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 3 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 3; ++i) {
-            double entry = M[i * 3 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 3 + k] * M[j * 3 + k];
-            }
-            M[i * 3 + j] = entry / M[j * 3 + j];
-        }
+        return;
     }
     for (i = 0; i < 3; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 3 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 3 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 3; ++k) {
-            value -= M[k * 3 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 3 + i];
-    }
+    symkin_cholesky_solve(M, 3, ddq);
 }

@@ -11,66 +11,90 @@
 
 #include "scara_ik.h"
 
-#define DOF 3
-#define STALL_WINDOW 5
-#define STALL_FACTOR 0.5
-#define TWO_PI 6.283185307179586
-/* |R^T R - I| above this (entry by entry) means T_target holds no rotation. */
-#define ORTHONORMAL_TOLERANCE 1e-06
+/* ---- symkin C library (symkin_real_double.h, symkin_xorshift.h, symkin_xorshift.c, symkin_pose_error.h, symkin_pose_error.c, symkin_cholesky.h, symkin_cholesky.c, symkin_dls.h, symkin_dls.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
 
-/* Revolute joints outside their limits go to the equivalent angle nearest the middle of the
- * range (they may then be inside); then every joint is clamped to its limits. */
-static void limit_joints(double q[DOF], const double lower[DOF], const double upper[DOF])
-{
-    const int revolute[DOF] = { 1, 1, 0 };
-    int i;
-    for (i = 0; i < DOF; ++i) {
-        if (revolute[i] && (q[i] < lower[i] || q[i] > upper[i]) && isfinite(lower[i])
-            && isfinite(upper[i])) {
-            const double middle = (lower[i] + upper[i]) / 2;
-            q[i] -= TWO_PI * floor((q[i] - middle) / TWO_PI + 0.5);
-        }
-        q[i] = q[i] < lower[i] ? lower[i] : (q[i] > upper[i] ? upper[i] : q[i]);
-    }
-}
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
 
-/* Marsaglia's xorshift64 (shifts 13, 7, 17): a uniform number in [0, 1] from the top 53 bits. */
-static double uniform(uint64_t *state)
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Marsaglia's xorshift64 generator (shifts 13, 7, 17; "Xorshift RNGs",
+ * J. Stat. Software 8(14), 2003). The state must not be 0 (it would stay 0). */
+#ifndef SYMKIN_XORSHIFT_H
+#define SYMKIN_XORSHIFT_H
+
+#include <stdint.h>
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* Advances *state by one step and returns the new state. */
+SYMKIN_API uint64_t symkin_xorshift64(uint64_t *state);
+
+/* A uniform number in [0, 1]: the top 53 bits of the next state times 2^-53 (as the NumPy
+ * solver symkin.solve.ik.batch draws it). */
+SYMKIN_API real_t symkin_uniform(uint64_t *state);
+
+#endif /* SYMKIN_XORSHIFT_H */
+
+/* symkin C library: xorshift64 (see symkin_xorshift.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_xorshift.h"
+#endif
+
+SYMKIN_API uint64_t symkin_xorshift64(uint64_t *state)
 {
     uint64_t x = *state;
     x ^= x << 13;
     x ^= x >> 7;
     x ^= x << 17;
     *state = x;
-    return (double)(x >> 11) * 1.1102230246251565e-16;
+    return x;
 }
 
-/* A random configuration within the limits. Where a limit is missing, the range has the width
- * span (rad or m): centred on 0 without limits, ending at the one limit otherwise. */
-static void random_configuration(const double lower[DOF], const double upper[DOF], uint64_t *state, double q[DOF])
+SYMKIN_API real_t symkin_uniform(uint64_t *state)
 {
-    const double span[DOF] = { 6.283185307179586, 6.283185307179586, 2.0 };
-    int i;
-    for (i = 0; i < DOF; ++i) {
-        double low = lower[i], high = upper[i];
-        if (!isfinite(low) && !isfinite(high)) {
-            low = -span[i] / 2;
-            high = span[i] / 2;
-        } else if (!isfinite(low)) {
-            low = high - span[i];
-        } else if (!isfinite(high)) {
-            high = low + span[i];
-        }
-        q[i] = low + uniform(state) * (high - low);
-    }
+    return (real_t)(symkin_xorshift64(state) >> 11) * REAL(1.1102230246251565e-16);
 }
 
-/* e = [p_target - p; w] with w the rotation vector of E = R_target R^T (axis-angle, the
- * angle in [0, pi] from atan2 of |vee(E - E^T)| / 2 and (tr E - 1) / 2). Near pi the axis comes
- * from the symmetric part (E + E^T) / 2 = c I + (1 - c) k k^T, as in symkin.spatial. */
-static void pose_error(const double T_target[16], const double T[16], double e[6], double *position_error, double *rotation_error)
+/* symkin C library: the pose error of a 4x4 transform from a target, in the base frame. */
+#ifndef SYMKIN_POSE_ERROR_H
+#define SYMKIN_POSE_ERROR_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* e = [p_target - p; w] for the 4x4 row-major transforms T_target and T, with w the rotation
+ * vector (axis times angle) of E = R_target R^T: what the geometric Jacobian [Jv; Jw] maps joint
+ * steps to. position_error = |p_target - p| (m), rotation_error = the angle of E in [0, pi]
+ * (rad). The angle is atan2(|vee(E - E^T)| / 2, (tr E - 1) / 2); near pi (tr E < 1) the axis
+ * comes from the symmetric part (E + E^T) / 2 = c I + (1 - c) k k^T, as in symkin.spatial. */
+SYMKIN_API void symkin_pose_error(const real_t T_target[16], const real_t T[16], real_t e[6], real_t *position_error, real_t *rotation_error);
+
+#endif /* SYMKIN_POSE_ERROR_H */
+
+/* symkin C library: pose error (see symkin_pose_error.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_pose_error.h"
+#endif
+
+SYMKIN_API void symkin_pose_error(const real_t T_target[16], const real_t T[16], real_t e[6], real_t *position_error, real_t *rotation_error)
 {
-    double E[9], w[3], c, s, angle;
+    real_t E[9], w[3], c, s, angle;
     int i, j;
     for (i = 0; i < 3; ++i) {
         for (j = 0; j < 3; ++j) {
@@ -83,87 +107,247 @@ static void pose_error(const double T_target[16], const double T[16], double e[6
     w[1] = (E[2] - E[6]) / 2;
     w[2] = (E[3] - E[1]) / 2;
     c = (E[0] + E[4] + E[8] - 1) / 2;
-    s = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    angle = atan2(s, c);
+    s = SYMKIN_SQRT(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    angle = SYMKIN_ATAN2(s, c);
     if (c < 0) {
-        double k[3], norm, sign;
+        real_t k[3], norm, sign;
         const int m = (E[0] >= E[4] && E[0] >= E[8]) ? 0 : (E[4] >= E[8] ? 1 : 2);
-        k[m] = sqrt((E[4 * m] - c) / (1 - c));
+        k[m] = SYMKIN_SQRT((E[4 * m] - c) / (1 - c));
         for (j = 0; j < 3; ++j) {
             if (j != m) {
                 k[j] = (E[3 * m + j] + E[3 * j + m]) / (2 * (1 - c) * k[m]);
             }
         }
-        norm = sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
+        norm = SYMKIN_SQRT(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
         sign = (k[0] * w[0] + k[1] * w[1] + k[2] * w[2] < 0) ? -1 : 1;
         for (j = 0; j < 3; ++j) {
             e[3 + j] = sign * angle * k[j] / norm;
         }
     } else {
         /* angle / sin(angle) -> 1 as the angle -> 0 */
-        const double scale = s > 0 ? angle / s : 1;
+        const real_t scale = s > 0 ? angle / s : 1;
         for (j = 0; j < 3; ++j) {
             e[3 + j] = scale * w[j];
         }
     }
-    *position_error = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    *position_error = SYMKIN_SQRT(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     *rotation_error = angle;
 }
 
-/* dq from (J^T J + lambda I) dq = J^T e over the first `rows` rows of J and e, by Cholesky
- * (H = L L^T in the lower triangle). Returns 0 if H is not numerically positive definite. */
-static int damped_step(const double J[6 * DOF], const double e[6], int rows, double lambda, double dq[DOF])
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
 {
-    double H[DOF * DOF];
     int i, j, k;
-    for (i = 0; i < DOF; ++i) {
-        double gradient = 0;
-        for (j = 0; j <= i; ++j) {
-            double entry = 0;
-            for (k = 0; k < rows; ++k) {
-                entry += J[k * DOF + i] * J[k * DOF + j];
-            }
-            H[i * DOF + j] = entry;
-        }
-        H[i * DOF + i] += lambda;
-        for (k = 0; k < rows; ++k) {
-            gradient += J[k * DOF + i] * e[k];
-        }
-        dq[i] = gradient;
-    }
-    for (j = 0; j < DOF; ++j) {
-        double diagonal = H[j * DOF + j];
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
         for (k = 0; k < j; ++k) {
-            diagonal -= H[j * DOF + k] * H[j * DOF + k];
+            diagonal -= a[j * n + k] * a[j * n + k];
         }
         if (!(diagonal > 0)) {
             return 0;
         }
-        H[j * DOF + j] = sqrt(diagonal);
-        for (i = j + 1; i < DOF; ++i) {
-            double entry = H[i * DOF + j];
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
             for (k = 0; k < j; ++k) {
-                entry -= H[i * DOF + k] * H[j * DOF + k];
+                entry -= a[i * n + k] * a[j * n + k];
             }
-            H[i * DOF + j] = entry / H[j * DOF + j];
+            a[i * n + j] = entry / a[j * n + j];
         }
-    }
-    for (i = 0; i < DOF; ++i) {
-        for (k = 0; k < i; ++k) {
-            dq[i] -= H[i * DOF + k] * dq[k];
-        }
-        dq[i] /= H[i * DOF + i];
-    }
-    for (i = DOF - 1; i >= 0; --i) {
-        for (k = i + 1; k < DOF; ++k) {
-            dq[i] -= H[k * DOF + i] * dq[k];
-        }
-        dq[i] /= H[i * DOF + i];
     }
     return 1;
 }
 
-static int all_finite(const double *values, int count)
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+
+/* symkin C library: inverse kinematics by damped least squares with random restarts.
+ *
+ * Pose error e = [p_target - p; w] (symkin_pose_error.h), E = e^T e / 2 over the matched rows
+ * (x y z when position_only, all six otherwise). Each step solves (J^T J + lambda I) dq = J^T e
+ * with lambda = error_damping * E + damping (Sugihara's lambda = E + lambda_bar, IEEE Trans.
+ * Robotics 27(5), 2011, with E weighted) by Cholesky, and takes it. Then the joints are
+ * limited: a revolute joint outside its limits first moves by the multiple of 2 pi that brings
+ * it nearest the middle of its range, then every joint is clamped. An attempt ends after
+ * max_iterations steps, when it stalls (E above stall_factor times its value stall_window steps
+ * earlier) or when the system is not numerically positive definite; the next one starts from
+ * q drawn uniformly within the limits (symkin_xorshift.h), up to max_restarts times. The same
+ * algorithm runs in NumPy as symkin.solve.ik.batch.solve_ik_batch.
+ */
+#ifndef SYMKIN_DLS_H
+#define SYMKIN_DLS_H
+
+#include <stdint.h>
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+#define SYMKIN_DLS_SUCCESS 0       /* both errors below their tolerances */
+#define SYMKIN_DLS_NOT_CONVERGED 1 /* iteration cap reached; q is the best pose found */
+#define SYMKIN_DLS_INVALID_INPUT 2 /* non-finite input, a target rotation that is not
+                                      orthonormal or bad options; q is left untouched */
+
+/* Tool pose T[16] (4x4 row-major) and geometric Jacobian J[6 * dof] (row-major, rows
+ * vx vy vz wx wy wz, base frame) at joint positions q[dof] with parameters p. */
+typedef void (*symkin_fk_jacobian)(const real_t *q, const real_t *p, real_t *T, real_t *J);
+
+/* The robot and the solver's fixed constants. */
+typedef struct {
+    int dof;                      /* joints, >= 1 */
+    int num_parameters;           /* p holds this many values (p may be NULL when 0) */
+    symkin_fk_jacobian fk_jacobian;
+    const int *revolute;          /* dof flags: nonzero for a revolute joint */
+    const real_t *span;           /* dof restart widths where a limit is missing (rad or m):
+                                     centred on 0 without limits, ending at the one limit */
+    int stall_window;             /* steps, >= 1 */
+    real_t stall_factor;
+    real_t orthonormal_tolerance; /* |R^T R - I| entry by entry above this: not a rotation */
+    uint64_t fallback_seed;       /* the generator's state when options.seed is 0; nonzero */
+} symkin_dls_problem;
+
+typedef struct {
+    int max_iterations;        /* steps per attempt (the first and each restart), >= 0 */
+    int max_restarts;          /* random restarts after the first attempt, >= 0 */
+    real_t position_tolerance; /* m, > 0 */
+    real_t rotation_tolerance; /* rad, > 0; ignored when position_only */
+    real_t damping;            /* lambda_bar, >= 0 */
+    real_t error_damping;      /* weight of E in lambda, >= 0 */
+    int position_only;         /* nonzero: match the tool position only (rows x y z) */
+    const real_t *lower;       /* dof joint limits (rad or m); -INFINITY / INFINITY for none */
+    const real_t *upper;
+    uint64_t seed;             /* state of the restart generator; 0: fallback_seed */
+} symkin_dls_options;
+
+typedef struct {
+    int status;            /* SYMKIN_DLS_SUCCESS, _NOT_CONVERGED or _INVALID_INPUT */
+    int iterations;        /* steps taken over all attempts */
+    int restarts;          /* random restarts used */
+    real_t position_error; /* |p_target - p| at the returned q (m); INFINITY if invalid */
+    real_t rotation_error; /* angle of R_target R^T at the returned q (rad) */
+} symkin_dls_result;
+
+/* Elements of the work array symkin_dls_solve needs. */
+#define SYMKIN_DLS_WORKSPACE(dof, stall_window) (22 + (dof) * ((dof) + 8) + (stall_window))
+
+/* Joint positions q[dof] whose tool pose is T_target[16] (4x4 row-major, base frame), from
+ * q_seed[dof]; q may be q_seed. work holds SYMKIN_DLS_WORKSPACE(dof, stall_window) elements.
+ * Fills *result and returns its status. */
+SYMKIN_API int symkin_dls_solve(const symkin_dls_problem *problem, const real_t T_target[16], const real_t *q_seed, const real_t *p, const symkin_dls_options *options, real_t *work, real_t *q, symkin_dls_result *result);
+
+#endif /* SYMKIN_DLS_H */
+
+/* symkin C library: damped least squares (see symkin_dls.h). */
+#include <stddef.h>
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#include "symkin_dls.h"
+#include "symkin_pose_error.h"
+#include "symkin_xorshift.h"
+#endif
+
+/* Revolute joints outside their limits go to the equivalent angle nearest the middle of the
+ * range (they may then be inside); then every joint is clamped to its limits. */
+static void symkin_dls_limit(const symkin_dls_problem *problem, const real_t *lower, const real_t *upper, real_t *q)
+{
+    const real_t two_pi = REAL(6.283185307179586);
+    int i;
+    for (i = 0; i < problem->dof; ++i) {
+        if (problem->revolute[i] && (q[i] < lower[i] || q[i] > upper[i]) && isfinite(lower[i])
+            && isfinite(upper[i])) {
+            const real_t middle = (lower[i] + upper[i]) / 2;
+            q[i] -= two_pi * SYMKIN_FLOOR((q[i] - middle) / two_pi + REAL(0.5));
+        }
+        q[i] = q[i] < lower[i] ? lower[i] : (q[i] > upper[i] ? upper[i] : q[i]);
+    }
+}
+
+/* A random configuration within the limits, joint by joint; where a limit is missing, the
+ * range has the joint's span. */
+static void symkin_dls_random(const symkin_dls_problem *problem, const real_t *lower, const real_t *upper, uint64_t *state, real_t *q)
+{
+    int i;
+    for (i = 0; i < problem->dof; ++i) {
+        real_t low = lower[i], high = upper[i];
+        if (!isfinite(low) && !isfinite(high)) {
+            low = -problem->span[i] / 2;
+            high = problem->span[i] / 2;
+        } else if (!isfinite(low)) {
+            low = high - problem->span[i];
+        } else if (!isfinite(high)) {
+            high = low + problem->span[i];
+        }
+        q[i] = low + symkin_uniform(state) * (high - low);
+    }
+}
+
+/* dq[n] from (J^T J + lambda I) dq = J^T e over the first `rows` rows of J (6 x n) and e, with
+ * H[n * n] as scratch. Returns 0 if the system is not numerically positive definite. */
+static int symkin_dls_step(const real_t *J, const real_t *e, int n, int rows, real_t lambda, real_t *H, real_t *dq)
+{
+    int i, j, k;
+    for (i = 0; i < n; ++i) {
+        real_t gradient = 0;
+        for (j = 0; j <= i; ++j) {
+            real_t entry = 0;
+            for (k = 0; k < rows; ++k) {
+                entry += J[k * n + i] * J[k * n + j];
+            }
+            H[i * n + j] = entry;
+        }
+        H[i * n + i] += lambda;
+        for (k = 0; k < rows; ++k) {
+            gradient += J[k * n + i] * e[k];
+        }
+        dq[i] = gradient;
+    }
+    if (!symkin_cholesky_factor(H, n)) {
+        return 0;
+    }
+    symkin_cholesky_solve(H, n, dq);
+    return 1;
+}
+
+static int symkin_dls_all_finite(const real_t *values, int count)
 {
     int i;
     for (i = 0; i < count; ++i) {
@@ -174,23 +358,24 @@ static int all_finite(const double *values, int count)
     return 1;
 }
 
-static int valid_input(const double T_target[16], const double q_seed[DOF], const double *p, const scara_ik_options *o)
+static int symkin_dls_valid(const symkin_dls_problem *problem, const real_t T_target[16], const real_t *q_seed, const real_t *p, const symkin_dls_options *o)
 {
     int i, j;
-    if (!all_finite(T_target, 16) || !all_finite(q_seed, DOF)
-        || (SCARA_NUM_PARAMETERS > 0 && (p == NULL || !all_finite(p, SCARA_NUM_PARAMETERS)))) {
+    if (!symkin_dls_all_finite(T_target, 16) || !symkin_dls_all_finite(q_seed, problem->dof)
+        || (problem->num_parameters > 0
+            && (p == NULL || !symkin_dls_all_finite(p, problem->num_parameters)))) {
         return 0;
     }
     for (i = 0; i < 3; ++i) {
         for (j = 0; j < 3; ++j) {
-            const double product = T_target[i] * T_target[j] + T_target[4 + i] * T_target[4 + j]
-                                  + T_target[8 + i] * T_target[8 + j];
-            if (fabs(product - (i == j)) > ORTHONORMAL_TOLERANCE) {
+            const real_t product = T_target[i] * T_target[j] + T_target[4 + i] * T_target[4 + j]
+                                   + T_target[8 + i] * T_target[8 + j];
+            if (SYMKIN_FABS(product - (real_t)(i == j)) > problem->orthonormal_tolerance) {
                 return 0;
             }
         }
     }
-    for (i = 0; i < DOF; ++i) {
+    for (i = 0; i < problem->dof; ++i) {
         if (!(o->lower[i] <= o->upper[i])) {
             return 0;
         }
@@ -199,6 +384,88 @@ static int valid_input(const double T_target[16], const double q_seed[DOF], cons
            && o->rotation_tolerance > 0 && o->damping >= 0 && o->error_damping >= 0
            && isfinite(o->damping) && isfinite(o->error_damping);
 }
+
+SYMKIN_API int symkin_dls_solve(const symkin_dls_problem *problem, const real_t T_target[16], const real_t *q_seed, const real_t *p, const symkin_dls_options *options, real_t *work, real_t *q, symkin_dls_result *result)
+{
+    const int n = problem->dof;
+    real_t *T = work, *e = T + 16, *J = e + 6, *H = J + 6 * n, *dq = H + n * n, *best = dq + n;
+    real_t *history = best + n;
+    real_t best_error = INFINITY;
+    uint64_t state;
+    int i, rows, step = 0;
+
+    result->status = SYMKIN_DLS_NOT_CONVERGED;
+    result->iterations = 0;
+    result->restarts = 0;
+    result->position_error = INFINITY;
+    result->rotation_error = INFINITY;
+    if (!symkin_dls_valid(problem, T_target, q_seed, p, options)) {
+        result->status = SYMKIN_DLS_INVALID_INPUT;
+        return result->status;
+    }
+    rows = options->position_only ? 3 : 6;
+    state = options->seed != 0 ? options->seed : problem->fallback_seed;
+    for (i = 0; i < n; ++i) {
+        q[i] = q_seed[i];
+    }
+    symkin_dls_limit(problem, options->lower, options->upper, q);
+    for (i = 0; i < n; ++i) {
+        best[i] = q[i];
+    }
+    for (;;) {
+        real_t error = 0, position_error, rotation_error;
+        int stalled;
+        problem->fk_jacobian(q, p, T, J);
+        symkin_pose_error(T_target, T, e, &position_error, &rotation_error);
+        for (i = 0; i < rows; ++i) {
+            error += e[i] * e[i] / 2;
+        }
+        if (error < best_error) {
+            best_error = error;
+            result->position_error = position_error;
+            result->rotation_error = rotation_error;
+            for (i = 0; i < n; ++i) {
+                best[i] = q[i];
+            }
+        }
+        if (position_error < options->position_tolerance
+            && (options->position_only || rotation_error < options->rotation_tolerance)) {
+            result->status = SYMKIN_DLS_SUCCESS;
+            result->position_error = position_error;
+            result->rotation_error = rotation_error;
+            return result->status;
+        }
+        stalled = step >= problem->stall_window
+                  && error > problem->stall_factor * history[step % problem->stall_window];
+        history[step % problem->stall_window] = error;
+        if (!stalled && step < options->max_iterations
+            && symkin_dls_step(J, e, n, rows, options->error_damping * error + options->damping, H, dq)) {
+            for (i = 0; i < n; ++i) {
+                q[i] += dq[i];
+            }
+            symkin_dls_limit(problem, options->lower, options->upper, q);
+            ++step;
+            ++result->iterations;
+            continue;
+        }
+        if (result->restarts == options->max_restarts) {
+            for (i = 0; i < n; ++i) {
+                q[i] = best[i];
+            }
+            return result->status;
+        }
+        ++result->restarts;
+        step = 0;
+        symkin_dls_random(problem, options->lower, options->upper, &state, q);
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+#define DOF 3
+#define STALL_WINDOW 5
+
+/* The header's status codes are the library's (compilation stops here otherwise). */
+typedef char scara_ik_status_codes_agree[(SCARA_IK_SUCCESS == SYMKIN_DLS_SUCCESS && SCARA_IK_NOT_CONVERGED == SYMKIN_DLS_NOT_CONVERGED && SCARA_IK_INVALID_INPUT == SYMKIN_DLS_INVALID_INPUT) ? 1 : -1];
 
 void scara_ik_default_options(scara_ik_options *options)
 {
@@ -220,80 +487,46 @@ void scara_ik_default_options(scara_ik_options *options)
 
 int scara_ik(const double T_target[16], const double q_seed[DOF], const double *p, const scara_ik_options *options, double q[DOF], scara_ik_result *result)
 {
+    const int revolute[DOF] = { 1, 1, 0 };
+    /* Restart range of a joint without a limit (rad or m). */
+    const real_t span[DOF] = { 6.283185307179586, 6.283185307179586, 2.0 };
+    const symkin_dls_problem problem = {
+        .dof = DOF,
+        .num_parameters = SCARA_NUM_PARAMETERS,
+        .fk_jacobian = scara_fk_jacobian,
+        .revolute = revolute,
+        .span = span,
+        .stall_window = STALL_WINDOW,
+        .stall_factor = 0.5,
+        .orthonormal_tolerance = 1e-06,
+        .fallback_seed = UINT64_C(0x9e3779b97f4a7c15)
+    };
     scara_ik_options defaults;
-    scara_ik_result outcome = { SCARA_IK_NOT_CONVERGED, 0, 0, INFINITY, INFINITY };
-    double T[16], J[6 * DOF], e[6], dq[DOF], best[DOF], history[STALL_WINDOW];
-    double best_error = INFINITY;
-    uint64_t state;
-    int i, rows, step = 0;
+    symkin_dls_options settings;
+    symkin_dls_result outcome;
+    real_t work[SYMKIN_DLS_WORKSPACE(DOF, STALL_WINDOW)];
 
     if (options == NULL) {
         scara_ik_default_options(&defaults);
         options = &defaults;
     }
-    if (!valid_input(T_target, q_seed, p, options)) {
-        outcome.status = SCARA_IK_INVALID_INPUT;
-        if (result != NULL) {
-            *result = outcome;
-        }
-        return outcome.status;
-    }
-    rows = options->position_only ? 3 : 6;
-    state = options->seed != 0 ? options->seed : UINT64_C(0x9e3779b97f4a7c15);
-    for (i = 0; i < DOF; ++i) {
-        q[i] = q_seed[i];
-    }
-    limit_joints(q, options->lower, options->upper);
-    for (i = 0; i < DOF; ++i) {
-        best[i] = q[i];
-    }
-    for (;;) {
-        double error = 0, position_error, rotation_error;
-        int stalled;
-        scara_fk_jacobian(q, p, T, J);
-        pose_error(T_target, T, e, &position_error, &rotation_error);
-        for (i = 0; i < rows; ++i) {
-            error += e[i] * e[i] / 2;
-        }
-        if (error < best_error) {
-            best_error = error;
-            outcome.position_error = position_error;
-            outcome.rotation_error = rotation_error;
-            for (i = 0; i < DOF; ++i) {
-                best[i] = q[i];
-            }
-        }
-        if (position_error < options->position_tolerance
-            && (options->position_only || rotation_error < options->rotation_tolerance)) {
-            outcome.status = SCARA_IK_SUCCESS;
-            outcome.position_error = position_error;
-            outcome.rotation_error = rotation_error;
-            break;
-        }
-        stalled = step >= STALL_WINDOW && error > STALL_FACTOR * history[step % STALL_WINDOW];
-        history[step % STALL_WINDOW] = error;
-        if (!stalled && step < options->max_iterations
-            && damped_step(J, e, rows, options->error_damping * error + options->damping, dq)) {
-            for (i = 0; i < DOF; ++i) {
-                q[i] += dq[i];
-            }
-            limit_joints(q, options->lower, options->upper);
-            ++step;
-            ++outcome.iterations;
-            continue;
-        }
-        if (outcome.restarts == options->max_restarts) {
-            for (i = 0; i < DOF; ++i) {
-                q[i] = best[i];
-            }
-            break;
-        }
-        ++outcome.restarts;
-        step = 0;
-        random_configuration(options->lower, options->upper, &state, q);
-    }
+    settings.max_iterations = options->max_iterations;
+    settings.max_restarts = options->max_restarts;
+    settings.position_tolerance = options->position_tolerance;
+    settings.rotation_tolerance = options->rotation_tolerance;
+    settings.damping = options->damping;
+    settings.error_damping = options->error_damping;
+    settings.position_only = options->position_only;
+    settings.lower = options->lower;
+    settings.upper = options->upper;
+    settings.seed = options->seed;
+    symkin_dls_solve(&problem, T_target, q_seed, p, &settings, work, q, &outcome);
     if (result != NULL) {
-        *result = outcome;
+        result->status = outcome.status;
+        result->iterations = outcome.iterations;
+        result->restarts = outcome.restarts;
+        result->position_error = outcome.position_error;
+        result->rotation_error = outcome.rotation_error;
     }
     return outcome.status;
 }

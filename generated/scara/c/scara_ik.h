@@ -29,6 +29,10 @@
 
 #include "scara.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of scara_ik and result.status). */
 #define SCARA_IK_SUCCESS 0        /* both errors below their tolerances */
 #define SCARA_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void scara_ik_default_options(scara_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int scara_ik(const double T_target[16], const double q_seed[3], const double *p, const scara_ik_options *options, double q[3], scara_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SCARA_IK_H */

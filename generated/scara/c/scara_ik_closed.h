@@ -17,6 +17,10 @@
 
 #include "scara.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Solutions per pose at most: the size of the output arrays. */
 #define SCARA_IK_CLOSED_MAX_SOLUTIONS 2
 /* Returned for a T or p that holds NaN or inf, p == NULL when the robot has parameters, or a
@@ -37,5 +41,9 @@
  * 1e-09 (rotation entries; positions relative to the robot's size, at least 1 m).
  * Returns the number of solutions (0: out of reach) or SCARA_IK_CLOSED_INVALID_INPUT. */
 int scara_ik_closed(const double T[16], const double *p, double q[SCARA_IK_CLOSED_MAX_SOLUTIONS * 3], int branch[SCARA_IK_CLOSED_MAX_SOLUTIONS], int within_limits[SCARA_IK_CLOSED_MAX_SOLUTIONS]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SCARA_IK_CLOSED_H */

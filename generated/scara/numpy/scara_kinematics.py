@@ -32,7 +32,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 12 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -63,7 +63,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 11 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -86,7 +86,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 13 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -114,7 +114,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 13 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns Jp: dp/dq (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -140,7 +140,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 14 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame), shape (..., 6, 3).
     """
@@ -184,7 +184,7 @@ def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, z): 3 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -202,7 +202,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     """Yoshikawa manipulability of the task jacobian (|det j| when square): 3 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -220,8 +220,8 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     """Mass matrix: 58 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns M: M(q) (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -279,8 +279,8 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
     """Gravity torques: 1 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns G: G(q) (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -301,8 +301,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns c: c = C(q, dq) dq (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -356,8 +356,8 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric, shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -411,8 +411,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 3 values per state.
-    p: parameters (L1, L2), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3), 30 values.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau: tau = M ddq + C dq + G + F (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)

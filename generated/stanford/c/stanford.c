@@ -21,7 +21,92 @@
 
 #include "stanford.h"
 
-void stanford_fk(const double q[6], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void stanford_fk(const double q[6], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -76,7 +161,7 @@ void stanford_fk(const double q[6], const double *p, double T[16])
     T[15] = 1;
 }
 
-void stanford_fk_batch(size_t count, const double *q, const double *p, double *T)
+void stanford_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -84,7 +169,7 @@ void stanford_fk_batch(size_t count, const double *q, const double *p, double *T
     }
 }
 
-void stanford_position(const double q[6], const double *p, double p_tool[3])
+void stanford_position(const double q[6], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -110,7 +195,7 @@ void stanford_position(const double q[6], const double *p, double p_tool[3])
     p_tool[2] = d1 + q3*t8 + t4*t8 - t2*t9;
 }
 
-void stanford_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void stanford_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -118,7 +203,7 @@ void stanford_position_batch(size_t count, const double *q, const double *p, dou
     }
 }
 
-void stanford_jacobian(const double q[6], const double *p, double J[36])
+void stanford_jacobian(const double q[6], const double *p, double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -190,7 +275,7 @@ void stanford_jacobian(const double q[6], const double *p, double J[36])
     J[35] = t14;
 }
 
-void stanford_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void stanford_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -198,7 +283,7 @@ void stanford_jacobian_batch(size_t count, const double *q, const double *p, dou
     }
 }
 
-void stanford_position_jacobian(const double q[6], const double *p, double Jp[18])
+void stanford_position_jacobian(const double q[6], const double *p, double Jp[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -249,7 +334,7 @@ void stanford_position_jacobian(const double q[6], const double *p, double Jp[18
     Jp[17] = 0;
 }
 
-void stanford_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void stanford_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -257,7 +342,7 @@ void stanford_position_jacobian_batch(size_t count, const double *q, const doubl
     }
 }
 
-void stanford_fk_jacobian(const double q[6], const double *p, double T[16], double J[36])
+void stanford_fk_jacobian(const double q[6], const double *p, double T[restrict 16], double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -355,7 +440,7 @@ void stanford_fk_jacobian(const double q[6], const double *p, double T[16], doub
     J[35] = t30;
 }
 
-void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -363,7 +448,7 @@ void stanford_fk_jacobian_batch(size_t count, const double *q, const double *p, 
     }
 }
 
-void stanford_det(const double q[6], const double *p, double det[1])
+void stanford_det(const double q[6], const double *p, double det[restrict 1])
 {
     (void)p;
     const double q2 = q[1];
@@ -372,7 +457,7 @@ void stanford_det(const double q[6], const double *p, double det[1])
     det[0] = q3*q3*sin(q2)*sin(q5);
 }
 
-void stanford_det_batch(size_t count, const double *q, const double *p, double *det)
+void stanford_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -380,7 +465,7 @@ void stanford_det_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void stanford_manipulability(const double q[6], const double *p, double mu[1])
+void stanford_manipulability(const double q[6], const double *p, double mu[restrict 1])
 {
     (void)p;
     const double q2 = q[1];
@@ -389,7 +474,7 @@ void stanford_manipulability(const double q[6], const double *p, double mu[1])
     mu[0] = q3*q3*fabs(sin(q2)*sin(q5));
 }
 
-void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -397,7 +482,7 @@ void stanford_manipulability_batch(size_t count, const double *q, const double *
     }
 }
 
-void stanford_mass_matrix(const double q[6], const double *p, const double *pi, double M[36])
+void stanford_mass_matrix(const double q[6], const double *p, const double *pi, double M[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -656,7 +741,7 @@ void stanford_mass_matrix(const double q[6], const double *p, const double *pi, 
     M[35] = t157;
 }
 
-void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -664,7 +749,7 @@ void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, 
     }
 }
 
-void stanford_gravity(const double q[6], const double *p, const double *pi, double G[6])
+void stanford_gravity(const double q[6], const double *p, const double *pi, double G[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -694,9 +779,9 @@ void stanford_gravity(const double q[6], const double *p, const double *pi, doub
     const double cy6 = pi[52];
     const double cz6 = pi[53];
     const double t0 = sin(q2);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = cos(q2);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = cos(q4);
     const double t5 = t1*t4;
     const double t6 = sin(q4);
@@ -754,7 +839,7 @@ void stanford_gravity(const double q[6], const double *p, const double *pi, doub
     G[5] = t22;
 }
 
-void stanford_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void stanford_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -762,7 +847,7 @@ void stanford_gravity_batch(size_t count, const double *q, const double *p, cons
     }
 }
 
-void stanford_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6])
+void stanford_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -981,7 +1066,7 @@ void stanford_coriolis(const double q[6], const double dq[6], const double *p, c
     c[5] = t100;
 }
 
-void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -989,7 +1074,7 @@ void stanford_coriolis_batch(size_t count, const double *q, const double *dq, co
     }
 }
 
-void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36])
+void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1643,7 +1728,7 @@ void stanford_coriolis_matrix(const double q[6], const double dq[6], const doubl
     C[35] = 0;
 }
 
-void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1651,7 +1736,7 @@ void stanford_coriolis_matrix_batch(size_t count, const double *q, const double 
     }
 }
 
-void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6])
+void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1748,9 +1833,9 @@ void stanford_inverse_dynamics(const double q[6], const double dq[6], const doub
     const double t19 = ddq2 + t11;
     const double t20 = t12 - t5;
     const double t21 = t7 + t8;
-    const double t22 = 9.8100000000000005*t1 + d2*t14;
+    const double t22 = 9.81*t1 + d2*t14;
     const double t23 = d2*t17;
-    const double t24 = 9.8100000000000005*t3 + d2*t20;
+    const double t24 = 9.81*t3 + d2*t20;
     const double t25 = 2*dq3;
     const double t26 = -t22 + dq2*t25 + q3*t15;
     const double t27 = -t23 + q3*t18 + t2*t25;
@@ -1889,7 +1974,7 @@ void stanford_inverse_dynamics(const double q[6], const double dq[6], const doub
     tau[5] = t111;
 }
 
-void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1898,43 +1983,26 @@ void stanford_inverse_dynamics_batch(size_t count, const double *q, const double
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void stanford_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[6])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void stanford_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
     const double zero[6] = { 0 };
-    int i, j, k;
+    int i;
 
     stanford_mass_matrix(q, p, pi, M);
     stanford_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 6; ++j) {
-        double diagonal = M[j * 6 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 6 + k] * M[j * 6 + k];
+    if (!symkin_cholesky_factor(M, 6)) {
+        for (i = 0; i < 6; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 6 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 6; ++i) {
-            double entry = M[i * 6 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 6 + k] * M[j * 6 + k];
-            }
-            M[i * 6 + j] = entry / M[j * 6 + j];
-        }
+        return;
     }
     for (i = 0; i < 6; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 6 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 6 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 6; ++k) {
-            value -= M[k * 6 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
-    }
+    symkin_cholesky_solve(M, 6, ddq);
 }

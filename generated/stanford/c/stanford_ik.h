@@ -29,6 +29,10 @@
 
 #include "stanford.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of stanford_ik and result.status). */
 #define STANFORD_IK_SUCCESS 0        /* both errors below their tolerances */
 #define STANFORD_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void stanford_ik_default_options(stanford_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int stanford_ik(const double T_target[16], const double q_seed[6], const double *p, const stanford_ik_options *options, double q[6], stanford_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* STANFORD_IK_H */

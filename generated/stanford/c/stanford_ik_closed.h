@@ -17,6 +17,10 @@
 
 #include "stanford.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Solutions per pose at most: the size of the output arrays. */
 #define STANFORD_IK_CLOSED_MAX_SOLUTIONS 8
 /* Returned for a T or p that holds NaN or inf, p == NULL when the robot has parameters, or a
@@ -42,5 +46,9 @@
  * 1e-09 (rotation entries; positions relative to the robot's size, at least 1 m).
  * Returns the number of solutions (0: out of reach) or STANFORD_IK_CLOSED_INVALID_INPUT. */
 int stanford_ik_closed(const double T[16], const double *p, double q[STANFORD_IK_CLOSED_MAX_SOLUTIONS * 6], int branch[STANFORD_IK_CLOSED_MAX_SOLUTIONS], int within_limits[STANFORD_IK_CLOSED_MAX_SOLUTIONS]);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* STANFORD_IK_CLOSED_H */

@@ -32,7 +32,7 @@ def fk(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics: 80 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
     q = numpy.asarray(q, dtype=float)
@@ -94,7 +94,7 @@ def position(q, p=DEFAULT_PARAMETERS):
     """Tool position: 39 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
@@ -130,7 +130,7 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     """Geometric jacobian: 80 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -202,7 +202,7 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     """Analytic position jacobian: 80 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns Jp: dp/dq (3x6), shape (..., 3, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -259,7 +259,7 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     """Forward kinematics and jacobian: 112 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
@@ -356,7 +356,7 @@ def det(q, p=DEFAULT_PARAMETERS):
     """Determinant of the task jacobian (rows x, y, z, wx, wy, wz): 5 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns det: det J, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -374,7 +374,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     """Yoshikawa manipulability of the task jacobian (|det j| when square): 5 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
@@ -392,8 +392,8 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     """Mass matrix: 703 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns M: M(q) (6x6), shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -665,8 +665,8 @@ def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
     """Gravity torques: 146 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns G: G(q) (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -770,8 +770,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns c: c = C(q, dq) dq (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -1005,8 +1005,8 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
 
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns C: C(q, dq) (6x6), dM/dt - 2C skew-symmetric, shape (..., 6, 6).
     """
     q = numpy.asarray(q, dtype=float)
@@ -1675,8 +1675,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 6 values per state.
-    p: parameters (d1, d2, d6), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6), 60 values.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns tau: tau = M ddq + C dq + G + F (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)

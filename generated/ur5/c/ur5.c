@@ -21,7 +21,92 @@
 
 #include "ur5.h"
 
-void ur5_fk(const double q[6], const double *p, double T[16])
+/* ---- symkin C library (symkin_real_double.h, symkin_cholesky.h, symkin_cholesky.c) ---- */
+#define SYMKIN_AMALGAMATION
+#define SYMKIN_API static
+
+/* symkin C library, double precision: real_t, literals REAL(1.5) and the math functions. */
+#ifndef SYMKIN_REAL_PRECISION_H
+#define SYMKIN_REAL_PRECISION_H
+
+#include <math.h>
+
+typedef double real_t;
+#define REAL(x) x
+#define SYMKIN_SQRT sqrt
+#define SYMKIN_ATAN2 atan2
+#define SYMKIN_FLOOR floor
+#define SYMKIN_FABS fabs
+
+#endif /* SYMKIN_REAL_PRECISION_H */
+
+/* symkin C library: Cholesky factorisation and solve of a symmetric positive definite system. */
+#ifndef SYMKIN_CHOLESKY_H
+#define SYMKIN_CHOLESKY_H
+
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_real.h"
+#endif
+
+/* A = L L^T in place: a is n x n row-major, of which the lower triangle (diagonal included) is
+ * read and overwritten by L; the upper triangle is neither read nor written. Returns 1, or 0
+ * as soon as a pivot is not positive (A is not numerically positive definite, or holds NaN);
+ * a is then partly overwritten. */
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n);
+
+/* x = (L L^T)^-1 x in place by forward (L y = x) and back (L^T x = y) substitution, with L the
+ * lower triangle of the n x n row-major l from symkin_cholesky_factor. */
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x);
+
+#endif /* SYMKIN_CHOLESKY_H */
+
+/* symkin C library: Cholesky (see symkin_cholesky.h). */
+#ifndef SYMKIN_AMALGAMATION
+#include "symkin_cholesky.h"
+#endif
+
+SYMKIN_API int symkin_cholesky_factor(real_t *a, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; ++j) {
+        real_t diagonal = a[j * n + j];
+        for (k = 0; k < j; ++k) {
+            diagonal -= a[j * n + k] * a[j * n + k];
+        }
+        if (!(diagonal > 0)) {
+            return 0;
+        }
+        a[j * n + j] = SYMKIN_SQRT(diagonal);
+        for (i = j + 1; i < n; ++i) {
+            real_t entry = a[i * n + j];
+            for (k = 0; k < j; ++k) {
+                entry -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = entry / a[j * n + j];
+        }
+    }
+    return 1;
+}
+
+SYMKIN_API void symkin_cholesky_solve(const real_t *l, int n, real_t *x)
+{
+    int i, k;
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < i; ++k) {
+            x[i] -= l[i * n + k] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+    for (i = n - 1; i >= 0; --i) {
+        for (k = i + 1; k < n; ++k) {
+            x[i] -= l[k * n + i] * x[k];
+        }
+        x[i] /= l[i * n + i];
+    }
+}
+/* ---- end of the symkin C library ---- */
+
+void ur5_fk(const double q[6], const double *p, double T[restrict 16])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -76,7 +161,7 @@ void ur5_fk(const double q[6], const double *p, double T[16])
     T[15] = 1;
 }
 
-void ur5_fk_batch(size_t count, const double *q, const double *p, double *T)
+void ur5_fk_batch(size_t count, const double *q, const double *p, double *restrict T)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -84,7 +169,7 @@ void ur5_fk_batch(size_t count, const double *q, const double *p, double *T)
     }
 }
 
-void ur5_position(const double q[6], const double *p, double p_tool[3])
+void ur5_position(const double q[6], const double *p, double p_tool[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -114,7 +199,7 @@ void ur5_position(const double q[6], const double *p, double p_tool[3])
     p_tool[2] = d1 + a2*sin(q2) + a3*sin(t4) - d5*t9 - t10*t7;
 }
 
-void ur5_position_batch(size_t count, const double *q, const double *p, double *p_tool)
+void ur5_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -122,7 +207,7 @@ void ur5_position_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void ur5_jacobian(const double q[6], const double *p, double J[36])
+void ur5_jacobian(const double q[6], const double *p, double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -209,7 +294,7 @@ void ur5_jacobian(const double q[6], const double *p, double J[36])
     J[35] = -t7*t9;
 }
 
-void ur5_jacobian_batch(size_t count, const double *q, const double *p, double *J)
+void ur5_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -217,7 +302,7 @@ void ur5_jacobian_batch(size_t count, const double *q, const double *p, double *
     }
 }
 
-void ur5_position_jacobian(const double q[6], const double *p, double Jp[18])
+void ur5_position_jacobian(const double q[6], const double *p, double Jp[restrict 18])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -274,7 +359,7 @@ void ur5_position_jacobian(const double q[6], const double *p, double Jp[18])
     Jp[17] = 0;
 }
 
-void ur5_position_jacobian_batch(size_t count, const double *q, const double *p, double *Jp)
+void ur5_position_jacobian_batch(size_t count, const double *q, const double *p, double *restrict Jp)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -282,7 +367,7 @@ void ur5_position_jacobian_batch(size_t count, const double *q, const double *p,
     }
 }
 
-void ur5_fk_jacobian(const double q[6], const double *p, double T[16], double J[36])
+void ur5_fk_jacobian(const double q[6], const double *p, double T[restrict 16], double J[restrict 36])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -403,7 +488,7 @@ void ur5_fk_jacobian(const double q[6], const double *p, double T[16], double J[
     J[35] = t47;
 }
 
-void ur5_fk_jacobian_batch(size_t count, const double *q, const double *p, double *T, double *J)
+void ur5_fk_jacobian_batch(size_t count, const double *q, const double *p, double *restrict T, double *restrict J)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -411,7 +496,7 @@ void ur5_fk_jacobian_batch(size_t count, const double *q, const double *p, doubl
     }
 }
 
-void ur5_det(const double q[6], const double *p, double det[1])
+void ur5_det(const double q[6], const double *p, double det[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -424,7 +509,7 @@ void ur5_det(const double q[6], const double *p, double det[1])
     det[0] = a2*a3*(a2*cos(q2) + a3*cos(t0) + d5*sin(q4 + t0))*sin(q3)*sin(q5);
 }
 
-void ur5_det_batch(size_t count, const double *q, const double *p, double *det)
+void ur5_det_batch(size_t count, const double *q, const double *p, double *restrict det)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -432,7 +517,7 @@ void ur5_det_batch(size_t count, const double *q, const double *p, double *det)
     }
 }
 
-void ur5_manipulability(const double q[6], const double *p, double mu[1])
+void ur5_manipulability(const double q[6], const double *p, double mu[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -445,7 +530,7 @@ void ur5_manipulability(const double q[6], const double *p, double mu[1])
     mu[0] = fabs(a2*a3*(a2*cos(q2) + a3*cos(t0) + d5*sin(q4 + t0))*sin(q3)*sin(q5));
 }
 
-void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *mu)
+void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -453,7 +538,7 @@ void ur5_manipulability_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void ur5_mass_matrix(const double q[6], const double *p, const double *pi, double M[36])
+void ur5_mass_matrix(const double q[6], const double *p, const double *pi, double M[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -735,7 +820,7 @@ void ur5_mass_matrix(const double q[6], const double *p, const double *pi, doubl
     M[35] = t177;
 }
 
-void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *M)
+void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -743,7 +828,7 @@ void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, const
     }
 }
 
-void ur5_gravity(const double q[6], const double *p, const double *pi, double G[6])
+void ur5_gravity(const double q[6], const double *p, const double *pi, double G[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -776,9 +861,9 @@ void ur5_gravity(const double q[6], const double *p, const double *pi, double G[
     const double cy6 = pi[52];
     const double cz6 = pi[53];
     const double t0 = sin(q2);
-    const double t1 = 9.8100000000000005*t0;
+    const double t1 = 9.81*t0;
     const double t2 = cos(q2);
-    const double t3 = 9.8100000000000005*t2;
+    const double t3 = 9.81*t2;
     const double t4 = cos(q3);
     const double t5 = sin(q3);
     const double t6 = t1*t4 + t3*t5;
@@ -841,7 +926,7 @@ void ur5_gravity(const double q[6], const double *p, const double *pi, double G[
     G[5] = -t26;
 }
 
-void ur5_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *G)
+void ur5_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -849,7 +934,7 @@ void ur5_gravity_batch(size_t count, const double *q, const double *p, const dou
     }
 }
 
-void ur5_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[6])
+void ur5_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1090,7 +1175,7 @@ void ur5_coriolis(const double q[6], const double dq[6], const double *p, const 
     c[5] = t121;
 }
 
-void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *c)
+void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1098,7 +1183,7 @@ void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const d
     }
 }
 
-void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[36])
+void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[restrict 36])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1854,7 +1939,7 @@ void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p,
     C[35] = 0;
 }
 
-void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *C)
+void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -1862,7 +1947,7 @@ void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, 
     }
 }
 
-void ur5_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[6])
+void ur5_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[restrict 6])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1962,8 +2047,8 @@ void ur5_inverse_dynamics(const double q[6], const double dq[6], const double dd
     const double t19 = t11 - t6;
     const double t20 = t12 + t5;
     const double t21 = t7 + t8;
-    const double t22 = 9.8100000000000005*t1 - a2*t13;
-    const double t23 = 9.8100000000000005*t3 + a2*t16;
+    const double t22 = 9.81*t1 - a2*t13;
+    const double t23 = 9.81*t3 + a2*t16;
     const double t24 = a2*t19;
     const double t25 = cos(q3);
     const double t26 = sin(q3);
@@ -2121,7 +2206,7 @@ void ur5_inverse_dynamics(const double q[6], const double dq[6], const double dd
     tau[5] = t135;
 }
 
-void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *tau)
+void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
@@ -2130,43 +2215,26 @@ void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
- * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only. */
-void ur5_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[6])
+ * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * ddq is NaN where M is not numerically positive definite. */
+void ur5_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
     const double zero[6] = { 0 };
-    int i, j, k;
+    int i;
 
     ur5_mass_matrix(q, p, pi, M);
     ur5_inverse_dynamics(q, dq, zero, p, pi, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
-    for (j = 0; j < 6; ++j) {
-        double diagonal = M[j * 6 + j];
-        for (k = 0; k < j; ++k) {
-            diagonal -= M[j * 6 + k] * M[j * 6 + k];
+    if (!symkin_cholesky_factor(M, 6)) {
+        for (i = 0; i < 6; ++i) {
+            ddq[i] = NAN;
         }
-        M[j * 6 + j] = sqrt(diagonal);
-        for (i = j + 1; i < 6; ++i) {
-            double entry = M[i * 6 + j];
-            for (k = 0; k < j; ++k) {
-                entry -= M[i * 6 + k] * M[j * 6 + k];
-            }
-            M[i * 6 + j] = entry / M[j * 6 + j];
-        }
+        return;
     }
     for (i = 0; i < 6; ++i) {
-        double value = tau[i] - bias[i];
-        for (k = 0; k < i; ++k) {
-            value -= M[i * 6 + k] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
+        ddq[i] = tau[i] - bias[i];
     }
-    for (i = 6 - 1; i >= 0; --i) {
-        double value = ddq[i];
-        for (k = i + 1; k < 6; ++k) {
-            value -= M[k * 6 + i] * ddq[k];
-        }
-        ddq[i] = value / M[i * 6 + i];
-    }
+    symkin_cholesky_solve(M, 6, ddq);
 }

@@ -29,6 +29,10 @@
 
 #include "ur5.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Status codes (the return value of ur5_ik and result.status). */
 #define UR5_IK_SUCCESS 0        /* both errors below their tolerances */
 #define UR5_IK_NOT_CONVERGED 1  /* iteration cap reached; q is the best pose found */
@@ -64,5 +68,9 @@ void ur5_ik_default_options(ur5_ik_options *options);
  * options: NULL for the defaults; result: NULL if not needed. q may be q_seed.
  * Returns the status code. */
 int ur5_ik(const double T_target[16], const double q_seed[6], const double *p, const ur5_ik_options *options, double q[6], ur5_ik_result *result);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* UR5_IK_H */
