@@ -20,3 +20,17 @@ from symkin.derive import Model
 def model_of() -> Callable[[str], Model]:
     """``model_of("puma560")``: the session's derived model of a built-in or test robot."""
     return cached_model
+
+
+#: Six- and seven-joint robots: deriving their dynamics takes seconds each, so a test
+#: parametrized with one of them is ``slow`` (``make test-fast`` leaves it to ``make test``).
+HEAVY_ROBOTS = frozenset({"panda", "ur5", "puma560", "stanford", "cylindrical_rtt_wrist"})
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        callspec = getattr(item, "callspec", None)
+        if callspec is not None and any(
+            isinstance(value, str) and value in HEAVY_ROBOTS for value in callspec.params.values()
+        ):
+            item.add_marker(pytest.mark.slow)

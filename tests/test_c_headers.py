@@ -21,6 +21,8 @@ from symkin.generate import files_for_robot
 from symkin.kernels import dynamics_kernels, kinematics_kernels, point_kernels
 from symkin.kernels.units import determinant, unit_product
 
+pytestmark = pytest.mark.needs_cc
+
 CXX = shutil.which("g++") or shutil.which("c++")
 
 

@@ -267,6 +267,7 @@ def numbers(values) -> str:
 # ---------------------------------------------------------------- every source alone
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("precision", PRECISIONS)
 @pytest.mark.parametrize("source", SOURCES)
 def test_each_source_compiles_alone_strictly(built, source, precision):

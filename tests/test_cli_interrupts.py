@@ -9,6 +9,10 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.slow
+
 SYMKIN = [sys.executable, "-m", "symkin.cli"]
 
 

@@ -39,6 +39,8 @@ from codegen_helpers import (
 from symkin.generate import files_for_robot, robot_kernels
 from symkin.kernels import Kernel, kinematics_kernels
 
+pytestmark = pytest.mark.needs_cc
+
 NAMES = symkin.catalogue_names()
 STATES = 20
 DOUBLE_TOLERANCE = 1e-12

@@ -193,6 +193,7 @@ def test_dynamics_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[s
     run_document(ROOT / "docs" / "dynamics.md", capsys)
 
 
+@pytest.mark.needs_latex
 @pytest.mark.slow
 def test_latex_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The Python example compiles a PDF: it needs pdflatex (``scripts/install-latex.sh``)."""

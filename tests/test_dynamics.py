@@ -166,6 +166,7 @@ def test_canonical_form_detects_differences():
     assert canonical(sp.Symbol("m1") * sp.cos(q1) ** 2, [q1]) != 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", [*SMALL, "mdh_rrr", "mdh_rpr"])
 def test_lagrange_equals_newton_euler_symbolically(name):
     model = symkin.derive(robot_of(name))

@@ -34,6 +34,8 @@ from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
 from symkin.kernels import Kernel, dynamics_kernels, inertial_symbols
 
+pytestmark = pytest.mark.needs_cc
+
 NAMES = ("planar_2r", "rpr", "puma560", "panda")
 STATES = 6
 TOLERANCE = 1e-11

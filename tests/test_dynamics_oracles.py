@@ -30,7 +30,7 @@ from codegen_helpers import import_path, write_tree
 from symkin.errors import RobotWarning
 from symkin.generate import files_for_robot
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.oracle]
 
 STATES = 20
 TOLERANCE = 1e-9

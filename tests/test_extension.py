@@ -19,6 +19,8 @@ import symkin
 from symkin.cli import main
 from symkin.runtime.extension import load_extension
 
+pytestmark = pytest.mark.needs_cc
+
 ROBOTS = ("planar_2r", "scara", "puma560", "panda", "stanford")
 
 
@@ -165,6 +167,7 @@ def test_robot_without_parameters_and_repeated_arguments(tmp_path):
         extension.fk(q=q)
 
 
+@pytest.mark.slow
 def test_float_precision_extension(tmp_path):
     assert main(["derive", "puma560", "--out", str(tmp_path), "--precision", "float"]) == 0
     extension = load_extension(next((tmp_path / "python").glob("puma560_ext*.so")))

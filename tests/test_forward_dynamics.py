@@ -18,6 +18,8 @@ from symkin.generate import files_for_robot
 from symkin.kernels import inertial_symbols
 from symkin.output_folder import write_folder
 
+pytestmark = pytest.mark.needs_cc
+
 ROBOTS = ("planar_2r", "rpr", "puma560", "panda")
 STRICT = ["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"]
 SANITIZE = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all"]

@@ -18,7 +18,6 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
-import shutil
 import subprocess
 import time
 from collections import Counter
@@ -29,6 +28,8 @@ import pytest
 
 import fuzz_cases as fz
 from fuzz_cases import Case, Outcome, run_case, run_cases, toml_string
+
+pytestmark = pytest.mark.slow
 
 TALLY: dict[str, Counter[str]] = {}
 REJECTED: dict[str, int] = {}
@@ -202,7 +203,7 @@ def test_tex_injection_through_title(key: str, text: str) -> None:
     assert_clean(run_each(robot, ("latex", ROBOT, "-o", "{tmp}/doc/x.tex"), derive_argv("latex")))
 
 
-@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex is not installed")
+@pytest.mark.needs_latex
 def test_tex_injection_through_title_pdf() -> None:
     robot = robot_text(title="x\n\\input{/etc/hostname}")
     outcome = run_case(("latex", ROBOT, "-o", "{tmp}/x.tex", "--pdf"), {"robot.toml": robot}, 120)

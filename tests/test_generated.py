@@ -56,6 +56,7 @@ def test_generated_tree_has_every_catalogue_robot():
         }
 
 
+@pytest.mark.slow
 def test_generate_check_passes_on_the_committed_tree(capsys):
     assert main(["generate", "--check", "--root", str(GENERATED)]) == 0
     assert "up to date" in capsys.readouterr().out
@@ -147,6 +148,7 @@ def test_generate_writes_what_check_accepts(small_copy, tmp_path):
                 assert (root / relative).read_bytes() == path.read_bytes(), relative
 
 
+@pytest.mark.slow
 def test_rendering_is_independent_of_the_hash_seed():
     processes = [
         subprocess.Popen(

@@ -58,6 +58,8 @@ CATALOGUE = (
     "cylindrical_rtt_wrist",
     "ur5",
 )
+
+pytestmark = pytest.mark.needs_cc
 ROBOTS = (*CATALOGUE, *HAND)
 TOLERANCE = 1e-9  # double: FK of a solution vs. the target (m over size, rotation entries, rad)
 FLOAT_TOLERANCE = 1e-4
@@ -220,6 +222,7 @@ def test_every_catalogue_robot_with_a_closed_form_has_one_in_c():
     assert set(CATALOGUE) == {n for n in symkin.catalogue_names() if has_closed_form(robot(n))}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ROBOTS)
 def test_double_solutions_reach_the_target_and_match_python(built, name):
     library = built.libraries[name, "double"]

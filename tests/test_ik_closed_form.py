@@ -418,6 +418,7 @@ def test_a_multistart_numeric_solve_finds_no_other_branch(name: str) -> None:
 LETTERS = {"l": "left", "r": "right", "u": "up", "d": "down", "n": "no_flip", "f": "flip"}
 
 
+@pytest.mark.oracle
 def test_puma_matches_robotics_toolbox_for_every_configuration() -> None:
     puma = rtb.models.DH.Puma560()  # same table plus a pedestal d1 (see puma560.toml)
     pedestal = np.eye(4)

@@ -361,6 +361,7 @@ def _within(seconds: int, compute: Callable[[], object]) -> object:
         worker.join()
 
 
+@pytest.mark.slow
 @pytest.mark.xfail(
     raises=_OutOfTimeError,
     strict=True,

@@ -49,6 +49,8 @@ from symkin.errors import RobotError, SymkinError
 from symkin.io import load_robot
 from symkin.runtime.latex_build import compile_pdf, log_problems
 
+pytestmark = pytest.mark.needs_latex
+
 MAX_OVERFULL_HBOXES = 1
 MAX_OVERFULL_PT = 3.0
 ROBOTS = ("scara", "puma560")

@@ -74,6 +74,7 @@ def test_robot_names_that_would_hide_a_c_header_are_rejected(name: str) -> None:
 ALLOWED_PAIRS = [("h", "w"), ("x", "y"), ("theta", "value"), ("m", "Mu"), ("Tau", "L")]
 
 
+@pytest.mark.needs_cc
 @pytest.mark.parametrize(("first", "second"), ALLOWED_PAIRS)
 def test_allowed_unusual_names_give_the_hand_derived_numbers(tmp_path, first, second) -> None:
     robot = robot_from_toml(two_link(first, second), "arm.toml")

@@ -420,6 +420,7 @@ def test_cli_reports_an_infeasible_time_with_the_limits(capsys) -> None:
 # ---------------------------------------------------------------- PUMA 560
 
 
+@pytest.mark.oracle
 @pytest.mark.slow
 def test_puma560_transfer_resimulated_with_robotics_toolbox() -> None:
     """A small PUMA 560 problem; Robotics Toolbox's ``accel`` (Corke's model without friction,

@@ -21,7 +21,7 @@ import pytest
 import symkin
 from codegen_helpers import ROOT
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.needs_cc]
 
 PROJECT_FILES = ("pyproject.toml", "README.md", "LICENSE", "setup.cfg", "MANIFEST.in")
 PROJECT_DIRS = ("src", "templates")
