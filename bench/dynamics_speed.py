@@ -399,14 +399,16 @@ class Checked:
 
 
 def symkin_c(b: Built):
-    """symkin's ``<robot>_inverse_dynamics`` and its ``_batch`` twin through ctypes."""
+    """symkin's ``<robot>_inverse_dynamics`` and its ``_batch`` twin through ctypes: q, dq,
+    ddq, p (none without parameters) and tau."""
     lib = ctypes.CDLL(str(b.lib_ours))
     name = b.robot.name
+    arrays = 5 if b.robot.parameters else 4
     single = lib[f"{name}_inverse_dynamics"]
-    single.argtypes = [ctypes.c_void_p] * 5
+    single.argtypes = [ctypes.c_void_p] * arrays
     single.restype = None
     batch = lib[f"{name}_inverse_dynamics_batch"]
-    batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * 5
+    batch.argtypes = [ctypes.c_size_t] + [ctypes.c_void_p] * arrays
     batch.restype = None
     return single, batch
 
@@ -424,7 +426,7 @@ def check_numeric_parameters(
         tau, expected = np.empty(dof), np.empty(dof)
         pointers = (q.ctypes.data, dq.ctypes.data, ddq.ctypes.data)
         with_p(*pointers, P.ctypes.data, expected.ctypes.data)
-        folded(*pointers, None, tau.ctypes.data)  # no parameters: the header says pass NULL
+        folded(*pointers, tau.ctypes.data)  # no parameters: no p argument
         checked.compare("puma560, numeric parameters (base parameters): symkin C", tau, expected)
 
 
@@ -690,9 +692,9 @@ def c_loop_table(
         "`inverse_dynamics_function()`. *Parameters as input `p`* is the catalogue robot: its "
         "geometric parameters are an input array (the file's values passed at run time). "
         "*Numeric parameters* is the catalogue robot's `with_parameter_values()` (`symkin derive "
-        "puma560 --numeric-parameters`): the numbers are folded into the code, `p` is NULL, and "
-        "the recursion runs on base inertial parameters. The Panda carries the inertial data of "
-        "Gaz et al. (2019), the values of Robotics Toolbox's `models.DH.Panda`. The last column "
+        "puma560 --numeric-parameters`): the numbers are folded into the code, there is no `p`, "
+        "and the recursion runs on base inertial parameters. The Panda carries the inertial data "
+        "of Gaz et al. (2019), the values of Robotics Toolbox's `models.DH.Panda`. The last column "
         "is symkin C's median over that of the PUMA 560 with parameters as input `p`.",
         "",
         "| generated code | tau operations | **symkin C** [ns/call] | CasADi C [ns/call] "

@@ -14,9 +14,9 @@
  *            inverse_dynamics_function() (C API: ROBOT_inverse_dynamics(arg, res, iw, w, mem))
  * N_P is the number of geometric parameters p, N_PI the number of inertial parameters pi
  * (0 when the robot file gives the inertial data).  Code generated for a robot without
- * parameters (Robot.with_parameter_values(), symkin derive --numeric-parameters) keeps the p
- * argument, and its header says to pass NULL: with -DN_P=0 the harness does (CasADi's function
- * keeps a 0x1 input p, which it does not read).  The kernel is compiled in its own
+ * parameters (Robot.with_parameter_values(), symkin derive --numeric-parameters) has no p
+ * argument: with -DN_P=0 the harness passes none (CasADi's function keeps a 0x1 input p,
+ * which it does not read).  The kernel is compiled in its own
  * translation unit (no LTO), as a user links it, so every call is a real call.  Each call's
  * torques feed a checksum that is printed at the end; the compiler cannot drop the calls, and
  * the script compares the two builds' checksums (same states, so they agree to rounding).
@@ -103,6 +103,7 @@ int main(int argc, char **argv)
     casadi_int *iw = malloc((size_t)(sz_iw > 0 ? sz_iw : 1) * sizeof(casadi_int));
     casadi_real *w = malloc((size_t)(sz_w > 0 ? sz_w : 1) * sizeof(casadi_real));
 #else
+    (void)p;
     (void)pi;
 #endif
 
@@ -115,10 +116,14 @@ int main(int argc, char **argv)
             arg[1] = state[1];
             arg[2] = state[2];
             INVERSE_DYNAMICS(arg, res, iw, w, 0);
-#elif N_PI
+#elif N_P && N_PI
             INVERSE_DYNAMICS(state[0], state[1], state[2], p, pi, tau);
-#else
+#elif N_P
             INVERSE_DYNAMICS(state[0], state[1], state[2], p, tau);
+#elif N_PI
+            INVERSE_DYNAMICS(state[0], state[1], state[2], pi, tau);
+#else
+            INVERSE_DYNAMICS(state[0], state[1], state[2], tau);
 #endif
             for (int j = 0; j < DOF; ++j) {
                 checksum += tau[j];

@@ -110,7 +110,9 @@ class ClosedFormLibrary:
         self.dtype = np.float64 if precision == "double" else np.float32
         self.function = getattr(ctypes.CDLL(str(path)), f"{name}_ik_closed")
         self.function.restype = ctypes.c_int
-        self.function.argtypes = [ctypes.c_void_p] * 5
+        # T, p (none for a robot without parameters), q, branch, within_limits.
+        self.takes_p = bool(robot(name).parameters)
+        self.function.argtypes = [ctypes.c_void_p] * (5 if self.takes_p else 4)
         self.size = 8  # at least MAX_SOLUTIONS of every robot
 
     def solve(self, target, p=None, *, flags: bool = True) -> Solutions:
@@ -124,7 +126,7 @@ class ClosedFormLibrary:
         within = np.full(self.size + 4, self.SENTINEL, dtype=np.int32)
         count = self.function(
             target.ctypes.data,
-            p.ctypes.data if p.size else None,
+            *([p.ctypes.data if p.size else None] if self.takes_p else []),
             q.ctypes.data,
             branch.ctypes.data if flags else None,
             within.ctypes.data if flags else None,
@@ -417,11 +419,12 @@ def test_flag_arrays_may_be_null(built):
     np.testing.assert_array_equal(without.q, with_flags.q)
 
 
-def test_robot_without_parameters_takes_a_null_p(built):
+def test_robot_without_parameters_takes_no_p(built):
     library = built.libraries["planar_mixed", "double"]
+    assert not library.takes_p
     _, poses = targets("planar_mixed", 5, seed=7)
     for target in poses:
-        solutions = library.solve(target, np.zeros(0))  # passed as NULL
+        solutions = library.solve(target)
         assert solutions.count >= 1
         assert_same_as_python("planar_mixed", solutions, target, SAME_Q)
 

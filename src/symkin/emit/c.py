@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from functools import partial
 
 import sympy as sp
 
 from symkin.emit.c_library import library_files
-from symkin.emit.layout import kernel_layout
+from symkin.emit.layout import KernelLayout, kernel_layout
 from symkin.emit.printers import c_code, c_literal
 from symkin.emit.render import (
     dynamics_notes,
@@ -47,6 +48,18 @@ def check_float_range(robot: Robot, kernels: tuple[Kernel, ...]) -> None:
             )
 
 
+def c_kernel_layout(kernel: Kernel, precision: str) -> KernelLayout:
+    """The kernel's layout with ``precision`` literals, without the inputs that hold no
+    symbols: the C function of a robot without parameters takes no ``p``."""
+    layout = kernel_layout(kernel, partial(c_code, precision=precision))
+    empty = {i.name for i in layout.inputs if i.size == 0}
+    return replace(
+        layout,
+        inputs=tuple(i for i in layout.inputs if i.name not in empty),
+        unused_inputs=tuple(name for name in layout.unused_inputs if name not in empty),
+    )
+
+
 def emit_c(
     robot: Robot,
     kernels: tuple[Kernel, ...],
@@ -68,11 +81,12 @@ def emit_c(
         "header": header,
         "source": source,
         **parameter_context(robot, partial(c_literal, precision=precision), "NAN"),
+        "has_parameters": bool(robot.parameters),
         "example_q": [round(0.1 * (i + 1), 1) for i in range(robot.dof)],
         "example_q_literals": [
             c_literal(round(0.1 * (i + 1), 1), precision) for i in range(robot.dof)
         ],
-        "kernels": [kernel_layout(k, partial(c_code, precision=precision)) for k in kernels],
+        "kernels": [c_kernel_layout(k, precision) for k in kernels],
         "forward": forward_dynamics_context(kernels),
         "joint_units": units.joint_units(robot),
         "notes": dynamics_notes(robot, kernels),

@@ -66,6 +66,7 @@ def emit_ik_c(
         "guard": f"{robot.name.upper()}_IK_H",
         "real": precision,
         "dof": robot.dof,
+        "has_parameters": bool(robot.parameters),
         "header": f"{robot.name}.h",
         "ik_header": header,
         "library": library_files(precision, "xorshift", "pose_error", "cholesky", "dls"),

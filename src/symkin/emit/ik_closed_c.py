@@ -15,11 +15,9 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from symkin.emit.c import c_literal
+from symkin.emit.c import c_kernel_layout, c_literal
 from symkin.emit.c_library import library_files
 from symkin.emit.ik_c import _limit_literals
-from symkin.emit.layout import kernel_layout
-from symkin.emit.printers import c_code
 from symkin.emit.render import preamble_lines, render
 from symkin.kernels import Kernel
 from symkin.kernels.ik.closed_form_constants import constants_kernel
@@ -166,7 +164,7 @@ def emit_ik_closed_c(
         "real": precision,
         "f": "f" if precision == "float" else "",
         "dof": robot.dof,
-        "parameters": len(robot.parameters),
+        "has_parameters": bool(robot.parameters),
         "header": f"{robot.name}.h",
         "closed_header": header,
         "family": shape.family,
@@ -176,7 +174,7 @@ def emit_ik_closed_c(
         "task_text": TASK_TEXT[shape.task],
         "max_solutions": shape.max_solutions,
         "flags": _flags(shape, macro),
-        "constants": kernel_layout(constants, lambda e: c_code(e, precision)),
+        "constants": c_kernel_layout(constants, precision),
         "head": plan.has("head_inverse"),
         "tail": plan.has("tail_inverse"),
         "literal": literal,

@@ -97,6 +97,7 @@ def emit_python_extension(
         npy_type=NUMPY_TYPES[precision],
         dof=robot.dof,
         parameter_names=[n for n, _ in robot.parameters],
+        has_parameters=bool(robot.parameters),
         inertial_count=len(inertial.symbols) if inertial else 0,
         bindings=functions,
         max_outputs=max(len(f.outputs) for f in functions),
