@@ -41,7 +41,7 @@ test: $(TEST_STAMP)
 	$(BIN)/python -m pytest -q
 
 test-fast: $(TEST_STAMP)
-	$(BIN)/python -m pytest -q -m "$(FAST)"
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "$(FAST)"
 
 bench: $(TEST_STAMP)
 	$(PIP) install -e '.[test,bench]'

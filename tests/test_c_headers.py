@@ -135,6 +135,7 @@ def test_determinant_units_by_hand():
     assert unit_product({"m": -1, "rad": 1}) == "rad/m"
 
 
+@pytest.mark.slow  # derives the PUMA 560
 def test_gravity_and_inertial_data_are_stated():
     """planar_2r gives no inertial data (pi); puma560 gives all six links (robot files)."""
     planar = files_for_robot(symkin.load_robot("planar_2r"), ("c",))["c/planar_2r.h"]

@@ -77,7 +77,14 @@ class Generated:
         return as_outputs(result, kernel)
 
 
-@pytest.fixture(scope="module", params=NAMES)
+# Each robot here is compiled in two precisions; the quick tier keeps two of them.
+QUICK = ("planar_2r", "scara")
+
+
+@pytest.fixture(
+    scope="module",
+    params=[n if n in QUICK else pytest.param(n, marks=pytest.mark.slow) for n in NAMES],
+)
 def gen(request, tmp_path_factory) -> Generated:
     name = request.param
     robot = symkin.load_robot(name)

@@ -238,6 +238,7 @@ def test_double_solutions_reach_the_target_and_match_python(built, name):
         assert_same_as_python(name, solutions, target, SAME_Q)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["puma560", "craig_puma", "kuka_like", "stanford", "ur5"])
 def test_generic_six_joint_poses_have_every_branch(built, name):
     """Two shoulders x two elbows (or reaches) x two wrists: eight distinct solutions at most,
