@@ -34,7 +34,7 @@ from codegen_helpers import (
     strip_comments,
     write_tree,
 )
-from numeric_dh import NumericRobot, vee
+from numeric_dh import NumericRobot, model, robot, vee
 from symkin.emit.c import emit_c
 from symkin.emit.ik_c import emit_ik_c
 from symkin.generate import files_for_robot
@@ -51,16 +51,6 @@ FLOAT_TOLERANCE = 3e-5  # float solver stops at 1e-5; its float FK differs from 
 SUCCESS, NOT_CONVERGED, INVALID_INPUT = 0, 1, 2
 BUILDS = (("puma560", "double"), ("panda", "double"), ("planar_2r", "double"), ("puma560", "float"))
 DRIVER = ROOT / "bench" / "ik_c_loop.c"
-
-
-@cache
-def robot(name: str) -> symkin.Robot:
-    return symkin.load_robot(name)
-
-
-@cache
-def model(name: str) -> symkin.Model:
-    return symkin.derive(robot(name))
 
 
 @cache

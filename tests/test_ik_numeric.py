@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from numeric_dh import Rx, Ry, Rz, reference, robot, vee
-from symkin import derive
+from numeric_dh import Rx, Ry, Rz, model, reference, robot, vee
 from symkin.errors import SymkinError
 from symkin.solve.ik.numeric import (
     IKResult,
@@ -35,10 +34,6 @@ CHECK = 1e-9  # what the independent FK must confirm (rounding differs between t
 
 # The PUMA 560 file's lumped link inertias raise a data warning unrelated to IK.
 pytestmark = pytest.mark.filterwarnings("ignore::symkin.errors.RobotWarning")
-
-
-def model(name: str):
-    return derive(robot(name))
 
 
 def pose_error(name: str, q: np.ndarray, target: np.ndarray) -> tuple[float, float]:

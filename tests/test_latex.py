@@ -35,6 +35,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.parsing.latex import parse_latex
 
+from numeric_dh import model
 from symkin.derive import Model, derive
 from symkin.derive.numeric import numeric_function
 from symkin.emit.latex import (
@@ -61,7 +62,7 @@ CONTINUATION = r"&\quad"
 
 @pytest.fixture(scope="module")
 def models() -> dict[str, Model]:
-    return {name: derive(load_robot(name)) for name in ROBOTS}
+    return {name: model(name) for name in ROBOTS}
 
 
 def write(root: Path, files: dict[str, str]) -> None:
