@@ -189,3 +189,59 @@ def test_numeric_puma_inverse_dynamics_is_shorter():
     assert counts[True]["inverse_dynamics"] < 400
     for kernel in ("mass_matrix", "gravity", "coriolis", "inverse_dynamics"):
         assert counts[True][kernel] < counts[False][kernel], kernel
+
+
+# One very large first moment (the issue's reproduction, taken from Robotics Toolbox's IRB140
+# data): folding used to round every base parameter to 1e-13 of the largest one, which moved
+# link 2's gravity torque from 115.1764 to 115.4567.
+SCALE_ROBOT = """
+name = "scale"
+[[joints]]
+type = "revolute"
+alpha = 90
+[joints.link]
+mass = 16.0
+com = [0, 0, 2.0e5]
+[[joints]]
+type = "revolute"
+a = 0.36
+[joints.link]
+mass = 20.86205
+com = [-4.56, -5.86, 0]
+"""
+
+
+def test_a_huge_parameter_does_not_coarsen_the_others():
+    from symkin.solve.evaluate import dynamic_state
+
+    robot = symkin.robot_from_toml(SCALE_ROBOT, "scale.toml")
+    assert base_parameters(robot, symkin.derive(robot).kinematics) is not None  # folded
+    q2 = 0.7
+    # By hand: z_1 = Rz(q1) Rx(90) z, so link 2's centre of mass is at the height
+    # (a2 + cx2) sin q2 + cy2 cos q2 and G2 = m2 g ((a2 + cx2) cos q2 - cy2 sin q2); link 1's
+    # centre lies on the horizontal axis z_1 and neither link's height depends on q1.
+    expected = 20.86205 * 9.81 * ((0.36 - 4.56) * np.cos(q2) + 5.86 * np.sin(q2))
+    gravity = dynamic_state(symkin.derive(robot), [0.3, q2]).gravity
+    np.testing.assert_allclose(gravity, [0.0, expected], rtol=1e-12, atol=1e-9)
+
+
+def test_folded_torques_equal_unfolded_ones_each_to_its_own_size():
+    from symkin.solve.evaluate import dynamic_state
+
+    folded = symkin.robot_from_toml(SCALE_ROBOT, "scale.toml")
+    # A named parameter (even an unused one) switches the folding off: the same robot,
+    # computed the other way.
+    unfolded = symkin.robot_from_toml(
+        SCALE_ROBOT.replace('name = "scale"', 'name = "scale"\n[parameters]\nunused = 1.0'),
+        "scale.toml",
+    )
+    assert base_parameters(unfolded, symkin.derive(unfolded).kinematics) is None
+    rng = np.random.default_rng(22)
+    for _ in range(20):
+        q, dq, ddq = rng.uniform(-2, 2, (3, 2))
+        ours = dynamic_state(symkin.derive(folded), q, dq, ddq)
+        other = dynamic_state(symkin.derive(unfolded), q, dq, ddq)
+        for name in ("torque", "gravity", "coriolis"):
+            a, b = getattr(ours, name), getattr(other, name)
+            np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9, err_msg=name)
+        np.testing.assert_allclose(ours.mass_matrix, other.mass_matrix, rtol=1e-9, atol=1e-9)

@@ -18,6 +18,7 @@ test dependency.
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 from types import ModuleType
@@ -232,3 +233,66 @@ def test_panda_matches_pinocchio_rnea(panda, generated_panda):
         expected = np.array(pin.rnea(model, data, state, rate, acceleration))
         ours = generated_panda.inverse_dynamics(state, rate, acceleration)
         assert_torques_close(ours, expected, "panda tau vs pinocchio rnea")
+
+
+# ------------------------------------------------------------------------------ IRB140
+
+
+INERTIA_ENTRIES = {"ixx": (0, 0), "iyy": (1, 1), "izz": (2, 2), "ixy": (0, 1), "ixz": (0, 2),
+                   "iyz": (1, 2)}  # fmt: skip
+
+
+def irb140_from_toolbox():
+    """Robotics Toolbox's ``DH.IRB140`` (standard DH, its inertial data as given, among them
+    a centre of mass 198 km from link 2's origin) as a symkin robot, and the toolbox model."""
+    rtb = _toolbox()
+    toolbox = rtb.models.DH.IRB140()
+    lines = ['name = "irb140"']
+    for link in toolbox.links:
+        inertia = np.asarray(link.I, dtype=float)
+        lines += [
+            "[[joints]]",
+            'type = "revolute"',
+            f"d = {float(link.d)!r}",
+            f"a = {float(link.a)!r}",
+            f"alpha = {math.degrees(float(link.alpha))!r}",
+            "[joints.link]",
+            f"mass = {float(link.m)!r}",
+            f"com = [{', '.join(repr(float(c)) for c in link.r)}]",
+            "inertia = {{ {} }}".format(
+                ", ".join(
+                    f"{name} = {float(inertia[i, j])!r}" for name, (i, j) in INERTIA_ENTRIES.items()
+                )
+            ),
+        ]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RobotWarning)  # the toolbox's data break the triangle rule
+        robot = symkin.robot_from_toml("\n".join(lines), "irb140.toml")
+    return robot, toolbox
+
+
+def assert_each_torque_close(actual, expected, what: str) -> None:
+    """1e-9 relative to each torque (the issue's rule, not relative to the largest), with a
+    floor at the rounding of the largest one for torques that are zero (joint 1's gravity)."""
+    actual, expected = np.asarray(actual, dtype=float), np.asarray(expected, dtype=float)
+    floor = 1e-14 * np.max(np.abs(expected))
+    np.testing.assert_allclose(actual, expected, rtol=1e-9, atol=floor, err_msg=what)
+
+
+def test_irb140_with_a_huge_centre_of_mass_matches_toolbox_and_pinocchio():
+    from symkin.solve.evaluate import dynamic_state
+
+    robot, toolbox = irb140_from_toolbox()
+    model = symkin.derive(robot)
+    pin, reference = pinocchio_model(robot)
+    data = reference.createData()
+    q, dq, ddq = random_states(140)
+    for state, rate, acceleration in zip(q, dq, ddq, strict=True):
+        ours = dynamic_state(model, state, rate, acceleration)
+        assert_each_torque_close(ours.gravity, toolbox.gravload(state), "G vs toolbox gravload")
+        assert_each_torque_close(
+            ours.torque, toolbox.rne(state, rate, acceleration), "tau vs toolbox rne"
+        )
+        assert_each_torque_close(
+            ours.torque, pin.rnea(reference, data, state, rate, acceleration), "tau vs pinocchio"
+        )

@@ -42,6 +42,12 @@ from symkin.robot import Robot
 PARAMETER_NAMES = ("zz", "yy", "xx", "yz", "xz", "xy", "m", "mz", "my", "mx")
 SAMPLES = 15
 RANK_TOLERANCE = 1e-8
+# Base parameters keep this relative precision (13 significant digits at most); one whose
+# size is below NEGLIGIBLE times the sizes folded into it is cancellation noise and zero.
+SNAP = 1e-13
+NEGLIGIBLE = 1e-12
+# The folded model must give each torque to this tolerance relative to its own terms.
+TORQUE_TOLERANCE = 1e-10
 
 
 def has_numeric_geometry(robot: Robot, kinematics: Kinematics) -> bool:
@@ -77,10 +83,20 @@ class Folding:
     def beta(self, delta: np.ndarray) -> np.ndarray:
         """The base parameters of numeric barycentric parameters (zero where dropped)."""
         kept, dropped = list(self.kept), list(self.dropped)
-        matrix = np.array(self.matrix).reshape(len(kept), len(dropped))
         beta = np.zeros_like(delta, dtype=float)
-        beta[kept] = delta[kept] + matrix @ delta[dropped]
+        beta[kept] = delta[kept] + self._matrix() @ delta[dropped]
         return beta
+
+    def magnitude(self, delta: np.ndarray) -> np.ndarray:
+        """Per base parameter, the sum of the sizes of what is added into it
+        (``|delta_k| + sum_d |K_kd delta_d|``): the scale its rounding error is relative to."""
+        kept, dropped = list(self.kept), list(self.dropped)
+        size = np.zeros_like(delta, dtype=float)
+        size[kept] = np.abs(delta[kept]) + np.abs(self._matrix()) @ np.abs(delta[dropped])
+        return size
+
+    def _matrix(self) -> np.ndarray:
+        return np.array(self.matrix).reshape(len(self.kept), len(self.dropped))
 
 
 @lru_cache(maxsize=16)
@@ -133,6 +149,8 @@ def base_parameter_folding(robot: Robot, kinematics: Kinematics) -> Folding | No
             kept.append(k)
     dropped = [k for k in range(Y.shape[1]) if k not in kept]
     matrix, *_ = np.linalg.lstsq(Y[:, kept], Y[:, dropped], rcond=None)
+    # Least squares leaves noise where a dropped parameter does not fold into a kept one.
+    matrix[np.abs(matrix) <= NEGLIGIBLE * np.max(np.abs(matrix), initial=0.0)] = 0.0
     folding = Folding(tuple(kept), tuple(dropped), tuple(map(tuple, matrix.tolist())))
     delta = np.random.default_rng(3).uniform(-1.0, 1.0, Y.shape[1])
     check = regressor(seed=2)
@@ -159,15 +177,24 @@ def base_parameters(
         ]
     )
     beta = folding.beta(delta)
-    # Each value becomes the shortest decimal within 1e-13 of the largest parameter.
-    snap = 1e-13 * np.max(np.abs(beta))
-    beta = np.array([_shortest_decimal(b, snap) for b in beta])
-    check = _regressor(robot, kinematics)(seed=2)
-    error = np.max(np.abs(check @ beta - check @ delta))
-    if error > 1e-10 * max(1.0, np.max(np.abs(check @ delta))):
+    # Each value is rounded relative to itself (the shortest decimal within SNAP of its own
+    # size), never relative to the largest parameter: one large first moment must not coarsen
+    # the others.  A value that is only cancellation noise of what was added into it is zero.
+    size = folding.magnitude(delta)
+    beta = np.array(
+        [0.0 if abs(b) <= NEGLIGIBLE * m else _shortest_decimal(b, SNAP * abs(b))
+         for b, m in zip(beta, size, strict=True)]
+    )  # fmt: skip
+    if not _same_torques(_regressor(robot, kinematics)(seed=2), beta, delta):
         return None
-    negligible = 1e-12 * np.max(np.abs(beta))
-    return barycentric_links([sp.Float(x) if abs(x) > negligible else sp.Integer(0) for x in beta])
+    return barycentric_links([sp.Float(x) if x else sp.Integer(0) for x in beta])
+
+
+def _same_torques(Y: np.ndarray, beta: np.ndarray, delta: np.ndarray) -> bool:
+    """``Y beta = Y delta`` in every torque, each to a tolerance relative to its own size (the
+    sum of the sizes of its terms ``|Y| |delta|``), not to the largest torque."""
+    size = np.abs(Y) @ np.abs(delta)
+    return bool(np.all(np.abs(Y @ beta - Y @ delta) <= TORQUE_TOLERANCE * size))
 
 
 def barycentric_symbols(dof: int) -> tuple[sp.Symbol, ...]:
@@ -204,15 +231,16 @@ def symbolic_base_parameters(
         return None
     delta = barycentric_symbols(robot.dof)
     count = len(PARAMETER_NAMES)
-    # Least squares leaves noise in the last digits (0.18644623999999 for 0.4318**2).
-    snap = 1e-12 * max((abs(c) for row in folding.matrix for c in row), default=1.0)
+    # Least squares leaves noise in the last digits (0.18644623999999 for 0.4318**2): each
+    # coefficient is rounded relative to itself; one below 1e-12 of the largest is noise.
+    noise = 1e-12 * max((abs(c) for row in folding.matrix for c in row), default=1.0)
     values: list[sp.Expr] = [sp.Integer(0)] * len(delta)
     definitions = []
     for row, k in zip(folding.matrix, folding.kept, strict=True):
         folded = [
-            _coefficient(_shortest_decimal(c, snap)) * delta[d]
+            _coefficient(_shortest_decimal(c, 10 * NEGLIGIBLE * abs(c))) * delta[d]
             for c, d in zip(row, folding.dropped, strict=True)
-            if abs(c) > snap
+            if abs(c) > noise
         ]
         link, name = divmod(k, count)
         suffix = "R" if folded else ""
