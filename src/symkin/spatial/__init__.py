@@ -7,7 +7,8 @@ Conventions (see ``docs/conventions.md``):
   roll-pitch-yaw about **fixed** axes X, Y, Z (``rpy_xyz_fixed``): roll about X first, then
   pitch about Y, then yaw about Z.
 * Z-Y-Z Euler ``R = Rz(alpha) Ry(beta) Rz(gamma)``.
-* Quaternions are ``(w, x, y, z)``, scalar first.
+* Quaternions are ``(w, x, y, z)``, scalar first; conversions from rotations return ``w >= 0``.
+* Twists are ``(v, w)`` (linear first), wrenches ``(f, tau)`` (force first).
 * Homogeneous transforms are 4x4 ``[R p; 0 1]``; ``T_a_b`` is the pose of frame b in frame a.
 
 Every function works on SymPy and NumPy values alike.  If any input is a SymPy object the
@@ -16,10 +17,13 @@ it returns ``numpy.ndarray`` (float64) / ``float``.  There is one implementation
 the handful of primitives that differ (sin, cos, atan2, sqrt, matrix constructor, "is this
 zero?") are dispatched through :class:`symkin.spatial.backend.Backend`.
 
-The functions live in :mod:`~symkin.spatial.rotations` (elementary rotations, axis-angle,
-quaternions), :mod:`~symkin.spatial.euler` (Z-Y-X / roll-pitch-yaw and Z-Y-Z angles) and
-:mod:`~symkin.spatial.transforms` (homogeneous transforms, :class:`TransformGraph`); all are
-importable from here.
+The functions live in :mod:`~symkin.spatial.rotations` (elementary rotations, axis-angle),
+:mod:`~symkin.spatial.quaternions` (quaternion algebra, slerp, conversions),
+:mod:`~symkin.spatial.euler` (Z-Y-X / roll-pitch-yaw and Z-Y-Z angles),
+:mod:`~symkin.spatial.transforms` (homogeneous transforms, :class:`TransformGraph`),
+:mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and :mod:`~symkin.spatial.screws`
+(screw axes, twists ``(v, w)``, wrenches ``(f, tau)``, the adjoint); all are importable from
+here.
 """
 
 from symkin.spatial.backend import (
@@ -41,15 +45,39 @@ from symkin.spatial.euler import (
     rotation_from_rpy,
     rpy_from_rotation,
 )
+from symkin.spatial.lie import (
+    RotationLog,
+    TransformLog,
+    rotation_from_rotation_vector,
+    rotation_vector_from_rotation,
+    skew,
+    transform_from_twist,
+    twist_from_transform,
+)
+from symkin.spatial.quaternions import (
+    quaternion_canonical,
+    quaternion_conjugate,
+    quaternion_from_rotation,
+    quaternion_inverse,
+    quaternion_product,
+    quaternion_slerp,
+    rotation_from_quaternion,
+    unit_quaternion,
+)
 from symkin.spatial.rotations import (
     AxisAngle,
     axis_angle_from_rotation,
-    quaternion_from_rotation,
     rot_x,
     rot_y,
     rot_z,
     rotation_from_axis_angle,
-    rotation_from_quaternion,
+)
+from symkin.spatial.screws import (
+    adjoint_from_transform,
+    screw_axis_from_line,
+    transform_twist,
+    transform_wrench,
+    twist_from_screw,
 )
 from symkin.spatial.transforms import (
     TransformGraph,
@@ -68,12 +96,20 @@ __all__ = [
     "EulerZYZ",
     "Matrix",
     "MatrixLike",
+    "RotationLog",
     "Scalar",
     "TransformGraph",
+    "TransformLog",
+    "adjoint_from_transform",
     "axis_angle_from_rotation",
     "euler_zyx_from_rotation",
     "euler_zyz_from_rotation",
+    "quaternion_canonical",
+    "quaternion_conjugate",
     "quaternion_from_rotation",
+    "quaternion_inverse",
+    "quaternion_product",
+    "quaternion_slerp",
     "rot_x",
     "rot_y",
     "rot_z",
@@ -81,9 +117,19 @@ __all__ = [
     "rotation_from_euler_zyx",
     "rotation_from_euler_zyz",
     "rotation_from_quaternion",
+    "rotation_from_rotation_vector",
     "rotation_from_rpy",
+    "rotation_vector_from_rotation",
     "rpy_from_rotation",
+    "screw_axis_from_line",
+    "skew",
     "transform_from_rotation_translation",
+    "transform_from_twist",
     "transform_inverse",
     "transform_point",
+    "transform_twist",
+    "transform_wrench",
+    "twist_from_screw",
+    "twist_from_transform",
+    "unit_quaternion",
 ]

@@ -162,6 +162,17 @@ def rotation_input(R: MatrixLike, name: str = "R") -> tuple[Backend, Matrix]:
     return be, M
 
 
+def transform_input(T: MatrixLike, name: str = "T") -> tuple[Backend, Matrix]:
+    """Backend and 4x4 matrix; numeric input must be a rigid transform."""
+    be = backend_of(T)
+    M = as_matrix(be, T, (4, 4), name)
+    if not be.symbolic:
+        check_rotation(M[:3, :3], f"the rotation block of {name}")
+        if not np.all(np.isfinite(M)) or np.max(np.abs(M[3] - [0, 0, 0, 1])) > ORTHONORMAL_TOL:
+            raise SymkinError(f"{name} must have the bottom row [0, 0, 0, 1], got {M.tolist()}")
+    return be, M
+
+
 def check_rotation(M: np.ndarray, name: str) -> None:
     """Raise SymkinError unless numeric ``M`` is finite, orthonormal and has ``det M > 0``."""
     if not np.all(np.isfinite(M)):

@@ -1,6 +1,7 @@
-"""Elementary rotations, axis-angle and unit quaternions (``(w, x, y, z)``, scalar first).
+"""Elementary rotations and axis-angle.
 
-Rotations are active, right-handed, acting on column vectors: ``p' = R p``.
+Rotations are active, right-handed, acting on column vectors: ``p' = R p``.  Unit quaternions
+are in :mod:`symkin.spatial.quaternions`.
 """
 
 from __future__ import annotations
@@ -177,73 +178,3 @@ def _axis_from_symmetric_part(
         n = math.sqrt(sum(x * x for x in k))  # exact for a rotation; absorbs rounding
         k = [x / n for x in k]
     return k
-
-
-# --------------------------------------------------------------------------------------------
-# Unit quaternions (w, x, y, z), scalar first
-# --------------------------------------------------------------------------------------------
-
-
-def rotation_from_quaternion(q: MatrixLike) -> Matrix:
-    """Rotation matrix of the quaternion ``q = (w, x, y, z)`` (scalar first).
-
-    ``q`` is normalised first (a zero quaternion raises :class:`SymkinError`)::
-
-        [ 1 - 2(y² + z²)   2(xy - wz)       2(xz + wy)     ]
-        [ 2(xy + wz)       1 - 2(x² + z²)   2(yz - wx)     ]
-        [ 2(xz - wy)       2(yz + wx)       1 - 2(x² + y²) ]
-
-    ``q`` and ``-q`` give the same matrix.
-    """
-    be = backend_of(q)
-    w, x, y, z = unit(be, as_vector(be, q, 4, "q"), "q")
-    return be.matrix(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def quaternion_from_rotation(R: MatrixLike) -> Matrix:
-    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix, with ``w >= 0``.
-
-    Shepperd's method: of ``4w² = 1 + tr R`` and ``4x² = 1 + r11 - r22 - r33`` (and cyclic), take
-    the largest, so the square root and the division below are well conditioned::
-
-        w = sqrt(1 + tr R)/2:  x = (r32 - r23)/4w,  y = (r13 - r31)/4w,  z = (r21 - r12)/4w
-        x = sqrt(1 + r11 - r22 - r33)/2:
-              w = (r32 - r23)/4x,  y = (r12 + r21)/4x,  z = (r13 + r31)/4x   (y, z cyclic)
-
-    then flip the sign so that ``w >= 0`` (at ``w = 0``, a rotation by pi, ``q`` and ``-q`` are
-    both valid; the sign is the one the chosen branch yields).  Returns NumPy shape ``(4,)`` or
-    SymPy 4x1.  SymPy input with free symbols uses the ``w`` branch (the choice is not decidable
-    there).
-    """
-    be, M = rotation_input(R)
-    trace = M[0, 0] + M[1, 1] + M[2, 2]
-    # Candidate index 0 is the w branch, 1 + a the branch for vector component a.
-    best = be.argmax([trace, M[0, 0], M[1, 1], M[2, 2]])
-    if not best:  # 0, or None (undecidable symbolic: use the w branch)
-        w = be.sqrt(1 + trace) / 2
-        vec = [
-            (M[2, 1] - M[1, 2]) / (4 * w),
-            (M[0, 2] - M[2, 0]) / (4 * w),
-            (M[1, 0] - M[0, 1]) / (4 * w),
-        ]
-    else:
-        i = best - 1
-        j, k = (i + 1) % 3, (i + 2) % 3
-        vec = [be.scalar(0)] * 3
-        vec[i] = be.sqrt(1 + M[i, i] - M[j, j] - M[k, k]) / 2
-        w = (M[k, j] - M[j, k]) / (4 * vec[i])
-        vec[j] = (M[i, j] + M[j, i]) / (4 * vec[i])
-        vec[k] = (M[i, k] + M[k, i]) / (4 * vec[i])
-    q = [w, *vec]
-    if be.is_negative(w):
-        q = [-x for x in q]
-    if not be.symbolic:
-        n = math.sqrt(sum(x * x for x in q))  # 1 up to rounding for a rotation matrix
-        q = [x / n for x in q]
-    return be.vector(q)

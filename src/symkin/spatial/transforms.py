@@ -14,15 +14,13 @@ import sympy as sp
 
 from symkin.errors import SymkinError
 from symkin.spatial.backend import (
-    ORTHONORMAL_TOL,
-    Backend,
     Matrix,
     MatrixLike,
     as_matrix,
     as_vector,
     backend_of,
-    check_rotation,
     is_symbolic,
+    transform_input,
 )
 
 # --------------------------------------------------------------------------------------------
@@ -51,7 +49,7 @@ def transform_inverse(T: MatrixLike) -> Matrix:
     Never a general matrix inverse: exact for SymPy (no ``1/det``) and cheaper for NumPy.
     Numeric ``T`` must be rigid (rotation block, bottom row ``0 0 0 1``).
     """
-    be, M = _transform_input(T)
+    be, M = transform_input(T)
     Rt = M[:3, :3].T
     p = [M[i, 3] for i in range(3)]
     minus_rt_p = [-sum(Rt[i, j] * p[j] for j in range(3)) for i in range(3)]
@@ -67,17 +65,6 @@ def transform_point(T: MatrixLike, p: MatrixLike) -> Matrix:
     M = as_matrix(be, T, (4, 4), "T")
     pv = as_vector(be, p, 3, "p")
     return be.vector([sum(M[i, j] * pv[j] for j in range(3)) + M[i, 3] for i in range(3)])
-
-
-def _transform_input(T: MatrixLike, name: str = "T") -> tuple[Backend, Matrix]:
-    """Backend and 4x4 matrix; numeric input must be a rigid transform."""
-    be = backend_of(T)
-    M = as_matrix(be, T, (4, 4), name)
-    if not be.symbolic:
-        check_rotation(M[:3, :3], f"the rotation block of {name}")
-        if not np.all(np.isfinite(M)) or np.max(np.abs(M[3] - [0, 0, 0, 1])) > ORTHONORMAL_TOL:
-            raise SymkinError(f"{name} must have the bottom row [0, 0, 0, 1], got {M.tolist()}")
-    return be, M
 
 
 # --------------------------------------------------------------------------------------------
@@ -124,7 +111,7 @@ class TransformGraph:
             raise SymkinError(f"a transform needs two different frames, got {parent!r} twice")
         if (parent, child) in self._edges or (child, parent) in self._edges:
             raise SymkinError(f"frames {parent!r} and {child!r} are already connected")
-        _, M = _transform_input(T_parent_child, f"T_{parent}_{child}")
+        _, M = transform_input(T_parent_child, f"T_{parent}_{child}")
         if isinstance(M, np.ndarray):
             M = M.copy()
             M.setflags(write=False)
