@@ -143,6 +143,17 @@ class Model:
         """Analytic Jacobian of ``[p; psi, theta, phi]`` (6 x n)."""
         return jacobians.analytic_jacobian(self.kinematics, self.euler_zyx)
 
+    @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
+    @derivation_step("the analytic Jacobian")
+    def analytic_jacobian(self, representation: str = "zyx") -> jacobians.AnalyticJacobian:
+        """``[Jv; E(phi)^-1 Jw]`` for orientation coordinates ``phi``: ``"zyx"``, ``"rpy"``,
+        ``"zyz"`` or ``"rotation_vector"``, in ``q`` and the coordinate symbols, with the
+        representation's singular set (see :class:`jacobians.AnalyticJacobian`).
+        :attr:`euler_zyx_jacobian` is the Z-Y-X one differentiated directly, in ``q`` alone."""
+        return jacobians.analytic_jacobian_of(
+            self.robot, self.kinematics, self.geometric_jacobian, representation
+        )
+
     @cached_property
     def geometric_jacobian_derivative(self) -> sp.ImmutableMatrix:
         """``dJ/dt`` of the geometric Jacobian, in ``q`` and ``dq``."""

@@ -12,13 +12,16 @@ frame i in modified DH) and ``p`` the tool position.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.derive.kinematics import Kinematics
+from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool
+from symkin.derive.orientation_rates import orientation_rates
 from symkin.derive.simplify import factored_determinant
 from symkin.errors import SymkinError
 from symkin.robot import Robot
+from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation
 
 ROW_NAMES = ("x", "y", "z", "wx", "wy", "wz")
 # Rows a task Jacobian draws from, in order of preference (planar arms: x, y, then wz).
@@ -61,6 +64,66 @@ def analytic_jacobian(kinematics: Kinematics, orientation: Sequence[sp.Expr]) ->
     """Analytic Jacobian of ``[p; orientation]`` (e.g. Z-Y-X Euler angles), ``d/dq``."""
     pose = sp.Matrix.vstack(kinematics.tool_position, sp.Matrix(orientation))
     return sp.ImmutableMatrix(pose.jacobian(kinematics.q).applyfunc(sp.cancel))
+
+
+@dataclass(frozen=True)
+class AnalyticJacobian:
+    """``J_a = [Jv; E(phi)^-1 Jw]`` (6 x n) for orientation coordinates ``phi`` of the tool.
+
+    ``matrix`` is in ``q`` and the coordinate symbols ``coordinates`` (``phi`` enters through
+    ``E^-1`` only); ``values`` are the tool's coordinates as expressions in ``q`` (principal
+    branch: Z-Y-X ``theta`` in ``[-pi/2, pi/2]``, Z-Y-Z ``beta`` in ``[0, pi]``, rotation angle
+    in ``[0, pi]``); :meth:`in_q` substitutes them.  ``singular`` are the conditions on the
+    coordinates where ``E`` is singular and ``J_a`` does not exist (the representation's
+    singular set, on top of the robot's own singular configurations); see
+    :mod:`symkin.derive.orientation_rates`.
+    """
+
+    representation: str
+    coordinates: tuple[sp.Symbol, ...]
+    values: tuple[sp.Expr, ...]
+    matrix: sp.ImmutableMatrix
+    singular: tuple[sp.Eq, ...]
+
+    def in_q(self) -> sp.ImmutableMatrix:
+        """``matrix`` with the coordinates replaced by their expressions in ``q``."""
+        return self.matrix.xreplace(dict(zip(self.coordinates, self.values, strict=True)))
+
+
+def orientation_coordinates(kinematics: Kinematics, representation: str) -> tuple[sp.Expr, ...]:
+    """The tool's orientation coordinates (regular-case formulas) as expressions in ``q``."""
+    rotation = kinematics.tool_rotation
+    if representation in ("zyx", "rpy"):
+        angles = euler_zyx_of_tool(kinematics, "atan2")
+        return angles if representation == "zyx" else angles[::-1]
+    if representation == "zyz":
+        alpha, beta, gamma, _ = euler_zyz_from_rotation(rotation)
+        return alpha, beta, gamma
+    axis, angle, _ = axis_angle_from_rotation(rotation)
+    return tuple(angle * component for component in axis)
+
+
+def analytic_jacobian_of(
+    robot: Robot, kinematics: Kinematics, geometric: sp.MatrixBase, representation: str
+) -> AnalyticJacobian:
+    """``blockdiag(I, E^-1) J_g`` for ``representation`` (``zyx``, ``rpy``, ``zyz`` or
+    ``rotation_vector``; conventions in :mod:`symkin.derive.orientation_rates`)."""
+    rates = orientation_rates(representation)
+    clashes = sorted({s.name for s in rates.coordinates} & {name for name, _ in robot.parameters})
+    if clashes:
+        raise SymkinError(
+            f"{robot.name}: parameter(s) {', '.join(clashes)} share their names with the "
+            f"{representation} coordinates; rename them to get this analytic Jacobian"
+        )
+    geometric = sp.Matrix(geometric)
+    angular = rates.inverse * geometric[3:, :]
+    return AnalyticJacobian(
+        representation,
+        rates.coordinates,
+        orientation_coordinates(kinematics, representation),
+        sp.ImmutableMatrix(sp.Matrix.vstack(geometric[:3, :], angular)),
+        rates.singular,
+    )
 
 
 def jacobian_derivative(
