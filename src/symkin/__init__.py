@@ -17,7 +17,12 @@ from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot
-from symkin.solve.evaluate import KinematicState, PointState, kinematic_state
+from symkin.solve.evaluate import (
+    KinematicState,
+    PointState,
+    kinematic_state,
+    operational_space_inertia,
+)
 from symkin.solve.ik import IKResult, pose_from_target, solve_ik
 from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
@@ -48,6 +53,7 @@ __all__ = [
     "kinematic_state",
     "load_robot",
     "numeric_function",
+    "operational_space_inertia",
     "optimal_trajectory",
     "pose_from_target",
     "robot_from_toml",

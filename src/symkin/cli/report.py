@@ -212,6 +212,9 @@ def eval_json(state: KinematicState) -> dict:
         "jacobian": _array(state.jacobian),
         "task_rows": list(state.task_rows),
         "det": state.determinant,
+        # null at a singular configuration (JSON has no infinity)
+        "condition_number": _finite_or_none(state.condition_number),
+        "smallest_singular_value": state.smallest_singular_value,
         "manipulability": state.manipulability,
     }
     if state.points:
@@ -226,6 +229,10 @@ def eval_json(state: KinematicState) -> dict:
             for p in state.points
         ]
     return result
+
+
+def _finite_or_none(value: float) -> float | None:
+    return value if math.isfinite(value) else None
 
 
 def dynamics_json(state: DynamicState | None) -> dict:
@@ -270,6 +277,8 @@ def eval_text(state: KinematicState) -> str:
         f"task rows {', '.join(state.task_rows)}: "
         + (f"det = {state.determinant:.6g}, " if state.determinant is not None else "")
         + f"manipulability = {state.manipulability:.6g}",
+        f"  condition number = {state.condition_number:.6g}, "
+        f"smallest singular value = {state.smallest_singular_value:.6g}",
     ]
     for p in state.points:
         out.append(f"point {list(p.point)} on link {p.link}: position {fmt(p.position)}")

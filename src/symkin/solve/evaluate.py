@@ -6,14 +6,16 @@ code is compared against; it favours clarity over speed (``sympy.lambdify`` per 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from symkin.derive import Model
+from symkin.derive.jacobians import rows_from_names
 from symkin.derive.numeric import numeric_function
-from symkin.errors import ParameterError
+from symkin.errors import ParameterError, SymkinError
 from symkin.kernels import inertial_symbols
 from symkin.runtime.modules import generated_numpy_module
 from symkin.spatial import euler_zyx_from_rotation
@@ -36,7 +38,11 @@ class PointState:
 
 @dataclass(frozen=True)
 class KinematicState:
-    """Numeric kinematics at one configuration (SI units, radians, base frame)."""
+    """Numeric kinematics at one configuration (SI units, radians, base frame).
+
+    ``determinant``, ``manipulability``, ``condition_number`` and ``smallest_singular_value``
+    are those of the task Jacobian (rows ``task_rows``); see :func:`singular_value_measures`.
+    """
 
     transform: np.ndarray
     position: np.ndarray
@@ -47,6 +53,26 @@ class KinematicState:
     determinant: float | None
     manipulability: float
     points: tuple[PointState, ...]
+    condition_number: float
+    smallest_singular_value: float
+
+
+def singular_value_measures(jacobian: np.ndarray) -> tuple[float, float]:
+    """``(smallest singular value, condition number)`` of an m x n Jacobian.
+
+    The smallest of its ``min(m, n)`` singular values, and the ratio of the largest to it; the
+    condition number is ``inf`` when the matrix is rank deficient by NumPy's ``matrix_rank``
+    test (smallest ``<= max(m, n) * eps * largest``), i.e. at a singular configuration.  Both
+    depend on units when the rows mix positions (metres) and angles (radians): they are
+    computed on the rows given, as they are.
+    """
+    values = np.linalg.svd(np.asarray(jacobian, dtype=float), compute_uv=False)
+    if values.size == 0:
+        return 0.0, math.inf
+    largest, smallest = float(values[0]), float(values[-1])
+    if smallest <= max(jacobian.shape) * np.finfo(float).eps * largest:
+        return smallest, math.inf
+    return smallest, largest / smallest
 
 
 def _check_lengths(model: Model, *states: Sequence[float] | None) -> None:
@@ -68,8 +94,9 @@ def kinematic_state(
 ) -> KinematicState:
     """Pose, Jacobian, determinant, manipulability and point motion at one state.
 
-    The determinant and manipulability are those of the task Jacobian (``rows``, or the
-    model's default task rows), computed numerically from the evaluated Jacobian.
+    The determinant, manipulability, condition number and smallest singular value are those
+    of the task Jacobian (``rows``, or the model's default task rows), computed numerically
+    from the evaluated Jacobian.
     """
     _check_lengths(model, q, dq, ddq)
     rows = tuple(rows or model.task_rows)
@@ -87,6 +114,7 @@ def kinematic_state(
     else:
         determinant = None
         manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
+    smallest, condition = singular_value_measures(task)
     states = []
     for link, point in points:
         motion = model.point_motion(link, point)
@@ -113,6 +141,8 @@ def kinematic_state(
         determinant=determinant,
         manipulability=manipulability,
         points=tuple(states),
+        condition_number=condition,
+        smallest_singular_value=smallest,
     )
 
 
@@ -176,3 +206,39 @@ def dynamic_state(
         coriolis=None if dq is None else module.coriolis(q, dq, **shared),
         torque=None if dq is None or ddq is None else module.inverse_dynamics(q, dq, ddq, **shared),
     )
+
+
+def operational_space_inertia(
+    model: Model,
+    q: Sequence[float],
+    rows: Sequence[str] | None = None,
+    overrides: Mapping[str, float] | None = None,
+) -> np.ndarray:
+    """Khatib's operational-space inertia ``Lambda(q) = (J M^-1 J^T)^-1`` of the task rows.
+
+    ``J`` is the task Jacobian (``rows`` of the base-frame geometric Jacobian, or the model's
+    default task rows) and ``M`` the joint-space mass matrix of the generated NumPy dynamics;
+    ``overrides`` as for :func:`dynamic_state`.  ``Lambda`` maps task accelerations to task
+    forces (``F = Lambda dv/dt`` without velocity and gravity terms); mixed position and
+    orientation rows give a matrix whose blocks carry different units.
+
+    Raises :class:`SymkinError` where ``J M^-1 J^T`` is singular, i.e. where the task
+    Jacobian loses rank (the :func:`singular_value_measures` test: condition number ``inf``)
+    or has more rows than the robot has joints.
+    """
+    _check_lengths(model, q)
+    rows = tuple(rows or model.task_rows)
+    parameter_names = {name for name, _ in model.robot.parameters}
+    kinematic_overrides = {k: v for k, v in (overrides or {}).items() if k in parameter_names}
+    state = kinematic_state(model, q, overrides=kinematic_overrides, rows=rows)
+    task = state.jacobian[list(rows_from_names(rows)), :]
+    if math.isinf(state.condition_number) or task.shape[0] > task.shape[1]:
+        raise SymkinError(
+            f"{model.robot.name}: the task Jacobian (rows {', '.join(rows)}) loses rank at this "
+            f"configuration (smallest singular value {state.smallest_singular_value:.3g}), so "
+            "the operational-space inertia (J M^-1 J^T)^-1 does not exist"
+        )
+    mass = dynamic_state(model, q, overrides=overrides).mass_matrix
+    mobility = task @ np.linalg.solve(mass, task.T)
+    inertia = np.linalg.inv(mobility)
+    return (inertia + inertia.T) / 2
