@@ -10,9 +10,10 @@ from __future__ import annotations
 import atexit
 import hashlib
 import importlib.util
+import os
 import shutil
 import tempfile
-from functools import cache, lru_cache
+from functools import lru_cache
 from pathlib import Path
 from types import ModuleType
 
@@ -22,8 +23,8 @@ from symkin.errors import SymkinError
 
 @lru_cache(maxsize=16)
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
-    """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and loaded in
-    memory, once per model: the fast numeric path for solvers (IK, simulation, trajectories).
+    """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and imported
+    once per model: the fast numeric path for solvers (IK, simulation, trajectories).
     The generated code is checked against the symbolic model in the test suite."""
     return _generated_module(model, "numpy", kind)
 
@@ -54,15 +55,25 @@ def module_from_source(source: str, stem: str) -> ModuleType:
     """Write generated Python ``source`` into this process's module directory and import it.
 
     The file is named by a hash of its text, so two models whose code is identical share
-    one file, and a module name is never reused for different code.
+    one file, and a module name is never reused for different code.  Each writer writes a
+    file of its own and renames it into place, so threads loading the same code never see a
+    half-written file.  The module is not entered in ``sys.modules``: its functions are
+    called, not pickled.
     """
     digest = hashlib.sha256(source.encode()).hexdigest()[:16]
     name = f"_symkin_{stem}_{digest}"
     path = _module_directory() / f"{name}.py"
     if not path.exists():
-        staging = path.with_suffix(".tmp")
-        staging.write_text(source, encoding="utf-8")
-        staging.replace(path)
+        try:
+            descriptor, staging = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+            with os.fdopen(descriptor, "w", encoding="utf-8") as file:
+                file.write(source)
+            os.replace(staging, path)
+        except OSError as error:
+            raise SymkinError(
+                f"cannot write generated code to {path.parent} ({error.strerror}); "
+                "set TMPDIR to a writable directory"
+            ) from None
     spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:  # pragma: no cover - a .py path always has one
         raise SymkinError(f"cannot import the generated module {path}")
@@ -71,9 +82,29 @@ def module_from_source(source: str, stem: str) -> ModuleType:
     return module
 
 
-@cache
+_DIRECTORIES: dict[int, Path] = {}
+
+
 def _module_directory() -> Path:
-    """A private directory for this process's generated modules, removed at exit."""
-    directory = Path(tempfile.mkdtemp(prefix="symkin-modules-"))
-    atexit.register(shutil.rmtree, directory, ignore_errors=True)
+    """A private directory for this process's generated modules, removed when it exits.
+
+    Keyed by process: a forked child makes its own and never removes its parent's.
+    """
+    pid = os.getpid()
+    directory = _DIRECTORIES.get(pid)
+    if directory is None or not directory.is_dir():
+        try:
+            directory = Path(tempfile.mkdtemp(prefix="symkin-modules-"))
+        except OSError as error:
+            raise SymkinError(
+                f"cannot create a directory for generated code in {tempfile.gettempdir()} "
+                f"({error.strerror}); set TMPDIR to a writable directory"
+            ) from None
+        _DIRECTORIES[pid] = directory
+        atexit.register(_remove, directory, pid)
     return directory
+
+
+def _remove(directory: Path, pid: int) -> None:
+    if os.getpid() == pid:
+        shutil.rmtree(directory, ignore_errors=True)
