@@ -30,6 +30,15 @@ from symkin.solve.trajopt import (
     TrajectoryProblem,
     optimal_trajectory,
 )
+from symkin.spatial import (
+    adjoint_from_transform,
+    quaternion_product,
+    quaternion_slerp,
+    rotation_from_rotation_vector,
+    rotation_vector_from_rotation,
+    transform_from_twist,
+    twist_from_transform,
+)
 from symkin.symbols import joint_symbols
 
 __all__ = [
@@ -47,6 +56,7 @@ __all__ = [
     "SymkinError",
     "Trajectory",
     "TrajectoryProblem",
+    "adjoint_from_transform",
     "catalogue_names",
     "derive",
     "joint_symbols",
@@ -56,7 +66,13 @@ __all__ = [
     "operational_space_inertia",
     "optimal_trajectory",
     "pose_from_target",
+    "quaternion_product",
+    "quaternion_slerp",
     "robot_from_toml",
+    "rotation_from_rotation_vector",
+    "rotation_vector_from_rotation",
     "solve_ik",
+    "transform_from_twist",
+    "twist_from_transform",
     "write_folder",
 ]
