@@ -69,6 +69,14 @@ def test_braces_a_user_typed_are_text_not_parameters(tmp_path: Path, capsys) -> 
     )
 
 
+@pytest.mark.parametrize("text", ["{", "a{b}", "{sections}"])
+def test_braces_in_a_section_name_are_text(tmp_path: Path, capsys, text: str) -> None:
+    # Found by review: '{' crashed the message template (exit 3), 'a{b}' printed 'a--b'.
+    code, err = run(capsys, "latex", "planar_2r", "-o", str(tmp_path / "x.tex"), "--sections", text)
+    assert code == 2
+    assert f"--sections: unknown section(s) {text};" in err
+
+
 @pytest.mark.parametrize(
     ("parameter", "command", "spelled"),
     [

@@ -19,7 +19,7 @@ from symkin.derive import Model
 from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.derive.numeric import numeric_function
-from symkin.errors import ParameterError
+from symkin.errors import ParameterError, literal
 
 SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
 # The equations of motion are asked for by name: they need inertial data and, by Lagrange,
@@ -37,7 +37,7 @@ def check_sections(names: Iterable[str]) -> tuple[str, ...]:
     unknown = sorted(chosen - set(SECTIONS))
     if unknown:
         raise ParameterError(
-            f"{{sections}}: unknown section(s) {', '.join(unknown)}; "
+            f"{{sections}}: unknown section(s) {literal(', '.join(unknown))}; "
             f"choose from {', '.join(SECTIONS)}"
         )
     if not chosen:

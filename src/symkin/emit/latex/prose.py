@@ -13,7 +13,7 @@ from functools import cache
 from importlib import resources
 from types import MappingProxyType
 
-from symkin.errors import ParameterError
+from symkin.errors import ParameterError, literal
 
 LANGUAGES = ("en", "de")
 
@@ -21,7 +21,9 @@ LANGUAGES = ("en", "de")
 def check_language(lang: str) -> str:
     """``lang`` if it is one of :data:`LANGUAGES`."""
     if lang not in LANGUAGES:
-        raise ParameterError(f"{{lang}} must be one of {', '.join(LANGUAGES)}, got {lang!r}")
+        raise ParameterError(
+            f"{{lang}} must be one of {', '.join(LANGUAGES)}, got {literal(repr(lang))}"
+        )
     return lang
 
 

@@ -36,7 +36,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
-from symkin.errors import ParameterError, SymkinError
+from symkin.errors import ParameterError, SymkinError, literal
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.ik.joints import parameter_vector
 from symkin.solve.ik.numeric import (
@@ -97,7 +97,7 @@ def path_task_rows(model: Model, task: Sequence[str] | None = None) -> tuple[str
         if not rows or any(r not in POSITION_ROWS for r in rows):
             raise ParameterError(
                 f"{{task}}: the path interpolates positions; choose rows from x, y, z, got "
-                f"{','.join(rows) or 'none'}"
+                f"{literal(','.join(rows)) or 'none'}"
             )
     return rows
 
