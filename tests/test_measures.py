@@ -183,3 +183,29 @@ def test_puma_operational_space_inertia_matches_robotics_toolbox(puma, toolbox_p
         actual = symkin.operational_space_inertia(puma, q)
         scale = np.max(np.abs(expected))
         np.testing.assert_allclose(actual, expected, rtol=0, atol=1e-8 * scale)
+
+
+@pytest.mark.oracle
+def test_puma_operational_space_inertia_matches_pinocchio(puma) -> None:
+    """``(J M^-1 J^T)^-1`` from Pinocchio's ``crba`` (plus the rotor inertias, which its model
+    leaves out) and its Jacobian of DH frame 6 in world-aligned axes (``[v; w]``, as ours)."""
+    from test_dynamics_oracles import pinocchio_model
+
+    pin, model = pinocchio_model(puma.robot)
+    last = puma.robot.joints[-1]
+    flange = pin.SE3(np.eye(3), np.array([float(last.a), 0.0, float(last.d)]))
+    assert float(last.alpha) == 0.0 and float(last.theta) == 0.0  # frame 6 = joint 6 + (a, d)
+    frame = model.addFrame(pin.Frame("flange", model.njoints - 1, flange, pin.FrameType.OP_FRAME))
+    data = model.createData()
+    rotor = np.diag([float(j.link.motor_inertia) for j in puma.robot.joints])
+    rng = np.random.default_rng(45)
+    for q in rng.uniform(-np.pi, np.pi, (4, 6)):
+        mass = pin.crba(model, data, q)
+        mass = np.triu(mass) + np.triu(mass, 1).T + rotor
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        jacobian = pin.getFrameJacobian(model, data, frame, pin.LOCAL_WORLD_ALIGNED)
+        expected = np.linalg.inv(jacobian @ np.linalg.solve(mass, jacobian.T))
+        actual = symkin.operational_space_inertia(puma, q)
+        scale = np.max(np.abs(expected))
+        np.testing.assert_allclose(actual, expected, rtol=0, atol=1e-8 * scale)
