@@ -95,8 +95,7 @@ def kinematic_state(
     """Pose, Jacobian, determinant, manipulability and point motion at one state.
 
     The determinant, manipulability, condition number and smallest singular value are those
-    of the task Jacobian (``rows``, or the model's default task rows), computed numerically
-    from the evaluated Jacobian.
+    of the task Jacobian (``rows``, or the model's default task rows), computed numerically.
     """
     _check_lengths(model, q, dq, ddq)
     rows = tuple(rows or model.task_rows)
