@@ -9,7 +9,7 @@
  * Closed-form inverse kinematics: every solution for one tool pose, family "planar 3R"
  * (docs/ik-generated.md; derivations in docs/ik-closed-form.md). The formulas, the wrapping and
  * limit rules, the forward-kinematics check and the order of the solutions are those of
- * symkin.ik.closed_form.closed_form_ik. Conventions as in planar_3r.h: C99, double
+ * symkin.solve.ik.closed_form.closed_form_ik. Conventions as in planar_3r.h: C99, double
  * precision, row-major matrices, no allocation, no globals, no recursion.
  */
 #ifndef PLANAR_3R_IK_CLOSED_H

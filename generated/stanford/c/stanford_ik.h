@@ -20,7 +20,7 @@
  * times its value 5 steps earlier); the next one starts from q drawn uniformly
  * within the limits (xorshift64 seeded by options.seed), up to max_restarts times. So the
  * iteration cap is max_iterations * (max_restarts + 1) steps. The same algorithm runs in
- * NumPy as symkin.ik.batch.solve_ik_batch.
+ * NumPy as symkin.solve.ik.batch.solve_ik_batch.
  */
 #ifndef STANFORD_IK_H
 #define STANFORD_IK_H

@@ -195,7 +195,7 @@ SYMKIN_API void symkin_unrotate_x(real_t c, real_t s, real_t v[3])
 #define PI 3.141592653589793
 #define TWO_PI 6.283185307179586
 /* A candidate is kept if its FK meets the target to this: rotation entries, positions over the
- * robot's size (symkin.ik.closed_form.VERIFY_TOL). */
+ * robot's size (symkin.kernels.ik.plan.VERIFY_TOL). */
 #define VERIFY_TOLERANCE 1e-09
 /* Two solutions closer than this in every joint (angles modulo 2 pi) are one; a joint this far
  * beyond a limit is still within it. */

@@ -21,7 +21,7 @@ REGENERATE_COMMAND = "symkin generate"
 def environment() -> jinja2.Environment:
     """Templates from the ``symkin.templates`` package data (top-level ``templates/``)."""
     root = resources.files("symkin.templates")
-    return jinja2.Environment(
+    env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(str(root)),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
@@ -29,6 +29,10 @@ def environment() -> jinja2.Environment:
         lstrip_blocks=True,
         autoescape=False,
     )
+    # ``file_text("c/lib/x.c")``: a file's text as it is, never parsed as a template (real C
+    # sources may hold ``{{`` or ``{#``).
+    env.globals["file_text"] = lambda name: env.loader.get_source(env, name)[0]
+    return env
 
 
 def render(template: str, **context: object) -> str:
