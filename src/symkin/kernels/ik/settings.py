@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError
 
 # An attempt has stalled when E is above STALL_FACTOR times its value STALL_WINDOW steps ago.
 STALL_WINDOW = 5
@@ -40,22 +40,24 @@ class DampedLeastSquares:
 
     def __post_init__(self) -> None:
         if self.max_iterations < 0 or self.max_restarts < 0:
-            raise SymkinError(
-                "max_iterations and max_restarts must be >= 0, got "
+            raise ParameterError(
+                "{max_iterations} and {max_restarts} must be >= 0, got "
                 f"{self.max_iterations} and {self.max_restarts}"
             )
         if not (self.position_tolerance > 0 and self.rotation_tolerance > 0):
-            raise SymkinError(
-                "the tolerances must be positive, got "
+            raise ParameterError(
+                "{position_tolerance} and {rotation_tolerance} must be positive, got "
                 f"{self.position_tolerance} and {self.rotation_tolerance}"
             )
         if not (0 <= self.damping < math.inf and 0 <= self.error_damping < math.inf):
-            raise SymkinError(
-                f"damping and error_damping must be finite and >= 0, got {self.damping} "
+            raise ParameterError(
+                f"{{damping}} and {{error_damping}} must be finite and >= 0, got {self.damping} "
                 f"and {self.error_damping}"
             )
         if not 0 <= self.seed < 2**64:
-            raise SymkinError(f"the seed must be an unsigned 64-bit integer, got {self.seed}")
+            raise ParameterError(
+                f"the {{seed}} must be an unsigned 64-bit integer, got {self.seed}"
+            )
 
 
 FLOAT_SETTINGS = DampedLeastSquares(position_tolerance=1e-5, rotation_tolerance=1e-5, damping=1e-6)

@@ -51,7 +51,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.ik.joints import (
     joint_bounds,
@@ -415,7 +415,7 @@ def _problem(
     if target.shape != (4, 4) or not np.all(np.isfinite(target)):
         raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
     if not tolerance > 0:
-        raise SymkinError(f"the tolerance must be positive, got {tolerance}")
+        raise ParameterError(f"the {{tolerance}} must be positive, got {tolerance}")
     # Rows in ascending order (the solution does not depend on it; all six need no indexing).
     order = np.argsort(rows_from_names(rows))
     indices = np.array(rows_from_names(rows))[order]
@@ -552,8 +552,9 @@ def solve_ik(
     if method not in METHODS:
         raise SymkinError(f"unknown IK method {method!r}; expected one of {', '.join(METHODS)}")
     if max_iterations < 1 or restarts < 0:
-        raise SymkinError(
-            f"need max_iterations >= 1 and restarts >= 0, got {max_iterations} and {restarts}"
+        raise ParameterError(
+            f"need {{max_iterations}} >= 1 and {{restarts}} >= 0, got {max_iterations} and "
+            f"{restarts}"
         )
     n = model.robot.dof
     rows = task_rows_for(model, task, position_only)
