@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from numeric_dh import Rx, Ry, Rz, model, reference, robot, vee
+from numeric_dh import Rx, Ry, Rz, reference, robot, vee
 from symkin.errors import SymkinError
 from symkin.solve.ik.numeric import (
     IKResult,
@@ -71,9 +71,9 @@ def random_within_limits(name: str, rng: np.random.Generator) -> np.ndarray:
 
 
 @pytest.mark.parametrize(("name", "count"), [("puma560", 40), ("panda", 15), ("stanford", 15)])
-def test_random_reachable_poses_are_solved(name: str, count: int) -> None:
+def test_random_reachable_poses_are_solved(name: str, count: int, model_of) -> None:
     rng = np.random.default_rng(5)
-    m = model(name)
+    m = model_of(name)
     for _ in range(count):
         target = reference(name).fk(random_within_limits(name, rng))
         seed = random_within_limits(name, rng)
@@ -86,11 +86,11 @@ def test_random_reachable_poses_are_solved(name: str, count: int) -> None:
         assert result.residual <= TOL
 
 
-def test_reported_errors_match_the_independent_fk() -> None:
+def test_reported_errors_match_the_independent_fk(model_of) -> None:
     """Success means the FK of the returned q meets the tolerance: the reported errors are the
     real ones (to rounding), also for a failed, closest-pose result."""
     rng = np.random.default_rng(11)
-    m = model("puma560")
+    m = model_of("puma560")
     target = reference("puma560").fk(random_within_limits("puma560", rng))
     for max_iterations in (2, 100):  # unfinished and finished
         result = solve_ik(m, target, np.zeros(6), max_iterations=max_iterations, restarts=0)
@@ -101,9 +101,9 @@ def test_reported_errors_match_the_independent_fk() -> None:
     assert task_errors(m, result.q, target) == pytest.approx((position, rotation), abs=1e-12)
 
 
-def test_planar_2r_matches_the_law_of_cosines() -> None:
+def test_planar_2r_matches_the_law_of_cosines(model_of) -> None:
     """x, y target of the unit 2R arm: q2 = +-acos((x^2 + y^2 - 2) / 2) (Spong Sec. 5.1)."""
-    m = model("planar_2r")
+    m = model_of("planar_2r")
     for x, y, seed in [(1.2, 0.5, (0.1, 1.0)), (-0.3, 1.1, (2.0, -1.0)), (0.4, -1.6, (0.0, 0.5))]:
         result = solve_ik(m, pose_from_target([x, y, 0.0]), seed, task=("x", "y"))
         q2 = math.acos((x * x + y * y - 2) / 2)
@@ -114,10 +114,10 @@ def test_planar_2r_matches_the_law_of_cosines() -> None:
 
 
 @pytest.mark.parametrize("name", ["planar_2r", "scara", "puma560"])
-def test_newton_raphson_on_square_problems(name: str) -> None:
+def test_newton_raphson_on_square_problems(name: str, model_of) -> None:
     """Full Newton steps from a nearby seed converge fast (quadratically) to the target."""
     rng = np.random.default_rng(3)
-    m = model(name)
+    m = model_of(name)
     q_true = random_within_limits(name, rng)
     target = reference(name).fk(q_true)
     seed = q_true + rng.uniform(-0.1, 0.1, q_true.size)
@@ -129,9 +129,9 @@ def test_newton_raphson_on_square_problems(name: str) -> None:
     assert position < CHECK, rows
 
 
-def test_position_only_target_ignores_the_orientation() -> None:
+def test_position_only_target_ignores_the_orientation(model_of) -> None:
     rng = np.random.default_rng(8)
-    m = model("puma560")
+    m = model_of("puma560")
     q_true = random_within_limits("puma560", rng)
     point = reference("puma560").fk(q_true)[:3, 3]
     result = solve_ik(m, pose_from_target(point), position_only=True)
@@ -139,9 +139,9 @@ def test_position_only_target_ignores_the_orientation() -> None:
     assert np.linalg.norm(reference("puma560").fk(result.q)[:3, 3] - point) < CHECK
 
 
-def test_task_rows_select_what_counts() -> None:
+def test_task_rows_select_what_counts(model_of) -> None:
     """Planar 3R: matching x, y, wz gives the heading; matching x, y leaves it free."""
-    m = model("planar_3r")
+    m = model_of("planar_3r")
     heading = 0.7
     target = pose_from_target([1.5, 0.8, 0.0, 0.0, 0.0, heading])
     full = solve_ik(m, target, (0.1, 0.2, 0.3))
@@ -160,19 +160,19 @@ def test_task_rows_select_what_counts() -> None:
 
 
 @pytest.mark.parametrize("method", ["lm", "newton"])
-def test_singular_seed_gives_no_nan(method: str) -> None:
+def test_singular_seed_gives_no_nan(method: str, model_of) -> None:
     """The stretched 2R arm (q2 = 0) has a singular Jacobian; both methods leave it."""
-    m = model("planar_2r")
+    m = model_of("planar_2r")
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)  # no division by zero, no invalid value
         result = solve_ik(m, pose_from_target([1.2, 0.4, 0.0]), (0.0, 0.0), method=method)
     assert np.all(np.isfinite(result.q)) and result.success
 
 
-def test_puma_wrist_singular_seed() -> None:
+def test_puma_wrist_singular_seed(model_of) -> None:
     """q5 = 0 aligns the axes of joints 4 and 6 (rank-deficient Jacobian)."""
     rng = np.random.default_rng(4)
-    m = model("puma560")
+    m = model_of("puma560")
     target = reference("puma560").fk(random_within_limits("puma560", rng))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
@@ -181,20 +181,20 @@ def test_puma_wrist_singular_seed() -> None:
     assert max(pose_error("puma560", result.q, target)) < CHECK
 
 
-def test_singular_target_on_the_workspace_boundary() -> None:
+def test_singular_target_on_the_workspace_boundary(model_of) -> None:
     """(2, 0) is reached only stretched out (q = 0), where J is singular: finite, and within
     the tolerance or honestly flagged."""
-    m = model("planar_2r")
+    m = model_of("planar_2r")
     result = solve_ik(m, pose_from_target([2.0, 0.0, 0.0]), (0.5, 1.0))
     assert np.all(np.isfinite(result.q))
     assert result.position_error < 1e-9
     assert result.success == (result.position_error <= TOL)
 
 
-def test_unreachable_target_fails_with_the_closest_pose() -> None:
+def test_unreachable_target_fails_with_the_closest_pose(model_of) -> None:
     """(3, 1) is outside the unit 2R arm's disc of radius 2: the closest reachable point is
     2 (3, 1) / |(3, 1)|, at distance sqrt(10) - 2."""
-    m = model("planar_2r")
+    m = model_of("planar_2r")
     target = pose_from_target([3.0, 1.0, 0.0])
     result = solve_ik(m, target, (0.2, 0.3))
     assert not result.success
@@ -206,8 +206,8 @@ def test_unreachable_target_fails_with_the_closest_pose() -> None:
     assert result.restarts == 30  # every restart was tried
 
 
-def test_unreachable_pose_of_a_limited_arm_stays_within_limits() -> None:
-    m = model("puma560")
+def test_unreachable_pose_of_a_limited_arm_stays_within_limits(model_of) -> None:
+    m = model_of("puma560")
     target = pose_from_target([2.0, 1.0, 1.5, 0.0, 0.0, 0.0])
     result = solve_ik(m, target, restarts=2)
     assert not result.success
@@ -218,10 +218,10 @@ def test_unreachable_pose_of_a_limited_arm_stays_within_limits() -> None:
     assert position >= math.hypot(2.0, 1.0, 1.5) - reach - 1e-9
 
 
-def test_weights_move_the_least_squares_compromise() -> None:
+def test_weights_move_the_least_squares_compromise(model_of) -> None:
     """An unreachable target with x weighted 100 times more than y: the reached point is the
     minimiser of 100 ex^2 + ey^2 over the disc of radius 2, found here by a dense search."""
-    m = model("planar_2r")
+    m = model_of("planar_2r")
     target = np.array([2.5, 1.5])
     result = solve_ik(
         m, pose_from_target([*target, 0.0]), (0.3, 0.2), task=("x", "y"), weights=(100.0, 1.0)
@@ -244,11 +244,11 @@ def test_weights_move_the_least_squares_compromise() -> None:
 # ---------------------------------------------------------------------------------------------
 
 
-def test_restarts_rescue_seeds_that_fail() -> None:
+def test_restarts_rescue_seeds_that_fail(model_of) -> None:
     """With joint limits, some seeds lead to a branch outside the limits; restarts (reproducible
     with the seed) then find one inside."""
     rng = np.random.default_rng(21)
-    m = model("puma560")
+    m = model_of("puma560")
     rescued = 0
     for _ in range(25):
         target = reference("puma560").fk(random_within_limits("puma560", rng))
@@ -264,9 +264,9 @@ def test_restarts_rescue_seeds_that_fail() -> None:
     assert rescued > 0
 
 
-def test_random_configurations_lie_within_the_limits() -> None:
+def test_random_configurations_lie_within_the_limits(model_of) -> None:
     rng = np.random.default_rng(1)
-    m = model("panda")
+    m = model_of("panda")
     lower, upper = joint_bounds(m)
     samples = np.array([random_configuration(m, rng) for _ in range(200)])
     assert np.all(samples >= lower) and np.all(samples <= upper)
@@ -281,13 +281,13 @@ def null_space_gradient(name: str, q: np.ndarray, rest: np.ndarray) -> float:
     return float(np.linalg.norm(projector @ (q - rest)))
 
 
-def test_redundant_robot_prefers_the_rest_posture() -> None:
+def test_redundant_robot_prefers_the_rest_posture(model_of) -> None:
     """Panda (7 joints, 6 task rows), targets of postures near the rest posture: the solution
     is where the self-motion leaves the distance to the rest posture stationary (no joint is at
     a limit there), it is no farther from the rest posture than the posture the target came
     from, and closer than the solution without a preference."""
     rng = np.random.default_rng(2)
-    m = model("panda")
+    m = model_of("panda")
     rest = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.785])  # the Panda's "ready" posture
     lower, upper = np.array([j.limits for j in robot("panda").joints]).T
     for _ in range(5):
@@ -304,11 +304,11 @@ def test_redundant_robot_prefers_the_rest_posture() -> None:
         assert np.linalg.norm(preferred.q - rest) < np.linalg.norm(plain.q - rest)
 
 
-def test_rest_posture_blocked_by_a_limit_keeps_the_solution() -> None:
+def test_rest_posture_blocked_by_a_limit_keeps_the_solution(model_of) -> None:
     """Random targets and seeds: where a limit blocks the way to the rest posture, the solver
     still returns a solution within the limits, never a worse one than without preference."""
     rng = np.random.default_rng(2)
-    m = model("panda")
+    m = model_of("panda")
     rest = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.785])
     for _ in range(3):
         target = reference("panda").fk(random_within_limits("panda", rng))
@@ -366,18 +366,18 @@ def test_pose_from_target_is_zyx_euler() -> None:
         ({"rest_posture": "ready"}, "rest posture"),
     ],
 )
-def test_bad_arguments_raise_one_clear_error(options: dict, message: str) -> None:
+def test_bad_arguments_raise_one_clear_error(options: dict, message: str, model_of) -> None:
     with pytest.raises(SymkinError, match=message):
-        solve_ik(model("puma560"), np.eye(4), **options)
+        solve_ik(model_of("puma560"), np.eye(4), **options)
 
 
-def test_bad_target_shape() -> None:
+def test_bad_target_shape(model_of) -> None:
     with pytest.raises(SymkinError, match="4x4"):
-        solve_ik(model("puma560"), np.eye(3))
+        solve_ik(model_of("puma560"), np.eye(3))
 
 
-def test_result_is_frozen() -> None:
-    result = solve_ik(model("planar_2r"), pose_from_target([1.0, 1.0, 0.0]), (0.1, 0.2))
+def test_result_is_frozen(model_of) -> None:
+    result = solve_ik(model_of("planar_2r"), pose_from_target([1.0, 1.0, 0.0]), (0.1, 0.2))
     assert isinstance(result, IKResult)
     with pytest.raises(AttributeError):
         result.success = False  # type: ignore[misc]
