@@ -65,11 +65,13 @@ def regular_samples(name: str, representation: str, count: int = 6) -> list[np.n
     return chosen
 
 
-@pytest.mark.parametrize("representation", REPRESENTATIONS)
-@pytest.mark.parametrize("name", CATALOGUE)
+# Planar arms sit on the Z-Y-Z singular set everywhere (a test below shows it): those pairs
+# are left out rather than skipped.
+@pytest.mark.parametrize(
+    ("name", "representation"),
+    [(n, r) for n in CATALOGUE for r in REPRESENTATIONS if not (r == "zyz" and n in PLANAR)],
+)
 def test_analytic_jacobian_matches_finite_differences(name: str, representation: str) -> None:
-    if representation == "zyz" and name in PLANAR:
-        pytest.skip("planar arms sit on the Z-Y-Z singular set (see the test below)")
     analytic = model(name).analytic_jacobian(representation)
     jacobian = function(name, analytic.matrix, analytic.coordinates)
     for q in regular_samples(name, representation):
@@ -78,15 +80,20 @@ def test_analytic_jacobian_matches_finite_differences(name: str, representation:
         np.testing.assert_allclose(value, expected, rtol=0, atol=FD_TOL)
 
 
-@pytest.mark.parametrize("representation", REPRESENTATIONS)
-@pytest.mark.parametrize("name", ["planar_3r", "rpr", "cylindrical_rtt_wrist", "puma560"])
+@pytest.mark.parametrize(
+    ("name", "representation"),
+    [
+        (n, r)
+        for n in ("planar_3r", "rpr", "cylindrical_rtt_wrist", "puma560")
+        for r in REPRESENTATIONS
+        if not (r == "zyz" and n in PLANAR)
+    ],
+)
 def test_coordinates_in_q_are_scipys(name: str, representation: str) -> None:
     """``values`` (symkin's expressions in q) give SciPy's coordinates; ``in_q`` the Jacobian."""
     analytic = model(name).analytic_jacobian(representation)
     values = function(name, sp.ImmutableMatrix(analytic.values))
     jacobian = function(name, analytic.in_q())
-    if representation == "zyz" and name == "planar_3r":
-        pytest.skip("planar arms sit on the Z-Y-Z singular set")
     for q in regular_samples(name, representation):
         expected = coordinates(name, q, representation)
         np.testing.assert_allclose(values(q).ravel(), expected, rtol=0, atol=1e-9)
