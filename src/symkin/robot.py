@@ -12,6 +12,8 @@ Conventions (docs/conventions.md):
   joint row holds the ``alpha``/``a`` that precede it.
 * revolute joint:  ``theta_i = q_i + theta`` (``theta`` is the offset), ``d`` constant;
   prismatic joint: ``d_i = q_i + d`` (``d`` is the offset), ``theta`` constant.
+  A flipped joint (``flip=True``) has ``-q_i`` in place of ``q_i``: it turns about (or
+  slides along) the ``-z`` axis of its frame as ``q_i`` grows.
 """
 
 from __future__ import annotations
@@ -47,7 +49,9 @@ class Link:
     ``inertia`` holds the tensor elements ``(ixx, iyy, izz, ixy, ixz, iyz)`` about the centre
     of mass (URDF convention: ``ixy`` is the (1,2) element of the tensor, i.e. minus the
     engineering product of inertia).  Friction: ``coulomb * sign(dq) + viscous * dq``, or the
-    Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.
+    Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.  With
+    ``coulomb_negative`` the Coulomb level depends on the direction: ``coulomb`` for
+    ``dq > 0`` and ``coulomb_negative`` for ``dq < 0`` (None: ``coulomb`` both ways).
     """
 
     mass: sp.Expr
@@ -58,6 +62,7 @@ class Link:
     viscous: sp.Expr = ZERO
     stribeck_static: sp.Expr | None = None
     stribeck_velocity: sp.Expr | None = None
+    coulomb_negative: sp.Expr | None = None
 
     @property
     def inertia_matrix(self) -> sp.ImmutableMatrix:
@@ -68,7 +73,11 @@ class Link:
 
 @dataclass(frozen=True)
 class Joint:
-    """One row of the DH table (SI units, radians)."""
+    """One row of the DH table (SI units, radians).
+
+    ``flip``: the joint variable enters with a minus sign (``theta_i = -q_i + theta`` or
+    ``d_i = -q_i + d``), as in DH tables whose joint axis points against ``z``.
+    """
 
     type: JointType
     theta: sp.Expr = ZERO
@@ -78,10 +87,13 @@ class Joint:
     name: str | None = None
     limits: tuple[float, float] | None = None
     link: Link | None = None
+    flip: bool = False
 
     def __post_init__(self) -> None:
         if self.type not in ("revolute", "prismatic"):
             raise RobotError(f'joint \'type\' must be "revolute" or "prismatic", got {self.type!r}')
+        if not isinstance(self.flip, bool):
+            raise RobotError(f"joint 'flip' must be true or false, got {self.flip!r}")
         for key in ("theta", "d", "a", "alpha"):
             object.__setattr__(self, key, sp.sympify(getattr(self, key)))
 

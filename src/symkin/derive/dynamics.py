@@ -37,15 +37,21 @@ def link_inertial_data(robot: Robot, index: int) -> Link:
 
 
 def friction_torque(link: Link, dq: sp.Symbol) -> sp.Expr:
-    """Joint friction ``F_i(dq_i)`` (CONVENTIONS.md, Dynamics).
+    """Joint friction ``F_i(dq_i)`` (docs/conventions.md, Dynamics).
 
     Coulomb + viscous: ``fc sign(dq) + fv dq``; Stribeck, when given:
-    ``(fc + (fs - fc) exp(-|dq / dq_s|)) sign(dq) + fv dq``.
+    ``(fc + (fs - fc) exp(-|dq / dq_s|)) sign(dq) + fv dq``.  Direction-dependent Coulomb
+    friction (``fc+`` for ``dq > 0``, ``fc-`` for ``dq < 0``) takes the level of the side
+    ``dq`` is on, ``fc = (fc+ + fc-)/2 + (fc+ - fc-)/2 sign(dq)``, so ``F = fc+`` for
+    ``dq > 0``, ``-fc-`` for ``dq < 0`` and 0 at rest (``sign(0) = 0``).
     """
     coulomb = link.coulomb
+    if link.coulomb_negative is not None:
+        mean = (link.coulomb + link.coulomb_negative) / 2
+        coulomb = mean + (link.coulomb - link.coulomb_negative) / 2 * sp.sign(dq)
     if link.stribeck_static is not None and link.stribeck_velocity is not None:
         decay = sp.exp(-sp.Abs(dq / link.stribeck_velocity))
-        coulomb = coulomb + (link.stribeck_static - link.coulomb) * decay
+        coulomb = coulomb + (link.stribeck_static - coulomb) * decay
     return coulomb * sp.sign(dq) + link.viscous * dq
 
 

@@ -8,7 +8,8 @@ Modified DH (Craig, eq. 3.6)::
 
     A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)
 
-and ``T = base * A_1 * ... * A_n * tool``.  Each product is contracted with
+with ``theta_i = q_i + theta`` (revolute) or ``d_i = q_i + d`` (prismatic), ``-q_i`` for a
+flipped joint, and ``T = base * A_1 * ... * A_n * tool``.  Each product is contracted with
 :func:`~symkin.derive.simplify.contract_trig` as it is formed, so ``T_0_i`` stays readable
 (``sin(q2 + q3)`` rather than four products).
 """
@@ -28,10 +29,17 @@ from symkin.symbols import joint_symbols
 
 
 def joint_dh_values(joint: Joint, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]:
-    """``(theta, d, a, alpha)`` of one joint with its variable ``q`` inserted."""
+    """``(theta, d, a, alpha)`` of one joint with its variable ``q`` inserted (``-q`` when
+    the joint is flipped)."""
+    variable = -q if joint.flip else q
     if joint.type == "revolute":
-        return q + joint.theta, joint.d, joint.a, joint.alpha
-    return joint.theta, q + joint.d, joint.a, joint.alpha
+        return variable + joint.theta, joint.d, joint.a, joint.alpha
+    return joint.theta, variable + joint.d, joint.a, joint.alpha
+
+
+def joint_axis_sign(joint: Joint) -> int:
+    """``-1`` for a flipped joint (it moves about or along ``-z`` as ``q`` grows), else 1."""
+    return -1 if joint.flip else 1
 
 
 def trig_pair(angle: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
@@ -91,7 +99,10 @@ class Kinematics:
 
     ``frame_transforms[i]`` is ``T_0_i = base * A_1 ... A_i`` (index 0 is ``base``), and
     ``forward_kinematics`` is ``T = T_0_n * tool``.  ``joint_frames[i]`` is the frame whose
-    z axis is joint i+1's axis: frame i in standard DH, frame i+1 in modified DH.
+    z axis is joint i+1's axis, pointing where ``q_{i+1}`` grows: frame i in standard DH,
+    frame i+1 in modified DH, turned half a turn about its x axis for a flipped joint (same
+    origin, ``y`` and ``z`` negated), so the Jacobians, the twists of point motion and the
+    Lagrange angular velocities need no case for the flip.
     """
 
     q: tuple[sp.Symbol, ...]
@@ -155,6 +166,11 @@ def has_parallel_revolute_axes(robot: Robot) -> bool:
     return False
 
 
+def _half_turn_about_x(frame: sp.ImmutableMatrix) -> sp.ImmutableMatrix:
+    """``frame * Rx(pi)``: the same origin and x axis, ``y`` and ``z`` negated."""
+    return sp.ImmutableMatrix(frame * sp.diag(1, -1, -1, 1))
+
+
 def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
     """Per-joint and cumulative transforms and ``T`` of ``robot`` (symbolic).
 
@@ -169,7 +185,11 @@ def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
     frames = [numeric_trig_constants(robot.base)]
     for link in links:
         frames.append(policy.contract(frames[-1] * link))
-    joint_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
+    axis_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
+    joint_frames = [
+        _half_turn_about_x(frame) if joint.flip else frame
+        for joint, frame in zip(robot.joints, axis_frames, strict=True)
+    ]
     tool = policy.contract(frames[-1] * numeric_trig_constants(robot.tool))
     return dataclasses.replace(
         policy,

@@ -4,7 +4,8 @@ One formulation serves standard and modified DH.  Write ``A_i`` (frame i in fram
 rotation ``R_i`` and translation ``p_i``; joint i moves about (or along) the unit axis
 ``a_i`` through the point ``j_i``, both constant in frame i-1: standard DH ``a_i = z``,
 ``j_i = 0`` (Spong, Luh–Walker–Paul); modified DH ``a_i = Rx(alpha) z``,
-``j_i = Rx(alpha) (a, 0, 0)`` (Craig eqs. 6.45-6.53).  In frame-i coordinates, with
+``j_i = Rx(alpha) (a, 0, 0)`` (Craig eqs. 6.45-6.53); a flipped joint moves about ``-a_i``
+(its ``q_i`` enters the DH table as ``-q_i``).  In frame-i coordinates, with
 ``s_i = R_i^T a_i`` and ``e_i = R_i^T (p_i - j_i)`` (from the axis point to origin i)::
 
   revolute:   w_i  = R_i^T w_{i-1} + s_i dq_i
@@ -47,7 +48,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive.dynamics import link_inertial_data
-from symkin.derive.kinematics import Kinematics
+from symkin.derive.kinematics import Kinematics, joint_axis_sign
 from symkin.robot import Link, Robot
 from symkin.spatial import rot_x
 
@@ -186,6 +187,7 @@ def _joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometr
         else:
             twist = sp.Matrix(rot_x(joint.alpha))
             axis, point = twist * Z_AXIS, twist * sp.Matrix([joint.a, 0, 0])
+        axis = joint_axis_sign(joint) * axis
         geometry.append(
             _JointGeometry(
                 revolute=joint.type == "revolute",

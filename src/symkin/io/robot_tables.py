@@ -32,11 +32,12 @@ from symkin.robot import NAME_PATTERN, Joint, Link
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
 
 # Allowed keys per table.  Anything else is an error with a "did you mean" hint.
-JOINT_KEYS = ("type", "name", "theta", "d", "a", "alpha", "limits", "link")
+JOINT_KEYS = ("type", "name", "theta", "d", "a", "alpha", "flip", "limits", "link")
 FRAME_KEYS = ("xyz", "rpy")
 LINK_KEYS = ("mass", "com", "inertia", "motor_inertia", "friction")
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
-FRICTION_KEYS = ("coulomb", "viscous", "stribeck")
+FRICTION_KEYS = ("coulomb", "coulomb_positive", "coulomb_negative", "viscous", "stribeck")
+DIRECTIONAL_KEYS = ("coulomb_positive", "coulomb_negative")
 STRIBECK_KEYS = ("static", "velocity")
 
 JOINT_TYPES = ("revolute", "prismatic")
@@ -138,6 +139,7 @@ def _joint(table: Any, ctx: Context) -> Joint:
         "d": sympy_value(table.get("d", 0), "d", ctx),
         "a": sympy_value(table.get("a", 0), "a", ctx),
         "alpha": sympy_value(table.get("alpha", 0), "alpha", ctx, angle=True),
+        "flip": _flip(table, ctx),
         "limits": _limits(table, kind, ctx),
         "link": _link(table["link"], ctx.within("link")) if "link" in table else None,
     }
@@ -161,6 +163,14 @@ def _joint_name(table: Mapping[str, Any], ctx: Context) -> str | None:
     if not isinstance(name, str) or not NAME_PATTERN.match(name):
         raise ctx.error(f"'name' must match [a-z][a-z0-9_]*, got {show(name)}")
     return name
+
+
+def _flip(table: Mapping[str, Any], ctx: Context) -> bool:
+    """``flip``: true when the joint variable enters the DH table as ``-q`` (default false)."""
+    value = table.get("flip", False)
+    if not isinstance(value, bool):
+        raise ctx.error(f"'flip' must be true or false, got {show(value)}")
+    return value
 
 
 def _limits(table: Mapping[str, Any], kind: str, ctx: Context) -> tuple[float, float] | None:
@@ -300,16 +310,46 @@ def _warn(ctx: Context, message: str) -> None:
 
 
 def _friction(value: Any, ctx: Context) -> dict[str, sp.Expr | None]:
+    """``coulomb``/``viscous``/``stribeck`` as :class:`Link` fields; ``coulomb_positive`` and
+    ``coulomb_negative`` (both, instead of ``coulomb``) give ``coulomb`` and
+    ``coulomb_negative``."""
     table = as_table(value, "friction", ctx)
     inner = ctx.within("friction")
     check_keys(table, FRICTION_KEYS, inner)
     result: dict[str, sp.Expr | None] = {}
-    for key in ("coulomb", "viscous"):
+    for key in ("coulomb", "viscous", *DIRECTIONAL_KEYS):
         result[key] = sympy_value(table.get(key, 0), key, inner)
         _check_not_negative(result[key], key, inner)
+    directional = [key for key in DIRECTIONAL_KEYS if key in table]
+    if directional:
+        _check_directional(table, directional, inner)
+        result["coulomb"] = result["coulomb_positive"]
+    else:
+        result["coulomb_negative"] = None
+    del result["coulomb_positive"]
     if "stribeck" in table:
         result["stribeck_static"], result["stribeck_velocity"] = _stribeck(table["stribeck"], inner)
     return result
+
+
+def _check_directional(table: Mapping[str, Any], given: list[str], ctx: Context) -> None:
+    """Both directional Coulomb keys, and neither ``coulomb`` nor ``stribeck`` beside them."""
+    if len(given) == 1:
+        missing = next(key for key in DIRECTIONAL_KEYS if key not in given)
+        raise ctx.error(
+            f"{ctx.key(given[0])!r} needs {ctx.key(missing)!r} as well "
+            "(or one symmetric 'coulomb' value)"
+        )
+    if "coulomb" in table:
+        raise ctx.error(
+            f"{ctx.key('coulomb')!r} cannot be combined with 'coulomb_positive' and "
+            "'coulomb_negative': give one symmetric value or the two directional ones"
+        )
+    if "stribeck" in table:
+        raise ctx.error(
+            f"{ctx.key('stribeck')!r} needs the symmetric 'coulomb'; it is not defined with "
+            "'coulomb_positive' and 'coulomb_negative'"
+        )
 
 
 def _stribeck(value: Any, ctx: Context) -> tuple[sp.Expr, sp.Expr]:

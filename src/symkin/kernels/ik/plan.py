@@ -67,7 +67,10 @@ def _recognised(
     robot: Robot, overrides: tuple, generic: bool
 ) -> tuple[ClosedFormPlan, Solver] | None:
     """The plan of the first family that accepts the robot's numeric table, with its solver
-    at those numbers, or None."""
+    at those numbers, or None.  The families' formulas take ``theta_i = q_i + offset``: a
+    robot with a flipped joint is left to the numeric solver."""
+    if any(joint.flip for joint in robot.joints):
+        return None
     numbers = parameter_numbers(robot, dict(overrides), generic)
     chain = symbolic_chain(robot).at(numbers)
     for recognise, _, solver_type in FAMILIES.values():
