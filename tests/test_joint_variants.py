@@ -303,16 +303,19 @@ def test_symmetric_friction_keeps_its_expression():
     assert friction_torque(link, v) == coulomb * sp.sign(v) + link.viscous * v
 
 
-def _call(module_or_lib, kernel, state: dict[str, np.ndarray], c_name: str | None = None):
-    """A generated kernel's output: NumPy (positional inputs) or C through ctypes.  The robot
-    has no parameters: its C functions take no ``p`` and NumPy's defaults to none."""
+def _call(backend: str, module, kernel, state: dict[str, np.ndarray]) -> np.ndarray:
+    """A generated kernel's output from NumPy, C (ctypes) or CasADi.  The robot has no
+    parameters: its C functions take no ``p``, NumPy's defaults to none, CasADi takes ``[]``."""
     names = [i.name for i in kernel.inputs if i.name != "p"]
     arrays = [np.ascontiguousarray(state[name], dtype=float) for name in names]
-    if c_name is None:
-        return np.asarray(getattr(module_or_lib, kernel.name)(*arrays), dtype=float)
     (output,) = kernel.outputs
+    if backend == "numpy":
+        return np.asarray(getattr(module, kernel.name)(*arrays), dtype=float)
+    if backend == "casadi":
+        result = getattr(module, f"{kernel.name}_function")()(*arrays, [])
+        return np.array(result.full()).reshape(output.shape)
     out = np.full(output.size + 4, np.nan)
-    function_ = getattr(module_or_lib, c_name)
+    function_ = getattr(module, f"variants_{kernel.name}")
     function_.restype = None
     function_.argtypes = [ctypes.c_void_p] * (len(arrays) + 1)
     function_(*[a.ctypes.data_as(ctypes.c_void_p) for a in arrays], out.ctypes.data)
@@ -321,40 +324,38 @@ def _call(module_or_lib, kernel, state: dict[str, np.ndarray], c_name: str | Non
 
 
 @pytest.mark.needs_cc
-def test_generated_numpy_and_c_follow_flip_and_directional_friction(tmp_path):
+def test_generated_code_follows_flip_and_directional_friction(tmp_path):
     robot = robot_from_toml(arm_text(friction=DIRECTIONAL, name="variants"), "variants.toml")
     model = symkin.derive(robot)
-    write_tree(tmp_path, files_for_robot(robot, ("numpy", "c")))
+    write_tree(tmp_path, files_for_robot(robot, ("numpy", "c", "casadi")))
     builds = run_parallel(
         {"so": [CC, *STRICT, *SHARED, "-o", "libvariants.so", "c/variants.c", "-lm"]},
         cwd=tmp_path,
     )
     builds["so"].check()
-    lib = ctypes.CDLL(str(tmp_path / "libvariants.so"))
-    numpy_module = import_path("variants_numpy", tmp_path / "numpy" / "variants_kinematics.py")
+    backends = {
+        "numpy": import_path("variants_numpy", tmp_path / "numpy" / "variants_kinematics.py"),
+        "C": ctypes.CDLL(str(tmp_path / "libvariants.so")),
+        "casadi": import_path("variants_casadi", tmp_path / "casadi" / "variants_casadi.py"),
+    }
     kernels = {k.name: k for k in (*kinematics_kernels(model), *dynamics_kernels(model))}
     ne = model.newton_euler
     tau = function(model, ne.inverse_dynamics, ne.assignments)
+    plain = symkin.derive(robot_from_toml(arm_text(), "arm.toml"))
+    tau_plain = function(plain, plain.newton_euler.inverse_dynamics, plain.newton_euler.assignments)
     q, _, ddq = random_state(11)
     for rates in FRICTION_RATES:
         state = {"q": q, "dq": np.array(rates), "ddq": ddq}
         expected = {"fk": hand_fk(q, "standard"), "inverse_dynamics": tau(q, state["dq"], ddq)}
-        for name, value in expected.items():
-            kernel = kernels[name]
-            value = value.reshape(kernel.outputs[0].shape)
-            for backend, c_name in (("numpy", None), ("C", f"variants_{name}")):
-                module = numpy_module if c_name is None else lib
-                actual = _call(module, kernel, state, c_name).reshape(value.shape)
+        for backend, module in backends.items():
+            for name, value in expected.items():
+                kernel = kernels[name]
+                actual = _call(backend, module, kernel, state).reshape(value.shape)
                 np.testing.assert_allclose(actual, value, atol=1e-12, err_msg=f"{backend} {name}")
-    # The friction inside the generated torque is the hand law: compare with friction removed.
-    plain = symkin.derive(robot_from_toml(arm_text(), "arm.toml"))
-    tau_plain = function(plain, plain.newton_euler.inverse_dynamics, plain.newton_euler.assignments)
-    for rates in FRICTION_RATES:
-        state = {"q": q, "dq": np.array(rates), "ddq": ddq}
-        kernel = kernels["inverse_dynamics"]
-        generated = _call(lib, kernel, state, "variants_inverse_dynamics").ravel()
-        added = generated - tau_plain(q, state["dq"], ddq).ravel()
-        np.testing.assert_allclose(added, hand_friction(state["dq"]), atol=1e-12)
+            # The friction inside the generated torque is the hand law.
+            generated = _call(backend, module, kernels["inverse_dynamics"], state).ravel()
+            added = generated - tau_plain(q, state["dq"], ddq).ravel()
+            np.testing.assert_allclose(added, hand_friction(state["dq"]), atol=1e-12)
 
 
 # ------------------------------------------------------------------------- errors

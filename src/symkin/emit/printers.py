@@ -82,6 +82,11 @@ class CasadiPrinter(PythonCodePrinter):
             return f"casadi.{name}"
         return super()._module_format(fqn, register)
 
+    def _print_sign(self, expr: sp.Expr) -> str:
+        # Python's printer tests ``x == 0`` in an if-expression, which a symbolic SX cannot
+        # answer; casadi.sign is -1, 0, 1 like SymPy's sign (Coulomb friction).
+        return f"casadi.sign({self._print(expr.args[0])})"
+
 
 @lru_cache(maxsize=4)
 def _c_printer(precision: str) -> EmbeddedCPrinter:
