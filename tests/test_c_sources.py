@@ -30,7 +30,8 @@ from codegen_helpers import CC, CONVERSION, ROOT, SANITIZE, STRICT, run_parallel
 from symkin.emit.c_library import PARTS, library_files
 from symkin.emit.render import render
 
-pytestmark = pytest.mark.needs_cc
+# Every source built with sanitizers in two precisions: seconds, so in the slow tier.
+pytestmark = [pytest.mark.needs_cc, pytest.mark.slow]
 
 LIB = ROOT / "templates" / "c" / "lib"
 SOURCES = [f"symkin_{part}.c" for part in PARTS]

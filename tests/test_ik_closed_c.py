@@ -59,7 +59,7 @@ CATALOGUE = (
     "ur5",
 )
 
-pytestmark = pytest.mark.needs_cc
+pytestmark = [pytest.mark.needs_cc, pytest.mark.slow]  # builds every family in C
 ROBOTS = (*CATALOGUE, *HAND)
 TOLERANCE = 1e-9  # double: FK of a solution vs. the target (m over size, rotation entries, rad)
 FLOAT_TOLERANCE = 1e-4
@@ -257,6 +257,7 @@ def test_generic_six_joint_poses_have_every_branch(built, name):
     assert seen == {key for key in BRANCH_BITS if key[0] in flags and key[1] != "singular"}
 
 
+@pytest.mark.slow
 def test_solutions_outside_the_limits_are_flagged(built):
     """Stanford arm: the backward reach needs a negative stroke, outside [0.3048, 1.27] m."""
     _, poses = targets("stanford", 5, seed=3)

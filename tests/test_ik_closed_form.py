@@ -397,6 +397,7 @@ def test_solutions_reach_the_target_and_include_the_original_pose(name: str) -> 
                 assert in_range or (limit is not None and limit[0] <= angle <= limit[1])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", CLOSED)
 def test_a_multistart_numeric_solve_finds_no_other_branch(name: str) -> None:
     rng = np.random.default_rng(5)

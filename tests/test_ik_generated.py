@@ -44,7 +44,7 @@ from symkin.solve.ik.batch import pose_errors, solve_ik_batch
 from symkin.solve.ik.casadi_ik import solve_ik_casadi
 from symkin.solve.ik.numeric import solve_ik
 
-pytestmark = pytest.mark.needs_cc
+pytestmark = [pytest.mark.needs_cc, pytest.mark.slow]  # C and NumPy IK on many poses
 
 TOLERANCE = 1e-9  # the success criterion, in m and rad
 FLOAT_TOLERANCE = 3e-5  # float solver stops at 1e-5; its float FK differs from ours by ~1e-6

@@ -77,6 +77,7 @@ def test_position_jacobian_matches_finite_differences(name: str) -> None:
         np.testing.assert_allclose(jacobian(q), expected, rtol=0, atol=FD_TOL)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", CHEAP)
 def test_tool_frame_jacobian_is_rotated_base_jacobian(name: str) -> None:
     jacobian = function(name, model(name).geometric_jacobian_tool)

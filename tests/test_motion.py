@@ -69,6 +69,7 @@ def test_point_motion_matches_time_differences(
         np.testing.assert_allclose(result[:, 2], acceleration, rtol=0, atol=ACCELERATION_TOL)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "name", ["planar_2r", "planar_3r", "scara", "rpr", "stanford", "ur5", "hand_modified"]
 )

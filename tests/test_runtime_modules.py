@@ -23,6 +23,7 @@ def test_the_same_code_is_one_file_and_other_code_another():
     assert not [p for p in os.listdir(os.path.dirname(first.__file__)) if p.endswith(".tmp")]
 
 
+@pytest.mark.slow
 def test_threads_loading_the_same_code_never_see_a_half_written_file():
     # A long source makes a torn write likely if writers shared a staging file.
     source = "".join(f"c{i} = {i}\n" for i in range(20000)) + "total = c19999\n"

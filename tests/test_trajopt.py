@@ -33,6 +33,9 @@ from symkin.solve.trajopt import (
     radau_coefficients,
 )
 
+# IPOPT solves and re-simulations: the slow tier.
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 ARM = ROOT / "examples" / "arm_2r.toml"
 DEG = math.pi / 180
