@@ -38,7 +38,7 @@ lint: $(TEST_STAMP)
 test: $(TEST_STAMP)
 	sh scripts/install-latex.sh
 	$(MAKE) --no-print-directory lint
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2 --dist loadfile
 
 test-fast: $(TEST_STAMP)
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "$(FAST)"
