@@ -448,6 +448,11 @@ def median_of(samples: list[Sample], what: str) -> float | None:
     return statistics.median(values) if values else None
 
 
+def _limit(samples: list[Sample]) -> float:
+    """The limit the timed-out samples reached."""
+    return next(s.timeout for s in samples if s.timeout is not None)
+
+
 def _number(value: float, what: str) -> str:
     if what == "rnea":
         return f"{value * 1e6:.2f}"
@@ -466,7 +471,7 @@ def cell(results: Results, key: tuple, what: str = "seconds") -> str:
     if value is None:
         return samples[-1].error or "—"
     if math.isinf(value):
-        return "—" if what == "rss_mb" else f"> {samples[0].timeout or 0:g} s (timeout)"
+        return "—" if what == "rss_mb" else f"> {_limit(samples):g} s (timeout)"
     text = _number(value, what)
     if timeouts:
         text += f" ({timeouts} of {len(samples)} timed out)"
@@ -487,8 +492,7 @@ def ratio(results: Results, peer: tuple, ours: tuple) -> str:
     if theirs is None or mine is None or mine <= 0 or math.isinf(mine):
         return "—"
     if math.isinf(theirs):
-        limit = results.samples[peer][0].timeout or 0
-        return f"> {limit / mine:.1f}×"
+        return f"> {_limit(results.samples[peer]) / mine:.1f}×"
     return f"{theirs / mine:.2f}×" if theirs / mine < 10 else f"{theirs / mine:.0f}×"
 
 
