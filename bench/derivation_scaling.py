@@ -20,7 +20,8 @@ so that load on the shared machine falls on both alike:
 * SymPyBotics, from a checkout given by ``--sympybotics DIR`` (it is not on PyPI; without it
   the columns say "not run"): tau (geometry, Newton–Euler with its incremental CSE, the C
   function printed) and its full set (``RobotDynCode``: tau, g, c, C, M and the regressor, each
-  printed as C), on the same DH table;
+  printed as C), on the same DH table; afterwards its last-link pose is checked against the
+  numeric DH product (``tests/numeric_dh.py``);
 * Pinocchio's ``rnea`` per call from Python, the model built with Pinocchio's API from the
   same DH table and inertial data (``tests/test_dynamics_oracles.pinocchio_model``), checked
   first against the inverse dynamics of the NumPy module the cold run wrote.
@@ -166,9 +167,40 @@ def _child_sympybotics(kind: str, source: str, directory: str) -> dict:
         to_c("C", collector.get(dynamics.invdyn), "tau_out", "tau", definition)
     else:
         model = sympybotics.RobotDynCode(definition)
+        geometry = model.geo
         for name in ("invdyn", "g", "c", "C", "M", "H"):
             to_c("C", getattr(model, f"{name}_code"), f"{name}_out", name, definition)
-    return {"seconds": CLOCK() - start}
+    seconds = CLOCK() - start
+    return {"seconds": seconds, "checked": _sympybotics_pose_error(source, definition, geometry)}
+
+
+def _sympybotics_pose_error(source: str, definition, geometry) -> float:
+    """Largest difference of SymPyBotics' last-link pose and the numeric DH product of the
+    robot's table (``tests/numeric_dh.py``) at three random configurations: the same arm?"""
+    import numpy as np
+    import sympy
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from numeric_dh import modified_dh, standard_dh
+
+    robot = _load(source)
+    values = {s: robot.parameter_values()[s.name] for s in robot.parameter_symbols}
+    link = modified_dh if robot.convention == "modified" else standard_dh
+    rng, worst = np.random.default_rng(17), 0.0
+    for _ in range(3):
+        q = rng.uniform(-math.pi, math.pi, robot.dof)
+        pose = np.eye(4)
+        for joint, angle in zip(robot.joints, q, strict=True):
+            d, a, alpha, theta = (float(sympy.sympify(v).subs(values)) for v in
+                                  (joint.d, joint.a, joint.alpha, joint.theta))  # fmt: skip
+            pose = pose @ link(theta + (-angle if getattr(joint, "flip", False) else angle),
+                               d, a, alpha)  # fmt: skip
+        theirs = geometry.T[-1].subs(dict(zip(definition.q, q, strict=True)))
+        # SymPyBotics makes its own symbols from the names: substitute by name.
+        by_name = {s.name: v for s, v in values.items()}
+        theirs = theirs.subs({s: by_name[s.name] for s in theirs.free_symbols}).evalf()
+        worst = max(worst, float(np.abs(np.array(theirs, dtype=float) - pose).max()))
+    return worst
 
 
 def _generated_inverse_dynamics(out: Path, name: str):
@@ -623,8 +655,25 @@ def phase_lines(results: Results, keys: list[tuple]) -> list[str]:
     return lines
 
 
+# The same-arm checks the children make before (Pinocchio) or after (SymPyBotics) timing.
+CHECKS = (
+    (
+        ("pin",),
+        "- Pinocchio's torques matched the inverse dynamics of symkin's generated NumPy module "
+        "on 10 random states in each of {count} runs: largest difference {worst:.0e} of the "
+        "largest torque.",
+    ),
+    (
+        PEER_KINDS,
+        "- SymPyBotics' last-link pose matched the numeric product of the DH table "
+        "(`tests/numeric_dh.py`) at 3 random configurations in each of {count} runs: largest "
+        "difference {worst:.0e}.",
+    ),
+)
+
+
 def notes(results: Results) -> list[str]:
-    """Why cells say "not run", and how well Pinocchio's torques matched symkin's."""
+    """Why cells say "not run", and the same-arm checks of the peers."""
     names = dict(KINDS)
     reasons: dict[tuple[str, str], dict[str, list[str]]] = {}
     for (group, which, kind), reason in results.not_run.items():
@@ -634,19 +683,16 @@ def notes(results: Results) -> list[str]:
         + "; ".join(f"{group} {', '.join(which)}" for group, which in groups.items())
         for (kind, reason), groups in reasons.items()
     ]
-    checks = [
-        s.result["checked"]
-        for key, samples in results.samples.items()
-        if key[2] == "pin"
-        for s in samples
-        if s.result.get("checked") is not None
-    ]
-    if checks:
-        lines.append(
-            "- Pinocchio's torques matched the inverse dynamics of symkin's generated NumPy "
-            f"module on 10 states of each arm checked ({len(checks)}): largest difference "
-            f"{max(checks):.0e} of the largest torque."
-        )
+    for kinds, text in CHECKS:
+        checks = [
+            s.result["checked"]
+            for key, samples in results.samples.items()
+            if key[2] in kinds
+            for s in samples
+            if s.result.get("checked") is not None
+        ]
+        if checks:
+            lines.append(text.format(count=len(checks), worst=max(checks)))
     return lines
 
 
