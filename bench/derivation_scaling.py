@@ -42,28 +42,25 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import math
 import os
-import platform
-import re
 import resource
 import shutil
 import signal
-import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from codegen_speed import write_docs
-from derivation_time import CLOCK, cpu_model, seconds_text, version
 from random_arms import LENGTH_CHOICES, TWIST_CHOICES, jaco_like_toml, random_arm_toml
+from scaling_children import PEER_KINDS
+from scaling_report import KINDS, Arm, Results, Sample, key_of, render
 
 ROOT = Path(__file__).resolve().parent.parent
+CHILDREN = ROOT / "bench" / "scaling_children.py"
 DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN = "<!-- derivation-scaling:begin -->"
 END = "<!-- derivation-scaling:end -->"
@@ -72,207 +69,13 @@ QUICK_SIZES = (2, 4, 6)
 # Named arms: (catalogue name or "jaco_like", joints).
 NAMED = (("puma560", 6), ("panda", 7), ("jaco_like", 6))
 WALL_FACTOR = 4  # wall-time backstop = WALL_FACTOR x the CPU limit + 60 s (2 shared cores)
-RNEA_STATES = 1000  # distinct states one timing pass of Pinocchio's rnea walks through
-RNEA_PASSES = 5
-CHECK_TOLERANCE = 1e-8  # Pinocchio vs symkin torques, relative to the largest torque
-
-# What one round measures, in order: (key, column heading).
-KINDS = (
-    ("cold", "derive cold"),
-    ("warm", "derive warm"),
-    ("fkj", "FK + J"),
-    ("tau", "tau"),
-    ("full", "full dynamics"),
-    ("sb-tau", "SymPyBotics tau"),
-    ("sb-full", "SymPyBotics full set"),
-    ("pin", "Pinocchio rnea"),
-)
-PEER_KINDS = ("sb-tau", "sb-full")
 
 
 def _progress(text: str) -> None:
     print(text, file=sys.stderr, flush=True)
 
 
-# --------------------------------------------------------------------------- children
-# A child prints one JSON object on the last line of its stdout.
-
-
-def _load(source: str, symbolic_inertia: bool = False):
-    """The robot (catalogue name or file), optionally without its link data."""
-    import dataclasses
-    import warnings
-
-    import symkin
-    from symkin.errors import RobotWarning
-
-    with warnings.catch_warnings():  # the PUMA's documented triangle-inequality warning
-        warnings.simplefilter("ignore", RobotWarning)
-        robot = symkin.load_robot(source)
-    if symbolic_inertia:
-        joints = tuple(dataclasses.replace(j, link=None) for j in robot.joints)
-        robot = dataclasses.replace(robot, joints=joints)
-    return robot
-
-
-def _child_fkj(source: str) -> dict:
-    import symkin
-
-    robot = _load(source)
-    start = CLOCK()
-    model = symkin.derive(robot)
-    model.forward_kinematics  # noqa: B018 - cached properties: reading them derives them
-    model.geometric_jacobian  # noqa: B018
-    return {"seconds": CLOCK() - start}
-
-
-def _child_dynamics(kind: str, source: str) -> dict:
-    from dynamics_speed import _child_full, _child_tau
-
-    robot = _load(source, symbolic_inertia=True)
-    return (_child_tau if kind == "tau" else _child_full)(robot)
-
-
-def _sympybotics_definition(source: str):
-    """SymPyBotics' ``RobotDef`` of the robot's DH table (alpha, a, d, theta per joint)."""
-    import sympy
-    import sympybotics
-
-    robot = _load(source)
-    rows = []
-    for joint in robot.joints:
-        if joint.type != "revolute":
-            raise SystemExit(f"{source}: SymPyBotics rows here are revolute only")
-        angle = "-q" if getattr(joint, "flip", False) else "q"
-        rows.append((str(joint.alpha), str(joint.a), str(joint.d), f"{angle} + ({joint.theta})"))
-    definition = sympybotics.RobotDef(robot.name, rows, dh_convention=robot.convention)
-    definition.frictionmodel = None
-    definition.gravityacc = sympy.Matrix([float(g) for g in robot.gravity])
-    return definition
-
-
-def _child_sympybotics(kind: str, source: str, directory: str) -> dict:
-    sys.path.insert(0, directory)
-    import sympybotics
-    from sympybotics.symcode import Subexprs
-
-    definition = _sympybotics_definition(source)
-    to_c = sympybotics.robot_code_to_func
-    start = CLOCK()
-    if kind == "sb-tau":  # what RobotDynCode does for tau, alone
-        geometry = sympybotics.Geometry(definition)
-        dynamics = sympybotics.Dynamics(definition, geometry)
-        collector = Subexprs()
-        dynamics.gen_invdyn(collector.collect)
-        to_c("C", collector.get(dynamics.invdyn), "tau_out", "tau", definition)
-    else:
-        model = sympybotics.RobotDynCode(definition)
-        geometry = model.geo
-        for name in ("invdyn", "g", "c", "C", "M", "H"):
-            to_c("C", getattr(model, f"{name}_code"), f"{name}_out", name, definition)
-    seconds = CLOCK() - start
-    return {"seconds": seconds, "checked": _sympybotics_pose_error(source, definition, geometry)}
-
-
-def _sympybotics_pose_error(source: str, definition, geometry) -> float:
-    """Largest difference of SymPyBotics' last-link pose and the numeric DH product of the
-    robot's table (``tests/numeric_dh.py``) at three random configurations: the same arm?"""
-    import numpy as np
-    import sympy
-
-    sys.path.insert(0, str(ROOT / "tests"))
-    from numeric_dh import modified_dh, standard_dh
-
-    robot = _load(source)
-    values = {s: robot.parameter_values()[s.name] for s in robot.parameter_symbols}
-    link = modified_dh if robot.convention == "modified" else standard_dh
-    rng, worst = np.random.default_rng(17), 0.0
-    for _ in range(3):
-        q = rng.uniform(-math.pi, math.pi, robot.dof)
-        pose = np.eye(4)
-        for joint, angle in zip(robot.joints, q, strict=True):
-            d, a, alpha, theta = (float(sympy.sympify(v).subs(values)) for v in
-                                  (joint.d, joint.a, joint.alpha, joint.theta))  # fmt: skip
-            pose = pose @ link(theta + (-angle if getattr(joint, "flip", False) else angle),
-                               d, a, alpha)  # fmt: skip
-        theirs = geometry.T[-1].subs(dict(zip(definition.q, q, strict=True)))
-        # SymPyBotics makes its own symbols from the names: substitute by name.
-        by_name = {s.name: v for s, v in values.items()}
-        theirs = theirs.subs({s: by_name[s.name] for s in theirs.free_symbols}).evalf()
-        worst = max(worst, float(np.abs(np.array(theirs, dtype=float) - pose).max()))
-    return worst
-
-
-def _generated_inverse_dynamics(out: Path, name: str):
-    from codegen_speed import load_module
-
-    return load_module(out / "numpy" / f"{name}_kinematics.py").inverse_dynamics
-
-
-def _child_pinocchio(source: str, out: str) -> dict:
-    import numpy as np
-
-    sys.path.insert(0, str(ROOT / "tests"))
-    from test_dynamics_oracles import pinocchio_model
-
-    robot = _load(source)
-    if any(j.link is None for j in robot.joints):
-        return {"error": "no inertial data"}
-    pin, model = pinocchio_model(robot)
-    data = model.createData()
-    rng = np.random.default_rng(15)
-    n = robot.dof
-    q, dq, ddq = (rng.uniform(-r, r, (RNEA_STATES, n)) for r in (math.pi, 2.0, 5.0))
-    rotor = np.array([float(j.link.motor_inertia or 0) for j in robot.joints])
-    worst = None
-    if out and (Path(out) / "numpy").is_dir():  # the same arm as symkin's? (before timing)
-        ours = _generated_inverse_dynamics(Path(out), robot.name)
-        worst = 0.0
-        for i in range(10):
-            theirs = pin.rnea(model, data, q[i], dq[i], ddq[i]) + rotor * ddq[i]
-            mine = np.asarray(ours(q[i], dq[i], ddq[i]), dtype=float).ravel()
-            scale = max(1.0, float(np.abs(theirs).max()))
-            worst = max(worst, float(np.abs(mine - theirs).max()) / scale)
-        if worst > CHECK_TOLERANCE:
-            return {"error": f"disagrees with symkin's tau by {worst:.1e} (relative)"}
-    rnea, passes = pin.rnea, []
-    for _ in range(RNEA_PASSES):
-        start = CLOCK()
-        for i in range(RNEA_STATES):
-            rnea(model, data, q[i], dq[i], ddq[i])
-        passes.append((CLOCK() - start) / RNEA_STATES)
-    return {"seconds": statistics.median(passes), "checked": worst}
-
-
-def _child(argv: list[str]) -> None:
-    kind, source, extra = argv[0], argv[1], argv[2]
-    if kind == "fkj":
-        result = _child_fkj(source)
-    elif kind in ("tau", "full"):
-        result = _child_dynamics(kind, source)
-    elif kind in PEER_KINDS:
-        result = _child_sympybotics(kind, source, extra)
-    elif kind == "pin":
-        result = _child_pinocchio(source, extra)
-    else:
-        raise SystemExit(f"unknown child kind {kind!r}")
-    print(json.dumps(result))
-
-
 # --------------------------------------------------------------------------- processes
-
-
-@dataclass
-class Sample:
-    """One process: wall and CPU seconds, peak RSS, the child's JSON, or why it has none."""
-
-    wall: float | None = None
-    cpu: float | None = None
-    rss_mb: float | None = None
-    result: dict = field(default_factory=dict)
-    stderr: str = ""
-    timeout: float | None = None  # the limit it reached
-    error: str | None = None
 
 
 def _cpu_seconds(pid: int) -> float:
@@ -312,7 +115,11 @@ def run_process(command: list[str], limit: float, env: dict[str, str]) -> Sample
         process = subprocess.Popen(
             command, stdout=out, stderr=err, env=env, cwd=ROOT, start_new_session=True
         )
-        status, usage, killed = _reap(process.pid, limit, start + WALL_FACTOR * limit + 60)
+        try:
+            status, usage, killed = _reap(process.pid, limit, start + WALL_FACTOR * limit + 60)
+        except BaseException:  # interrupted: leave no child running
+            os.killpg(process.pid, signal.SIGKILL)
+            raise
         wall = time.perf_counter() - start
         process.returncode = code = os.waitstatus_to_exitcode(status)  # reaped here, not by Popen
         out.seek(0)
@@ -353,17 +160,6 @@ def cli_options() -> set[str]:
 # --------------------------------------------------------------------------- one round
 
 
-@dataclass(frozen=True)
-class Arm:
-    """A robot to measure: ``group`` is "twists/lengths" for random arms, "named" otherwise."""
-
-    label: str
-    group: str
-    joints: int
-    source: str  # catalogue name or path of a robot file
-    seed: int = 0
-
-
 @dataclass
 class Settings:
     timeout: float
@@ -373,29 +169,9 @@ class Settings:
     budget_end: float | None = None
 
 
-@dataclass
-class Results:
-    """Samples by (group, joints or label, kind), and which measurements stopped at a size."""
-
-    samples: dict[tuple[str, object, str], list[Sample]] = field(default_factory=dict)
-    stopped: dict[tuple[str, str], int] = field(default_factory=dict)  # -> joints that timed out
-    not_run: dict[tuple[str, object, str], str] = field(default_factory=dict)
-
-    def add(self, arm: Arm, kind: str, sample: Sample) -> None:
-        self.samples.setdefault(_key(arm, kind), []).append(sample)
-        if sample.timeout is not None and arm.group != "named":
-            previous = self.stopped.get((arm.group, kind), arm.joints)
-            self.stopped[(arm.group, kind)] = min(previous, arm.joints)
-
-
-def _key(arm: Arm, kind: str) -> tuple[str, object, str]:
-    return (arm.group, arm.label if arm.group == "named" else arm.joints, kind)
-
-
 def _env(cache: Path) -> dict[str, str]:
-    """The environment of every child: its own cache directory, this script's imports."""
-    path = os.pathsep.join(p for p in (os.environ.get("PYTHONPATH"), str(ROOT / "bench")) if p)
-    return dict(os.environ, XDG_CACHE_HOME=str(cache), PYTHONPATH=path)
+    """The environment of every child: its own, empty cache directory."""
+    return dict(os.environ, XDG_CACHE_HOME=str(cache))
 
 
 def _derive(arm: Arm, settings: Settings, cache: Path, out: Path, verbose: bool) -> Sample:
@@ -410,7 +186,7 @@ def _derive(arm: Arm, settings: Settings, cache: Path, out: Path, verbose: bool)
 
 def _child_sample(arm: Arm, kind: str, settings: Settings, extra: str) -> Sample:
     cache = Path(tempfile.mkdtemp(dir=settings.workdir, prefix="cache-"))
-    command = [sys.executable, str(Path(__file__).resolve()), "--child", kind, arm.source, extra]
+    command = [sys.executable, str(CHILDREN), kind, arm.source, extra]
     return run_process(command, settings.timeout, _env(cache))
 
 
@@ -420,7 +196,7 @@ def _why_not(arm: Arm, kind: str, settings: Settings, results: Results) -> str |
     stopped = results.stopped.get((arm.group, kind))
     if stopped is not None and arm.joints > stopped:
         return f"timed out at {stopped} joints"
-    cold = results.samples.get(_key(arm, "cold"), [None])[-1]
+    cold = results.samples.get(key_of(arm, "cold"), [None])[-1]
     if kind == "warm" and (cold is None or cold.timeout is not None):
         return "the cold run did not finish, so there is no warm cache"
     if settings.budget_end is not None and time.perf_counter() > settings.budget_end:
@@ -430,16 +206,15 @@ def _why_not(arm: Arm, kind: str, settings: Settings, results: Results) -> str |
 
 def measure_arm(arm: Arm, settings: Settings, results: Results) -> None:
     """One round: every measurement of ``arm``, one process after another."""
-    tag = arm.label.replace(" ", "_").replace("#", "s")
-    cache = settings.workdir / f"cache-{tag}"
-    out = settings.workdir / f"out-{tag}"
+    folder = Path(tempfile.mkdtemp(dir=settings.workdir, prefix="round-"))
+    cache, out = folder / "cache", folder / "cold"  # a fresh, empty cache every round
     for kind, _ in KINDS:
         reason = _why_not(arm, kind, settings, results)
         if reason is not None:
-            results.not_run[_key(arm, kind)] = reason
+            results.not_run[key_of(arm, kind)] = reason
             continue
         if kind in ("cold", "warm"):
-            target = out if kind == "cold" else settings.workdir / f"out-{tag}-warm"
+            target = out if kind == "cold" else folder / "warm"
             sample = _derive(arm, settings, cache, target, verbose=kind == "cold")
         elif kind in PEER_KINDS:
             sample = _child_sample(arm, kind, settings, str(settings.sympybotics))
@@ -461,290 +236,13 @@ def _sample_text(kind: str, sample: Sample) -> str:
     return f"{sample.result['seconds']:.3f} s"
 
 
-# --------------------------------------------------------------------------- table
-
-
-def _values(samples: list[Sample], what: str) -> list[float]:
-    """One number per sample; a timeout counts as infinitely long, an error not at all."""
-    values = []
-    for s in samples:
-        if s.timeout is not None:
-            values.append(math.inf)
-        elif s.error is None and (what in ("wall", "cpu", "rss_mb") or "seconds" in s.result):
-            values.append(getattr(s, what) if what != "seconds" else s.result["seconds"])
-    return values
-
-
-def median_of(samples: list[Sample], what: str) -> float | None:
-    values = _values(samples, what)
-    return statistics.median(values) if values else None
-
-
-def _limit(samples: list[Sample]) -> float:
-    """The limit the timed-out samples reached."""
-    return next(s.timeout for s in samples if s.timeout is not None)
-
-
-def _number(value: float, what: str) -> str:
-    if what == "rnea":
-        return f"{value * 1e6:.2f}"
-    if what == "rss_mb":
-        return f"{value:.0f}"
-    return seconds_text(value)
-
-
-def cell(results: Results, key: tuple, what: str = "seconds") -> str:
-    """Median over the seeds, "> T s (timeout)", the error, or why it was not run."""
-    samples = results.samples.get(key, [])
-    if not samples:
-        return "not run" if key in results.not_run else "—"
-    value = median_of(samples, "seconds" if what == "rnea" else what)
-    timeouts = sum(s.timeout is not None for s in samples)
-    if value is None:
-        return samples[-1].error or "—"
-    if math.isinf(value):
-        return "—" if what == "rss_mb" else f"> {_limit(samples):g} s (timeout)"
-    text = _number(value, what)
-    if timeouts:
-        text += f" ({timeouts} of {len(samples)} timed out)"
-    return text
-
-
-def pair_cell(results: Results, key: tuple) -> str:
-    """``wall (CPU)`` of a ``symkin derive`` run."""
-    wall = cell(results, key, "wall")
-    if not results.samples.get(key) or median_of(results.samples[key], "wall") in (None, math.inf):
-        return wall
-    return f"{wall} ({cell(results, key, 'cpu')})"
-
-
-def ratio(results: Results, peer: tuple, ours: tuple) -> str:
-    """Peer median / symkin median (how many times longer the peer takes)."""
-    theirs, mine = (median_of(results.samples.get(k, []), "seconds") for k in (peer, ours))
-    if theirs is None or mine is None or mine <= 0 or math.isinf(mine):
-        return "—"
-    if math.isinf(theirs):
-        return f"> {_limit(results.samples[peer]) / mine:.1f}×"
-    return f"{theirs / mine:.2f}×" if theirs / mine < 10 else f"{theirs / mine:.0f}×"
-
-
-COLUMNS = (
-    "derive cold, wall (CPU) [s]",
-    "derive warm, wall (CPU) [s]",
-    "peak RSS cold [MB]",
-    "FK + J [s]",
-    "tau [s]",
-    "full dynamics [s]",
-    "SymPyBotics tau [s]",
-    "SymPyBotics full set [s]",
-    "tau: SymPyBotics / symkin",
-    "full: SymPyBotics / symkin",
-    "Pinocchio rnea [µs/call]",
-)
-
-
-def row_cells(results: Results, group: str, which: object) -> list[str]:
-    def k(kind: str) -> tuple:
-        return (group, which, kind)
-
-    return [
-        pair_cell(results, k("cold")),
-        pair_cell(results, k("warm")),
-        cell(results, k("cold"), "rss_mb"),
-        cell(results, k("fkj")),
-        cell(results, k("tau")),
-        cell(results, k("full")),
-        cell(results, k("sb-tau")),
-        cell(results, k("sb-full")),
-        ratio(results, k("sb-tau"), k("tau")),
-        ratio(results, k("sb-full"), k("full")),
-        cell(results, k("pin"), "rnea"),
-    ]
-
-
-def growth_exponent(points: list[tuple[int, float]]) -> str:
-    """Least-squares slope of log(time) over log(joints): time ~ joints^k."""
-    points = [(n, t) for n, t in points if t is not None and 0 < t < math.inf]
-    if len(points) < 3:
-        return "—"
-    xs, ys = [math.log(n) for n, _ in points], [math.log(t) for _, t in points]
-    mx, my = statistics.fmean(xs), statistics.fmean(ys)
-    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys, strict=True))
-    slope /= sum((x - mx) ** 2 for x in xs)
-    return f"n^{slope:.1f}"
-
-
-def growth_row(results: Results, group: str, sizes: list[int]) -> list[str]:
-    def fit(kind: str, what: str = "seconds") -> str:
-        medians = [(n, median_of(results.samples.get((group, n, kind), []), what)) for n in sizes]
-        return growth_exponent(medians)
-
-    kinds = ("fkj", "tau", "full", "sb-tau", "sb-full")
-    return [fit("cold", "cpu"), fit("warm", "cpu"), "", *(fit(kind) for kind in kinds), "", "", ""]
-
-
-def _table(header: str, rows: list[list[str]]) -> list[str]:
-    return [
-        f"| {header} | " + " | ".join(COLUMNS) + " |",
-        "| --- | " + " | ".join("---:" for _ in COLUMNS) + " |",
-        *("| " + " | ".join(row) + " |" for row in rows),
-    ]
-
-
-def targets(results: Results, groups: list[str]) -> list[str]:
-    """The issue's targets for ``symkin derive``, judged on median CPU time."""
-    lines = []
-    for n, limit in ((6, 10.0), (7, 20.0), (12, 120.0)):
-        for group in groups:
-            samples = results.samples.get((group, n, "cold"), [])
-            value = median_of(samples, "cpu")
-            if value is None:
-                continue
-            verdict = "met" if value < limit else "NOT met"
-            shown = "timeout" if math.isinf(value) else f"{seconds_text(value)} s CPU"
-            lines.append(f"- {n} joints, {group}: cold < {limit:g} s: {shown}, {verdict}")
-    warm = [
-        (median_of(s, "cpu"), key)
-        for key, s in results.samples.items()
-        if key[2] == "warm" and median_of(s, "cpu") is not None
-    ]
-    if warm:
-        slowest, key = max(warm, key=lambda item: item[0])
-        verdict = "met" if slowest < 1.0 else "NOT met"
-        shown = "timeout" if math.isinf(slowest) else f"{seconds_text(slowest)} s CPU"
-        lines.append(
-            f"- warm command < 1 s: slowest median {shown} ({key[0]}, {key[1]}), {verdict}"
-        )
-    return lines
-
-
-GROUP_TITLES = {
-    "right/numeric": "Twists from {0, ±90°}, numeric lengths",
-    "right/symbolic": "Twists from {0, ±90°}, symbolic lengths",
-    "generic/numeric": "Generic twists, numeric lengths",
-    "generic/symbolic": "Generic twists, symbolic lengths",
-}
-
-# A ``--verbose`` line giving a phase's elapsed time: "<phase> ... 1.23 s" (any punctuation).
-PHASE_LINE = re.compile(
-    r"^\W*(?P<name>[A-Za-z].*?)[\s:.,(—-]+(?P<seconds>\d+(?:\.\d+)?)\s*s\)?\s*$"
-)
-
-
-def phases_of(stderr: str) -> dict[str, float]:
-    """Elapsed seconds by phase from ``symkin derive --verbose`` (summed over repeats)."""
-    phases: dict[str, float] = {}
-    for line in stderr.splitlines():
-        match = PHASE_LINE.match(line.strip())
-        if match:
-            name = match["name"].strip()
-            phases[name] = phases.get(name, 0.0) + float(match["seconds"])
-    return phases
-
-
-def phase_lines(results: Results, keys: list[tuple]) -> list[str]:
-    """The slowest phases of the cold runs (first seed), when ``--verbose`` reports them."""
-    lines = []
-    for key in keys:
-        samples = [s for s in results.samples.get(key, []) if s.error is None and not s.timeout]
-        phases = phases_of(samples[0].stderr) if samples else {}
-        if phases:
-            top = sorted(phases.items(), key=lambda item: -item[1])[:4]
-            shown = ", ".join(f"{name} {seconds_text(s)} s" for name, s in top)
-            lines.append(f"- {key[0]}, {key[1]}: {shown}")
-    return lines
-
-
-# The same-arm checks the children make before (Pinocchio) or after (SymPyBotics) timing.
-CHECKS = (
-    (
-        ("pin",),
-        "- Pinocchio's torques matched the inverse dynamics of symkin's generated NumPy module "
-        "on 10 random states in each of {count} runs: largest difference {worst:.0e} of the "
-        "largest torque.",
-    ),
-    (
-        PEER_KINDS,
-        "- SymPyBotics' last-link pose matched the numeric product of the DH table "
-        "(`tests/numeric_dh.py`) at 3 random configurations in each of {count} runs: largest "
-        "difference {worst:.0e}.",
-    ),
-)
-
-
-def notes(results: Results) -> list[str]:
-    """Why cells say "not run", and the same-arm checks of the peers."""
-    names = dict(KINDS)
-    reasons: dict[tuple[str, str], dict[str, list[str]]] = {}
-    for (group, which, kind), reason in results.not_run.items():
-        reasons.setdefault((kind, reason), {}).setdefault(group, []).append(str(which))
-    lines = [
-        f"- {names[kind]}: not run ({reason}): "
-        + "; ".join(f"{group} {', '.join(which)}" for group, which in groups.items())
-        for (kind, reason), groups in reasons.items()
-    ]
-    for kinds, text in CHECKS:
-        checks = [
-            s.result["checked"]
-            for key, samples in results.samples.items()
-            if key[2] in kinds
-            for s in samples
-            if s.result.get("checked") is not None
-        ]
-        if checks:
-            lines.append(text.format(count=len(checks), worst=max(checks)))
-    return lines
-
-
-def render(results: Results, args: argparse.Namespace, run: dict) -> str:
-    today = datetime.datetime.now(datetime.UTC).date().isoformat()
-    sb = run["sympybotics"]
-    lines = [
-        f"Measured on {today}: {cpu_model()}, {os.cpu_count()} cores; Python "
-        f"{platform.python_version()}, symkin {version('symkin')}, SymPy {version('sympy')}, "
-        f"SymEngine {version('symengine')}, Pinocchio (`pin`) {version('pin')}, SymPyBotics {sb}. "
-        f"Load average (1 min) at the start and end: {run['load'][0]:.1f} and "
-        f"{run['load'][1]:.1f} (2 cores shared with other work); the run took "
-        f"{run['minutes']:.0f} min. Sizes {', '.join(map(str, run['sizes']))} joints, "
-        f"{run['seeds']} seed{'s' if run['seeds'] > 1 else ''} per size (medians), CPU limit "
-        f"{args.timeout:g} s per process. This build's `symkin derive` "
-        + ("has `--no-cache`" if "--no-cache" in run["options"] else "has no disk cache")
-        + (" and `--verbose`" if "--verbose" in run["options"] else "")
-        + ". Generated by `bench/derivation_scaling.py`.",
-    ]
-    for group in run["groups"]:
-        rows = [[str(n), *row_cells(results, group, n)] for n in run["sizes"]]
-        rows.append(["growth", *growth_row(results, group, run["sizes"])])
-        lines += ["", f"### {GROUP_TITLES[group]}", "", *_table("joints", rows)]
-    if run["named"]:
-        rows = [[name, *row_cells(results, "named", name)] for name in run["named"]]
-        lines += ["", "### Named arms", "", *_table("robot", rows)]
-    goals = targets(results, run["groups"])
-    if goals:
-        lines += ["", "Targets of issue 15 (median CPU time of the whole command):", "", *goals]
-    keys = [(g, 6, "cold") for g in run["groups"]] + [("named", n, "cold") for n in run["named"]]
-    phases = phase_lines(results, keys)
-    if phases:
-        lines += ["", "Slowest phases of the cold run (`--verbose`, wall seconds):", "", *phases]
-    remarks = notes(results)
-    if remarks:
-        lines += ["", "Notes:", "", *remarks]
-    return "\n".join(lines)
-
-
 # --------------------------------------------------------------------------- main
 
 
 def arms_to_run(args: argparse.Namespace, workdir: Path, seed: int) -> list[Arm]:
-    """One round per arm, every size and group for this seed, then the named arms."""
+    """One round per arm: the named arms, then every size and group for this seed (so that a
+    ``--budget`` cuts the largest random arms, not the named ones)."""
     arms = []
-    for n in args.sizes:
-        for group in args.groups:
-            twists, lengths = group.split("/")
-            text = random_arm_toml(n, seed, twists=twists, lengths=lengths, dynamics=True)
-            path = workdir / f"random_{n}_{twists}_{lengths}_{seed}.toml"
-            path.write_text(text)
-            arms.append(Arm(f"{n}R {twists} {lengths} #{seed}", group, n, str(path), seed))
     for name, joints in NAMED:
         if name in args.named:
             source = name
@@ -752,6 +250,13 @@ def arms_to_run(args: argparse.Namespace, workdir: Path, seed: int) -> list[Arm]
                 source = str(workdir / "jaco_like.toml")
                 Path(source).write_text(jaco_like_toml())
             arms.append(Arm(name, "named", joints, source))
+    for n in args.sizes:
+        for group in args.groups:
+            twists, lengths = group.split("/")
+            text = random_arm_toml(n, seed, twists=twists, lengths=lengths, dynamics=True)
+            path = workdir / f"random_{n}_{twists}_{lengths}_{seed}.toml"
+            path.write_text(text)
+            arms.append(Arm(f"{n}R {twists} {lengths} #{seed}", group, n, str(path)))
     return arms
 
 
@@ -780,7 +285,6 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--out", type=Path, help="write the Markdown here, not into the docs")
     parser.add_argument("--docs", type=Path, default=DOCS)
     parser.add_argument("--no-write", action="store_true", help="only print the section")
-    parser.add_argument("--child", nargs=3, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     sizes = args.sizes or (QUICK_SIZES if args.quick else range(2, args.max_joints + 1))
     args.sizes = [n for n in sizes if 1 <= n <= args.max_joints]
@@ -794,9 +298,6 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
-    if args.child:
-        _child(args.child)
-        return 0
     if args.sympybotics is not None and not (args.sympybotics / "sympybotics").is_dir():
         raise SystemExit(f"--sympybotics {args.sympybotics}: no sympybotics package there")
     start, load_start = time.perf_counter(), os.getloadavg()[0]

@@ -1,4 +1,4 @@
-"""The scaling benchmark's bookkeeping (bench/derivation_scaling.py): limits, medians, fits.
+"""The scaling benchmark's bookkeeping (bench/derivation_report.py, bench/scaling_report.py).
 
 No timing is judged here; these check that a run past its limit is killed and reported as a
 timeout, that medians count timeouts as infinitely long, and that the growth fit recovers a
@@ -17,47 +17,48 @@ import pytest
 BENCH = Path(__file__).resolve().parent.parent / "bench"
 sys.path.insert(0, str(BENCH))
 
-import derivation_scaling as scaling  # noqa: E402 - the bench folder is not a package
+import scaling_report as report  # noqa: E402 - the bench folder is not a package
+from derivation_scaling import run_process  # noqa: E402
 
 
 def test_growth_fit_recovers_a_power_law():
     # t = 0.01 n^3 by hand: the log-log slope is exactly 3.
     points = [(n, 0.01 * n**3) for n in (2, 4, 6, 8)]
-    assert scaling.growth_exponent(points) == "n^3.0"
+    assert report.growth_exponent(points) == "n^3.0"
     # A timeout (inf) or a missing value is left out of the fit, not counted as data.
-    assert scaling.growth_exponent([*points, (12, math.inf), (10, None)]) == "n^3.0"
-    assert scaling.growth_exponent(points[:2]) == "—"
+    assert report.growth_exponent([*points, (12, math.inf), (10, None)]) == "n^3.0"
+    assert report.growth_exponent(points[:2]) == "—"
 
 
-def _results(*samples: scaling.Sample) -> tuple[scaling.Results, tuple]:
-    results = scaling.Results()
+def _results(*samples: report.Sample) -> tuple[report.Results, tuple]:
+    results = report.Results()
     key = ("generic/numeric", 6, "tau")
     results.samples[key] = list(samples)
     return results, key
 
 
 def test_median_counts_a_timeout_as_longer_than_any_run():
-    done = [scaling.Sample(result={"seconds": s}) for s in (1.0, 3.0)]
-    late = scaling.Sample(timeout=300)
+    done = [report.Sample(result={"seconds": s}) for s in (1.0, 3.0)]
+    late = report.Sample(timeout=300)
     results, key = _results(*done, late)
-    assert scaling.cell(results, key) == "3.000 (1 of 3 timed out)"
+    assert report.cell(results, key) == "3.000 (1 of 3 timed out)"
     results, key = _results(done[0], late, late)
-    assert scaling.cell(results, key) == "> 300 s (timeout)"
+    assert report.cell(results, key) == "> 300 s (timeout)"
 
 
 def test_ratio_is_peer_over_symkin_and_a_bound_after_a_peer_timeout():
-    results = scaling.Results()
+    results = report.Results()
     ours, theirs = ("g", 6, "tau"), ("g", 6, "sb-tau")
-    results.samples[ours] = [scaling.Sample(result={"seconds": 2.0})]
-    results.samples[theirs] = [scaling.Sample(result={"seconds": 5.0})]
-    assert scaling.ratio(results, theirs, ours) == "2.50×"
-    results.samples[theirs] = [scaling.Sample(timeout=300)]
-    assert scaling.ratio(results, theirs, ours) == "> 150.0×"
+    results.samples[ours] = [report.Sample(result={"seconds": 2.0})]
+    results.samples[theirs] = [report.Sample(result={"seconds": 5.0})]
+    assert report.ratio(results, theirs, ours) == "2.50×"
+    results.samples[theirs] = [report.Sample(timeout=300)]
+    assert report.ratio(results, theirs, ours) == "> 150.0×"
 
 
 def test_a_process_past_its_cpu_limit_is_killed_and_reported_as_a_timeout():
     spin = [sys.executable, "-c", "while True: pass"]
-    sample = scaling.run_process(spin, 0.3, dict(os.environ))
+    sample = run_process(spin, 0.3, dict(os.environ))
     assert sample.timeout == 0.3
     assert sample.cpu is not None and sample.cpu >= 0.3
 
@@ -65,7 +66,7 @@ def test_a_process_past_its_cpu_limit_is_killed_and_reported_as_a_timeout():
 def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
     # 50 MB held at once: the child's peak RSS must show at least that.
     script = "import json; b = bytearray(50 * 2**20); print(json.dumps({'seconds': 1.5}))"
-    sample = scaling.run_process([sys.executable, "-c", script], 60, dict(os.environ))
+    sample = run_process([sys.executable, "-c", script], 60, dict(os.environ))
     assert sample.timeout is None and sample.error is None
     assert sample.result == {"seconds": 1.5}
     assert sample.rss_mb is not None and sample.rss_mb > 50
@@ -81,4 +82,4 @@ def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
     ],
 )
 def test_verbose_phase_lines_are_read(line, expected):
-    assert scaling.phases_of(line) == expected
+    assert report.phases_of(line) == expected
