@@ -73,6 +73,12 @@ def counted(monkeypatch: pytest.MonkeyPatch, name: str) -> list[int]:
     return calls
 
 
+@pytest.fixture
+def shown(cache_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> tuple[str, list]:
+    """A robot file for ``show`` (cache on) and the call counter of show's report."""
+    return str(robot_file(tmp_path)), counted(monkeypatch, "show_text")
+
+
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[str, str]:
     derive.cache_clear()  # an in-process model would hide a second derivation
     assert main(list(argv)) == 0
@@ -106,10 +112,9 @@ def test_key_follows_content_not_path(tmp_path: Path) -> None:
 
 
 def test_second_show_reads_the_cache(
-    cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+    shown: tuple[str, list], cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    path = str(robot_file(tmp_path))
-    calls = counted(monkeypatch, "show_text")
+    path, calls = shown
     cold, cold_err = run(capsys, "show", path, "--verbose")
     assert PHASE_LINE.search(cold_err), cold_err
     warm, warm_err = run(capsys, "show", path, "--verbose")
@@ -145,10 +150,9 @@ def test_derive_files_come_from_the_cache(
 
 
 def test_no_cache_neither_reads_nor_writes(
-    cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+    shown: tuple[str, list], cache_root: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    path = str(robot_file(tmp_path))
-    calls = counted(monkeypatch, "show_text")
+    path, calls = shown
     run(capsys, "show", path, "--no-cache")
     assert entries(cache_root) == []
     run(capsys, "show", path)
@@ -175,13 +179,11 @@ def _not_text(text: str) -> str:
 )
 def test_spoilt_entry_is_rebuilt(
     spoil: Callable[[str], str],
+    shown: tuple[str, list],
     cache_root: Path,
-    tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
-    monkeypatch,
 ) -> None:
-    path = str(robot_file(tmp_path))
-    calls = counted(monkeypatch, "show_text")
+    path, calls = shown
     good, _ = run(capsys, "show", path)
     (entry,) = entries(cache_root)
     valid = entry.read_text()
@@ -192,13 +194,17 @@ def test_spoilt_entry_is_rebuilt(
     assert entry.read_text() == valid  # rebuilt
 
 
-def test_unsafe_directory_is_not_used(
-    cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+@pytest.mark.parametrize("target", ["directory", "entry"])
+def test_writable_by_others_is_not_trusted(
+    target: str,
+    shown: tuple[str, list],
+    cache_root: Path,
+    capsys: pytest.CaptureFixture[str],
 ) -> None:
-    path = str(robot_file(tmp_path))
-    calls = counted(monkeypatch, "show_text")
+    path, calls = shown
     run(capsys, "show", path)
-    cache_root.chmod(0o777)
+    (entry,) = entries(cache_root)
+    (cache_root if target == "directory" else entry).chmod(0o777)
     _, err = run(capsys, "show", path, "--verbose")
     assert len(calls) == 2
     assert err.count("writable by group or others") == 1, err  # said once
@@ -206,20 +212,16 @@ def test_unsafe_directory_is_not_used(
     assert "cache" not in err  # only with --verbose
 
 
-def test_unsafe_entry_is_not_read(
-    cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+@pytest.mark.skipif(os.geteuid() != 0, reason="only root can give a file to another user")
+def test_entry_of_another_user_is_not_read(
+    shown: tuple[str, list], cache_root: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    path = str(robot_file(tmp_path))
-    calls = counted(monkeypatch, "show_text")
+    path, calls = shown
     run(capsys, "show", path)
     (entry,) = entries(cache_root)
-    entry.chmod(0o666)
+    os.chown(entry, 4242, -1)
     _, err = run(capsys, "show", path, "--verbose")
-    assert len(calls) == 2 and "writable by group or others" in err
-    if os.geteuid() == 0:  # only root can give a file away
-        os.chown(entry, 4242, -1)
-        _, err = run(capsys, "show", path, "--verbose")
-        assert len(calls) == 3 and "not owned by you" in err
+    assert len(calls) == 2 and "not owned by you" in err
 
 
 def test_warnings_are_given_again_on_a_hit(cache_root: Path, tmp_path: Path) -> None:
