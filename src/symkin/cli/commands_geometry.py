@@ -41,7 +41,11 @@ def source_label(robot: Robot) -> str:
 def _value_text(value: sp.Expr, angle: bool) -> str:
     if angle:
         degrees = value * 180 / sp.pi
-        return str(sp.nsimplify(degrees)) if value.has(sp.pi) or value == 0 else f"{float(degrees):.10g}"
+        return (
+            str(sp.nsimplify(degrees))
+            if value.has(sp.pi) or value == 0
+            else f"{float(degrees):.10g}"
+        )
     return f"{float(value):.12g}"
 
 
@@ -80,7 +84,7 @@ def dh_text(extraction: DhExtraction, proof: FkProof) -> str:
     lines += [
         "",
         f"Snapping: angles within {SNAP_TOLERANCE:g} rad of a multiple of 15 deg are exact, "
-        "lengths below it are 0, others kept to 12 significant digits.",
+        "lengths below it are 0, others kept to 15 significant digits.",
         f"Proof: {proof.summary()}",
     ]
     return "\n".join(lines)
@@ -93,7 +97,10 @@ def dh_json(extraction: DhExtraction, proof: FkProof) -> dict:
         {
             "joint": joint.name,
             "type": joint.type,
-            **{key: str(value) for key, value in zip(("theta", "d", "a", "alpha"), step.row, strict=True)},
+            **{
+                key: str(value)
+                for key, value in zip(("theta", "d", "a", "alpha"), step.row, strict=True)
+            },
             "case": step.case,
             "note": step.note,
         }

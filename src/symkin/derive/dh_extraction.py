@@ -16,11 +16,13 @@ constant transform between successive frames at ``q = 0``; the constant ``base``
 the source's world frame) and ``tool`` (the source's tool in frame n) make the table exact:
 ``T_source(q) = base * A_1(q_1) ... A_n(q_n) * tool``.  Values within
 :data:`~symkin.derive.dh_lines.SNAP_TOLERANCE` of a multiple of 15 degrees become exact
-(``pi/2``), lengths are rounded to 12 significant digits (``0.333`` stays ``0.333``).
+(``pi/2``), lengths are rounded to 15 significant digits (``0.333`` stays ``0.333``).
 """
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 from dataclasses import dataclass, replace
 
@@ -38,10 +40,9 @@ from symkin.derive.dh_lines import (
     perpendicular_part,
     unit,
 )
-from symkin.derive.kinematics import kinematics_from_robot, link_transform
+from symkin.derive.kinematics import Kinematics, kinematics_from_robot
 from symkin.errors import RobotError
 from symkin.robot import Convention, Joint, Link, Robot
-from symkin.symbols import joint_symbols
 
 
 @dataclass(frozen=True)
@@ -75,9 +76,16 @@ def _numbers(matrix: sp.MatrixBase, q: tuple[sp.Symbol, ...]) -> np.ndarray:
     return np.array(matrix.xreplace(dict.fromkeys(q, 0)).evalf(), dtype=float)
 
 
+@functools.lru_cache(maxsize=8)
+def product_kinematics(robot: Robot) -> Kinematics:
+    """The unsimplified kinematics of a numeric robot, once per robot (extraction, proof and
+    URDF export all read it; its products are the costly part)."""
+    return kinematics_from_robot(robot, simplified=False)
+
+
 def source_frames(robot: Robot) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
     """Joint frames, link frames (index 0: base) and tool pose of ``robot`` at ``q = 0``."""
-    kinematics = kinematics_from_robot(robot, simplified=False)
+    kinematics = product_kinematics(robot)
     joint_frames = [_numbers(frame, kinematics.q) for frame in kinematics.joint_frames]
     link_frames = [_numbers(frame, kinematics.q) for frame in kinematics.frame_transforms]
     return joint_frames, link_frames, _numbers(kinematics.forward_kinematics, kinematics.q)
@@ -94,10 +102,10 @@ def snap_angle(value: float) -> sp.Expr:
 
 
 def snap_length(value: float) -> sp.Expr:
-    """Zero below the snap tolerance, else ``value`` to 12 significant digits."""
+    """Zero below the snap tolerance, else ``value`` to 15 significant digits."""
     if abs(value) < SNAP_TOLERANCE:
         return sp.Integer(0)
-    return sp.Float(float(f"{value:.12g}"), 15)
+    return sp.Float(float(f"{value:.15g}"), 15)
 
 
 def snap_transform(matrix: np.ndarray) -> sp.ImmutableMatrix:
@@ -145,7 +153,7 @@ def chain_normals(lines: tuple[Line, ...], frame0: np.ndarray, tool: np.ndarray)
     scale = max(1.0, *(float(np.linalg.norm(line.point)) for line in lines))
     normals: list[Normal] = []
     start, previous_x = frame0[:3, 3], frame0[:3, 0]
-    for first, second in zip(lines, lines[1:], strict=False):
+    for first, second in itertools.pairwise(lines):
         normal = common_normal(first, second, start, previous_x, scale)
         if normal.case == "coincident" and second is lines[-1]:
             x = perpendicular_part(tool[:3, 0], first.direction)
@@ -197,14 +205,20 @@ def step_note(case: Case, index: int, last: bool) -> str:
     """How a, alpha, d, theta follow in this case (the lecture's wording)."""
     target = "the tool's z axis" if last else f"axis {index + 1}"
     if case == "skew":
-        return f"axis {index} and {target} are skew: x along their unique common normal, a = its length"
+        return (
+            f"axis {index} and {target} are skew: x along their unique common normal, "
+            "a = its length"
+        )
     if case == "parallel":
         return (
             f"axis {index} and {target} are parallel: infinitely many common normals; the one "
             f"through the previous origin is taken (d = 0 by the usual choice), a = their distance"
         )
     if case == "intersecting":
-        return f"axis {index} and {target} intersect: a = 0, x = +-z_prev x z_next, origin at the intersection"
+        return (
+            f"axis {index} and {target} intersect: a = 0, x = +-z_prev x z_next, "
+            "origin at the intersection"
+        )
     choice = "the tool's x axis" if last else "the previous x axis"
     return (
         f"axis {index} and {target} coincide: the common normal is not unique; a = 0, alpha = 0 "
@@ -232,8 +246,8 @@ def _row_of(step: np.ndarray, convention: Convention, index: int) -> tuple[sp.Ex
 
 
 def rounded(value: float) -> sp.Expr:
-    """An inertial number to 12 significant digits (exact zero below 1e-15)."""
-    return sp.Integer(0) if abs(value) < 1e-15 else sp.Float(float(f"{value:.12g}"), 15)
+    """An inertial number to 15 significant digits (exact zero below 1e-15)."""
+    return sp.Integer(0) if abs(value) < 1e-15 else sp.Float(float(f"{value:.15g}"), 15)
 
 
 def link_in_frame(link: Link | None, frame_from_link: np.ndarray) -> Link | None:

@@ -20,9 +20,10 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
-from symkin.derive.dh_extraction import DhExtraction, dh_matrix, numeric_robot
-from symkin.derive.kinematics import kinematics_from_robot
+from symkin.derive.dh_extraction import DhExtraction, dh_matrix, numeric_robot, product_kinematics
+from symkin.derive.kinematics import link_transform
 from symkin.robot import Robot
+from symkin.symbols import joint_symbols
 
 TOLERANCE = 1e-12
 CONFIGURATIONS = 100
@@ -75,14 +76,14 @@ def _link_coefficients(entry: sp.Expr, q: sp.Symbol, revolute: bool) -> list[flo
     return [float(terms.get(monomial, 0)) for monomial in basis]
 
 
-def _chain_tensor(robot: Robot, deadline: float) -> np.ndarray | str:
+def _chain_tensor(
+    robot: Robot, links: tuple[sp.ImmutableMatrix, ...], deadline: float
+) -> np.ndarray | str:
     """``T(q)`` as coefficients in the product basis, shape ``(4, 4, b_1, ..., b_n)``; a
     string saying why not when a transform is not of the expected form or time is up."""
-    kinematics = kinematics_from_robot(robot, simplified=False)
     tensor = np.array(robot.base.evalf(), dtype=float)
-    for k, (joint, link, q) in enumerate(
-        zip(robot.joints, kinematics.link_transforms, kinematics.q, strict=True)
-    ):
+    symbols = joint_symbols(robot.dof)
+    for k, (joint, link, q) in enumerate(zip(robot.joints, links, symbols, strict=True)):
         revolute = joint.type == "revolute"
         entries = [_link_coefficients(e, q, revolute) for e in link]
         if any(c is None for c in entries):
@@ -98,9 +99,20 @@ def symbolic_difference(source: Robot, model: Robot) -> float | str:
     """Largest coefficient difference of the two expanded FKs, or why it was not computed."""
     size = 16 * math.prod(3 if j.type == "revolute" else 2 for j in model.joints)
     if size > SYMBOLIC_COEFFICIENTS:
-        return f"the expanded FK would have {size:,} coefficients, over the budget of {SYMBOLIC_COEFFICIENTS:,}"
+        return (
+            f"the expanded FK would have {size:,} coefficients, over the budget of "
+            f"{SYMBOLIC_COEFFICIENTS:,}"
+        )
     deadline = time.monotonic() + SYMBOLIC_SECONDS
-    tensors = [_chain_tensor(robot, deadline) for robot in (numeric_robot(source), model)]
+    robot = numeric_robot(source)
+    q = joint_symbols(model.dof)
+    model_links = tuple(
+        link_transform(j, qi, model.convention) for j, qi in zip(model.joints, q, strict=True)
+    )
+    tensors = [
+        _chain_tensor(robot, product_kinematics(robot).link_transforms, deadline),
+        _chain_tensor(model, model_links, deadline),
+    ]
     for tensor in tensors:
         if isinstance(tensor, str):
             return tensor
@@ -133,7 +145,7 @@ def dh_forward_kinematics(model: Robot, q: np.ndarray) -> np.ndarray:
 def numeric_difference(source: Robot, model: Robot, count: int = CONFIGURATIONS) -> float:
     """Largest entry difference of the two FKs over ``count`` random configurations."""
     robot = numeric_robot(source)
-    kinematics = kinematics_from_robot(robot, simplified=False)
+    kinematics = product_kinematics(robot)
     fk = sp.lambdify([kinematics.q], kinematics.forward_kinematics, modules="numpy")
     return max(
         float(np.max(np.abs(np.asarray(fk(q), dtype=float) - dh_forward_kinematics(model, q))))

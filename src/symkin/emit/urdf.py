@@ -64,9 +64,9 @@ def joint_element(joint: Joint, index: int, parent: str, child: str, origin: np.
     if kind == "prismatic" and limits is None:
         limits = PRISMATIC_DEFAULT_LIMITS
     lines = [
-        f"  <joint name={quoteattr(name)} type=\"{kind}\">",
-        f"    <parent link=\"{parent}\"/>",
-        f"    <child link=\"{child}\"/>",
+        f'  <joint name={quoteattr(name)} type="{kind}">',
+        f'    <parent link="{parent}"/>',
+        f'    <child link="{child}"/>',
         f"    {origin_element(origin)}",
         '    <axis xyz="0 0 1"/>',
     ]
@@ -115,7 +115,8 @@ def visual_element(vector: np.ndarray) -> str:
         [
             "    <visual>",
             f"      {origin_element(pose)}",
-            f'      <geometry><cylinder radius="{VISUAL_RADIUS}" length="{_number(length)}"/></geometry>',
+            f'      <geometry><cylinder radius="{VISUAL_RADIUS}" '
+            f'length="{_number(length)}"/></geometry>',
             "    </visual>",
         ]
     )
@@ -128,7 +129,9 @@ def unmodelled_note(joint: Joint, index: int) -> str:
         return ""
     items = []
     if link.motor_inertia != 0:
-        items.append(f"motor inertia {_number(float(link.motor_inertia))} kg m^2 (Pinocchio: armature)")
+        items.append(
+            f"motor inertia {_number(float(link.motor_inertia))} kg m^2 (Pinocchio: armature)"
+        )
     if link.coulomb != 0 or link.viscous != 0 or link.coulomb_negative is not None:
         items.append("friction (see the robot file)")
     name = joint.name or f"joint{index}"
@@ -170,4 +173,3 @@ def urdf_text(source: Robot, header: str) -> str:
         f'    <child link="tool"/>\n    {tool_origin}\n  </joint>'
     )
     return "\n".join([*parts, "</robot>"]) + "\n"
-

@@ -29,7 +29,8 @@ CASE_TEXT = {
     ),
     "intersecting": (
         "The axes intersect: the common normal has length zero, so $a = 0$; $x$ is "
-        "$\\pm z_{\\mathrm{prev}} \\times z_{\\mathrm{next}}$ and the origin is the intersection point."
+        "$\\pm z_{\\mathrm{prev}} \\times z_{\\mathrm{next}}$ and the origin is the "
+        "intersection point."
     ),
     "coincident": (
         "The axes coincide: any direction perpendicular to them is a common normal, so $a = 0$ "
@@ -67,17 +68,20 @@ def step_context(step: AxisStep, extraction: DhExtraction) -> dict[str, str]:
     variable = f"q_{{{i}}}"
     values = [
         rf"d_{{{i}}} = {offset_tex(variable, joint.type == 'prismatic', d)}",
-        rf"	heta_{{{i}}} = {offset_tex(variable, joint.type == 'revolute', theta)}",
+        rf"\theta_{{{i}}} = {offset_tex(variable, joint.type == 'revolute', theta)}",
     ]
     if robot.convention == "standard":
         values = [rf"a_{{{i}}} = {value_tex(a)}", rf"\alpha_{{{i}}} = {value_tex(alpha)}", *values]
     elif i < robot.dof:
         following = extraction.steps[i].row
-        values += [rf"a_{{{i}}} = {value_tex(following[2])}", rf"\alpha_{{{i}}} = {value_tex(following[3])}"]
+        values += [
+            rf"a_{{{i}}} = {value_tex(following[2])}",
+            rf"\alpha_{{{i}}} = {value_tex(following[3])}",
+        ]
     return {
         "heading": f"Axis {i} and {target}: {step.case}",
         "case_text": CASE_TEXT[step.case],
-        "values": r", \quad ".join(values),
+        "formula": r", \quad ".join(values),
     }
 
 
@@ -119,7 +123,8 @@ def dh_derivation_tex(extraction: DhExtraction, proof: FkProof) -> str:
         rows=rows,
         index_shift="{i-1}" if modified else "i",
         convention_text=(
-            r"Modified convention: $A_i = R_x(\alpha_{i-1})\,T_x(a_{i-1})\,R_z(\theta_i)\,T_z(d_i)$."
+            r"Modified convention: "
+            r"$A_i = R_x(\alpha_{i-1})\,T_x(a_{i-1})\,R_z(\theta_i)\,T_z(d_i)$."
             if modified
             else r"Standard convention: $A_i = R_z(\theta_i)\,T_z(d_i)\,T_x(a_i)\,R_x(\alpha_i)$."
         ),
