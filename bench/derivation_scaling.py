@@ -174,12 +174,12 @@ def _env(cache: Path) -> dict[str, str]:
     return dict(os.environ, XDG_CACHE_HOME=str(cache))
 
 
-def _derive(arm: Arm, settings: Settings, cache: Path, out: Path, verbose: bool) -> Sample:
+def _derive(arm: Arm, settings: Settings, cache: Path, out: Path) -> Sample:
     command = symkin_command()
     if "--time-limit" in settings.options:
         command += ["--time-limit", "0"]  # this script's limit governs
     command += ["derive", arm.source, "--out", str(out)]
-    if verbose and "--verbose" in settings.options:
+    if "--verbose" in settings.options:  # phase times, and whether the cache was read
         command.append("--verbose")
     return run_process(command, settings.timeout, _env(cache))
 
@@ -215,7 +215,7 @@ def measure_arm(arm: Arm, settings: Settings, results: Results) -> None:
             continue
         if kind in ("cold", "warm"):
             target = out if kind == "cold" else folder / "warm"
-            sample = _derive(arm, settings, cache, target, verbose=kind == "cold")
+            sample = _derive(arm, settings, cache, target)
         elif kind in PEER_KINDS:
             sample = _child_sample(arm, kind, settings, str(settings.sympybotics))
         else:

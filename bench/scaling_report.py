@@ -230,34 +230,51 @@ GROUP_TITLES = {
     "generic/symbolic": "Generic twists, symbolic lengths",
 }
 
-# A ``--verbose`` line giving a phase's elapsed time: "<phase> ... 1.23 s" (any punctuation).
-PHASE_LINE = re.compile(
-    r"^\W*(?P<name>[A-Za-z].*?)[\s:.,(—-]+(?P<seconds>\d+(?:\.\d+)?)\s*s\)?\s*$"
-)
+# A ``symkin derive --verbose`` phase line, printed when the phase ends: "symkin:", an indent
+# that grows with the nesting, the wall seconds, the phase ("symkin:     2.12 s  the numpy
+# files"); a nested phase ends, and is printed, before the phase that contains it.
+PHASE_LINE = re.compile(r"^symkin:(?P<indent> +)(?P<seconds>\d+(?:\.\d+)?) s +(?P<name>\S.*)$")
+CACHE_HIT = "cache: derive of"  # the --verbose line of a run that read the cache
 
 
-def phases_of(stderr: str) -> dict[str, float]:
-    """Elapsed seconds by phase from ``symkin derive --verbose`` (summed over repeats)."""
-    phases: dict[str, float] = {}
-    for line in stderr.splitlines():
-        match = PHASE_LINE.match(line.strip())
-        if match:
-            name = match["name"].strip()
-            phases[name] = phases.get(name, 0.0) + float(match["seconds"])
+def phases_of(stderr: str) -> tuple[dict[str, float], dict[str, float]]:
+    """``(outermost, nested)`` phases of a ``--verbose`` run: wall seconds by phase name,
+    summed over repeats (the same phase runs again for each backend's kernels)."""
+    found = [(len(m["indent"]), m["name"], float(m["seconds"])) for m in
+             (PHASE_LINE.match(line.rstrip()) for line in stderr.splitlines()) if m]  # fmt: skip
+    outer = min((indent for indent, _, _ in found), default=0)
+    phases: tuple[dict[str, float], dict[str, float]] = ({}, {})
+    for indent, name, seconds in found:
+        table = phases[0] if indent == outer else phases[1]
+        table[name] = table.get(name, 0.0) + seconds
     return phases
 
 
+def _slowest(phases: dict[str, float], count: int) -> str:
+    top = sorted(phases.items(), key=lambda item: -item[1])[:count]
+    return ", ".join(f"{name} {seconds_text(s)} s" for name, s in top)
+
+
 def phase_lines(results: Results, keys: list[tuple]) -> list[str]:
-    """The slowest phases of the cold runs (first seed), when ``--verbose`` reports them."""
+    """The phases of the first cold run of each key, when ``--verbose`` reports them."""
     lines = []
     for key in keys:
         samples = [s for s in results.samples.get(key, []) if s.error is None and not s.timeout]
-        phases = phases_of(samples[0].stderr) if samples else {}
-        if phases:
-            top = sorted(phases.items(), key=lambda item: -item[1])[:4]
-            shown = ", ".join(f"{name} {seconds_text(s)} s" for name, s in top)
-            lines.append(f"- {key[0]}, {key[1]}: {shown}")
+        outer, nested = phases_of(samples[0].stderr) if samples else ({}, {})
+        if outer:
+            inside = f"; slowest inside: {_slowest(nested, 3)}" if nested else ""
+            lines.append(f"- {key[0]}, {key[1]}: {_slowest(outer, 4)}{inside}")
     return lines
+
+
+def cache_line(results: Results) -> list[str]:
+    """How many warm runs said (``--verbose``) that they read the cold run's cache entry."""
+    warm = [s for key, ss in results.samples.items() if key[2] == "warm" for s in ss]
+    finished = [s for s in warm if s.error is None and s.timeout is None]
+    if not finished:
+        return []
+    hits = sum(CACHE_HIT in s.stderr for s in finished)
+    return [f"- Warm runs that read the cache (their `--verbose` says so): {hits} of {len(warm)}."]
 
 
 # The same-arm checks the children make before (Pinocchio) or after (SymPyBotics) timing.
@@ -330,8 +347,14 @@ def render(results: Results, args: argparse.Namespace, run: dict) -> str:
     keys = [(g, 6, "cold") for g in run["groups"]] + [("named", n, "cold") for n in run["named"]]
     phases = phase_lines(results, keys)
     if phases:
-        lines += ["", "Slowest phases of the cold run (`--verbose`, wall seconds):", "", *phases]
-    remarks = notes(results)
+        lines += [
+            "",
+            "Phases of the cold run (`--verbose`, wall seconds; outermost phases, then the "
+            "slowest phases nested in them):",
+            "",
+            *phases,
+        ]
+    remarks = notes(results) + cache_line(results)
     if remarks:
         lines += ["", "Notes:", "", *remarks]
     return "\n".join(lines)

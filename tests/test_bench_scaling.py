@@ -72,14 +72,25 @@ def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
     assert sample.rss_mb is not None and sample.rss_mb > 50
 
 
-@pytest.mark.parametrize(
-    ("line", "expected"),
-    [
-        ("the geometric Jacobian: 1.25 s", {"the geometric Jacobian": 1.25}),
-        ("  code generation ... 12 s", {"code generation": 12.0}),
-        ("done (the determinant, 0.5 s)", {"done (the determinant": 0.5}),
-        ("wrote 14 files", {}),
-    ],
-)
-def test_verbose_phase_lines_are_read(line, expected):
-    assert report.phases_of(line) == expected
+# The shape of ``symkin derive --verbose`` (nested phases end, and print, before their parent).
+VERBOSE = """symkin: deriving planar_3r and emitting numpy, c ...
+symkin:         0.22 s  the link transforms and forward kinematics
+symkin:         0.03 s  the link transforms and forward kinematics
+symkin:         1.00 s  the Newton-Euler equations of motion
+symkin:       1.99 s  the kernels (CSE and rewrite passes)
+symkin:     2.12 s  the numpy files
+symkin:     0.36 s  the c files
+symkin: cache: stored /tmp/x/symkin/derive-ef09.json
+wrote 11 files to /tmp/sc/:
+"""
+
+
+def test_verbose_phases_split_into_outermost_and_nested():
+    outer, nested = report.phases_of(VERBOSE)
+    assert outer == {"the numpy files": 2.12, "the c files": 0.36}
+    assert nested == {
+        "the link transforms and forward kinematics": pytest.approx(0.25),
+        "the Newton-Euler equations of motion": 1.0,
+        "the kernels (CSE and rewrite passes)": 1.99,
+    }
+    assert report.phases_of("wrote 11 files\n") == ({}, {})
