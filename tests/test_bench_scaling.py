@@ -7,6 +7,7 @@ known power law.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import sys
@@ -18,7 +19,8 @@ BENCH = Path(__file__).resolve().parent.parent / "bench"
 sys.path.insert(0, str(BENCH))
 
 import scaling_report as report  # noqa: E402 - the bench folder is not a package
-from derivation_scaling import run_process  # noqa: E402
+from derivation_scaling import run_process, symkin_command  # noqa: E402
+from scaling_children import RUSAGE_TAG  # noqa: E402
 
 
 def test_growth_fit_recovers_a_power_law():
@@ -70,6 +72,17 @@ def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
     assert sample.timeout is None and sample.error is None
     assert sample.result == {"seconds": 1.5}
     assert sample.rss_mb is not None and sample.rss_mb > 50
+
+
+@pytest.mark.slow  # imports symkin in a fresh process: seconds on a loaded machine
+def test_the_symkin_wrapper_runs_the_command_and_reports_its_own_cpu_time():
+    sample = run_process([*symkin_command(), "list"], 60, dict(os.environ))
+    assert sample.error is None and sample.timeout is None
+    (line,) = [x for x in sample.stderr.splitlines() if x.startswith(RUSAGE_TAG)]
+    figures = json.loads(line.removeprefix(RUSAGE_TAG))
+    # Importing symkin alone costs CPU; `symkin list` compiles nothing.
+    assert figures["own_cpu"] > 0 and figures["compiler_cpu"] == 0
+    assert sample.cpu is not None and sample.cpu >= figures["own_cpu"] - 0.05
 
 
 # The shape of ``symkin derive --verbose`` (nested phases end, and print, before their parent).
