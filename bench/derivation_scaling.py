@@ -105,18 +105,23 @@ def _reap(pid: int, limit: float, deadline: float) -> tuple[int, resource.struct
         time.sleep(0.05)
 
 
-def run_process(command: list[str], limit: float, env: dict[str, str]) -> Sample:
+def run_process(
+    command: list[str], limit: float, env: dict[str, str], cut_at: float | None = None
+) -> Sample:
     """Run ``command`` under a CPU limit of ``limit`` s (and a wall backstop) and measure it.
 
     CPU time and peak RSS are the child's and its waited-for descendants' (``os.wait4``).
+    ``cut_at`` (a ``time.perf_counter()`` value) ends the run earlier, as an error, not a
+    timeout: the ``--budget`` of the whole benchmark is spent.
     """
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         start = time.perf_counter()
         process = subprocess.Popen(
             command, stdout=out, stderr=err, env=env, cwd=ROOT, start_new_session=True
         )
+        deadline = start + WALL_FACTOR * limit + 60
         try:
-            status, usage, killed = _reap(process.pid, limit, start + WALL_FACTOR * limit + 60)
+            status, usage, killed = _reap(process.pid, limit, min(deadline, cut_at or deadline))
         except BaseException:  # interrupted: leave no child running
             os.killpg(process.pid, signal.SIGKILL)
             raise
@@ -127,7 +132,9 @@ def run_process(command: list[str], limit: float, env: dict[str, str]) -> Sample
         stdout, stderr = out.read().decode(errors="replace"), err.read().decode(errors="replace")
     cpu = usage.ru_utime + usage.ru_stime
     sample = Sample(wall, cpu, usage.ru_maxrss / 1024, stderr=stderr)
-    if killed:
+    if killed and cut_at is not None and start + wall >= cut_at:
+        sample.error = "cut off (`--budget`)"
+    elif killed:
         sample.timeout = limit
     elif code != 0:
         tail = (stderr.strip().splitlines() or ["no output"])[-1]
@@ -166,7 +173,12 @@ class Settings:
     sympybotics: Path | None
     options: set[str]
     workdir: Path
-    budget_end: float | None = None
+    budget_end: float | None = None  # start no process after this (time.perf_counter())
+
+    @property
+    def cut_at(self) -> float | None:
+        """When a process still running is stopped: a minute after the budget."""
+        return None if self.budget_end is None else self.budget_end + 60
 
 
 def _env(cache: Path) -> dict[str, str]:
@@ -181,7 +193,7 @@ def _derive(arm: Arm, settings: Settings, cache: Path, out: Path) -> Sample:
     command += ["derive", arm.source, "--out", str(out)]
     if "--verbose" in settings.options:  # phase times, and whether the cache was read
         command.append("--verbose")
-    sample = run_process(command, settings.timeout, _env(cache))
+    sample = run_process(command, settings.timeout, _env(cache), settings.cut_at)
     for line in reversed(sample.stderr.splitlines()):
         if line.startswith(RUSAGE_TAG):
             sample.result = json.loads(line.removeprefix(RUSAGE_TAG))
@@ -192,7 +204,7 @@ def _derive(arm: Arm, settings: Settings, cache: Path, out: Path) -> Sample:
 def _child_sample(arm: Arm, kind: str, settings: Settings, extra: str) -> Sample:
     cache = Path(tempfile.mkdtemp(dir=settings.workdir, prefix="cache-"))
     command = [sys.executable, str(CHILDREN), kind, arm.source, extra]
-    return run_process(command, settings.timeout, _env(cache))
+    return run_process(command, settings.timeout, _env(cache), settings.cut_at)
 
 
 def _why_not(arm: Arm, kind: str, settings: Settings, results: Results) -> str | None:

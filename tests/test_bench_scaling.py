@@ -11,6 +11,7 @@ import json
 import math
 import os
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -63,6 +64,13 @@ def test_a_process_past_its_cpu_limit_is_killed_and_reported_as_a_timeout():
     sample = run_process(spin, 0.3, dict(os.environ))
     assert sample.timeout == 0.3
     assert sample.cpu is not None and sample.cpu >= 0.3
+
+
+def test_a_process_running_past_the_budget_is_cut_off_not_timed_out():
+    spin = [sys.executable, "-c", "while True: pass"]
+    sample = run_process(spin, 60, dict(os.environ), cut_at=time.perf_counter() + 0.5)
+    assert sample.timeout is None
+    assert sample.error is not None and sample.error.startswith("cut off")
 
 
 def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
