@@ -347,7 +347,7 @@ def render(results: Results, args: argparse.Namespace, run: dict) -> str:
         f"SymEngine {version('symengine')}, Pinocchio (`pin`) {version('pin')}, SymPyBotics {sb}. "
         f"Load average (1 min) at the start and end: {run['load'][0]:.1f} and "
         f"{run['load'][1]:.1f} (2 cores shared with other work); the run took "
-        f"{run['minutes']:.0f} min. Sizes {', '.join(map(str, run['sizes']))} joints, "
+        f"{run['minutes']:.1f} min. Sizes {', '.join(map(str, run['sizes']))} joints, "
         f"{run['seeds']} seed{'s' if run['seeds'] > 1 else ''} per size (medians), CPU limit "
         f"{args.timeout:g} s per process. This build's `symkin derive` "
         + ("has `--no-cache`" if "--no-cache" in run["options"] else "has no disk cache")
@@ -356,7 +356,8 @@ def render(results: Results, args: argparse.Namespace, run: dict) -> str:
     ]
     for group in run["groups"]:
         rows = [[str(n), *row_cells(results, group, n)] for n in run["sizes"]]
-        rows.append(["growth", *growth_row(results, group, run["sizes"])])
+        if len(run["sizes"]) >= 3:  # a slope needs three sizes
+            rows.append(["growth", *growth_row(results, group, run["sizes"])])
         lines += ["", f"### {GROUP_TITLES[group]}", "", *_table("joints", rows)]
     if run["named"]:
         rows = [[name, *row_cells(results, "named", name)] for name in run["named"]]
