@@ -86,3 +86,34 @@ def test_dh_model_of_a_placed_arm_matches_pinocchio_on_its_hand_written_urdf(con
         assert np.abs(data.oMf[tool].homogeneous - reference.fk(q)).max() < 1e-12
         torque = dynamic_state(symbolic, q, dq, ddq).torque
         assert np.abs(pin.rnea(model, data, qp, dq, ddq) - torque).max() < 1e-9
+
+
+@pytest.mark.parametrize(
+    "name", ["panda", str(DATA / "placed_arm.toml"), str(DATA / "dh_tilted_arm.toml")]
+)
+def test_mujoco_reads_the_exported_urdf_with_the_same_pose_and_inverse_dynamics(name):
+    """MuJoCo needs mass on every moving body (robots with inertial data) and a tensor that
+    obeys the triangle inequality (not the PUMA's published link 3)."""
+    mujoco = pytest.importorskip("mujoco")
+    robot = load_robot(name)
+    text = urdf_text(robot, "oracle test")
+    opening = text.index(">", text.index("<robot")) + 1
+    # MuJoCo's own URDF extension: keep the fixed tool body instead of fusing it into link n.
+    compiler = '<mujoco><compiler fusestatic="false" discardvisual="true"/></mujoco>'
+    model = mujoco.MjModel.from_xml_string(text[:opening] + compiler + text[opening:])
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT  # no limit forces
+    data = mujoco.MjData(model)
+    tool = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "tool")
+    symbolic = derive(robot)
+    rng = np.random.default_rng(13)
+    for _ in range(4):
+        q, dq, ddq = (rng.uniform(-1.5, 1.5, robot.dof) for _ in range(3))
+        data.qpos[:], data.qvel[:] = q, dq
+        mujoco.mj_forward(model, data)
+        pose = np.eye(4)
+        pose[:3, :3], pose[:3, 3] = data.xmat[tool].reshape(3, 3), data.xpos[tool]
+        assert np.abs(pose - kinematic_state(symbolic, q).transform).max() < 1e-9
+        data.qacc[:] = ddq
+        mujoco.mj_inverse(model, data)
+        torque = dynamic_state(symbolic, q, dq, ddq).torque
+        assert np.abs(data.qfrc_inverse - torque).max() < 1e-9
