@@ -136,9 +136,13 @@ def test_derive_files_come_from_the_cache(
 ) -> None:
     path = str(robot_file(tmp_path))
     calls = counted(monkeypatch, "files_for_robot")
-    for out in ("cold", "warm"):
-        run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / out))
+    errors = [
+        run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / out), "--verbose")[1]
+        for out in ("cold", "warm")
+    ]
     assert len(calls) == 1
+    assert re.search(r"^symkin: +\d+\.\d\d s  the dynamics kernels", errors[0], re.MULTILINE)
+    assert "s  the " not in errors[1]
     cold, warm = tmp_path / "cold", tmp_path / "warm"
     written = sorted(p.relative_to(cold) for p in cold.rglob("*") if p.is_file())
     assert written == sorted(p.relative_to(warm) for p in warm.rglob("*") if p.is_file())
