@@ -186,3 +186,19 @@ def test_round_trip_dh_urdf_dh_keeps_table_fk_and_dynamics(name, tmp_path):
             expected = dynamic_state(derive(source), q, dq, ddq).torque
             got = dynamic_state(derive(again), q, dq, ddq).torque
             assert np.allclose(got, expected, atol=1e-9)
+
+
+def test_nearly_round_source_values_are_snapped_and_the_proof_says_so():
+    """A URDF-style 1.57079632679 for pi/2 (UR's files): the table gets exact right angles,
+    the FK moves by ~1e-11, and the proof explains the difference instead of failing."""
+    text = (
+        'name = "near_right"\nconvention = "placement"\nangles = "rad"\n'
+        '[[joints]]\ntype = "revolute"\norigin = { xyz = [0, 0, 0.089159] }\naxis = [0, 0, 1]\n'
+        '[[joints]]\ntype = "revolute"\n'
+        "origin = { xyz = [0, 0.13585, 0], rpy = [0, 1.57079632679, 0] }\naxis = [0, 1, 0]\n"
+        '[[joints]]\ntype = "revolute"\norigin = { xyz = [0, -0.1197, 0.425] }\naxis = [0, 1, 0]\n'
+    )
+    extraction = extract_dh(robot_from_toml(text, "near_right.toml"))
+    assert all(j.alpha.is_zero or j.alpha.has(sp.pi) for j in extraction.robot.joints)
+    proof = prove_forward_kinematics(extraction)
+    assert 1e-13 < proof.numeric_error < 1e-9 and "not exactly round" in proof.snapping
