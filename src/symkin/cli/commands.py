@@ -28,6 +28,7 @@ from symkin.cli.values import (
     limit_values,
     parameter_overrides,
     point_from_text,
+    robot_from_args,
     seconds_from_text,
     target_from_text,
     task_rows_from_text,
@@ -61,7 +62,7 @@ def command_list(_: argparse.Namespace) -> None:
 
 
 def command_show(args: argparse.Namespace) -> None:
-    model = derive(load_robot(args.robot))
+    model = derive(robot_from_args(args))
     rows = task_rows_from_text(args.task)
     if args.json:
         dynamics = dynamics_show_json(model) if args.dynamics else {}
@@ -71,7 +72,7 @@ def command_show(args: argparse.Namespace) -> None:
 
 
 def command_eval(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
     if not args.dynamics:
@@ -109,7 +110,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
 
 def command_derive(args: argparse.Namespace) -> None:
     backends = check_backends(args.emit.split(","))
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     if args.numeric_parameters:
         robot = robot.with_parameter_values(parameter_overrides(args.set))
     elif args.set:
@@ -152,7 +153,7 @@ def command_generate(args: argparse.Namespace) -> None:
 
 
 def command_latex(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
     files = latex_files(
@@ -173,7 +174,7 @@ def command_latex(args: argparse.Namespace) -> None:
 
 
 def command_trajopt(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     if args.to is None and args.cartesian_goal is None:
         raise SymkinError("give the goal: --to V1,V2,... or --cartesian-goal X,Y,Z")
     if args.plot and args.out is None:
