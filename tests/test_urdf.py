@@ -93,7 +93,7 @@ def test_names_are_made_valid_identifiers():
     )
     robot = robot_from_urdf(text, "two.urdf")
     assert robot.name == "ur5e"
-    assert robot.joints[0].name == "shoulder_pan"
+    assert robot.joints[0].name == "Shoulder_Pan"
 
 
 def test_several_leaves_need_a_tip_and_tip_base_choose_the_chain():

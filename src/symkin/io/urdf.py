@@ -16,8 +16,9 @@ link (default: the tree's root) to the ``tip`` link (default: the one leaf below
 * ``<limit lower upper velocity effort>`` are carried (continuous joints have no position
   limits); ``<dynamics damping friction>`` is not read;
 * gravity is 9.81 m/s^2 along -z of the base link;
-* joint names are the URDF's, lower-cased with other characters than ``[a-z0-9_]`` made ``_``;
-  the joint variables stay ``q1 .. qn`` (generated code needs them valid in every language).
+* joint names are the URDF's where they are identifiers (other characters made ``_``); they
+  label the joints in ``show`` and the placement table, while the joint variables stay
+  ``q1 .. qn`` (generated code needs them valid in every language);
 
 Every problem in the file is one :class:`~symkin.errors.RobotError` naming the file and the
 joint or link: malformed XML, a missing link, a loop, floating, planar or mimic joints on the
@@ -53,6 +54,7 @@ __all__ = ["robot_from_urdf"]
 
 MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 UNSUPPORTED = ("floating", "planar")
+IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
 @dataclass(frozen=True)
@@ -321,14 +323,15 @@ def _no_inertial_means_massless(joints: list[Joint]) -> list[Joint]:
 
 
 def _joint_names(joints: Sequence[Any]) -> dict[str, str | None]:
-    """URDF joint name -> symkin joint name (``[a-z][a-z0-9_]*``, unique)."""
+    """URDF joint name -> symkin joint name: kept when it is an identifier (ASCII letters,
+    digits, ``_``), else with every other character made ``_``; None for a repeat."""
     names: dict[str, str | None] = {}
     used: set[str] = set()
     for joint in joints:
-        name = re.sub(r"[^a-z0-9_]", "_", str(joint.name).lower())
-        if not NAME_PATTERN.match(name):
+        name = re.sub(r"[^A-Za-z0-9_]", "_", str(joint.name))
+        if not IDENTIFIER.match(name):
             name = f"joint_{name}"
-        names[joint.name] = None if name in used or not NAME_PATTERN.match(name) else name
+        names[joint.name] = None if name in used else name
         used.add(name)
     return names
 
