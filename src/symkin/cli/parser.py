@@ -106,7 +106,7 @@ def add_dh(commands: Commands) -> None:
         "intersecting and coincident axes), print the table with the base and tool transforms "
         "that make it exact, and prove that its FK equals the robot's.",
     )
-    dh.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(dh)
     dh.add_argument("--convention", choices=("standard", "modified"), default="standard")
     dh.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
     dh.add_argument("--toml", metavar="FILE", help="write the DH model as a robot file")
@@ -117,7 +117,7 @@ def add_dh(commands: Commands) -> None:
 def add_urdf(commands: Commands) -> None:
     """``symkin urdf ROBOT -o FILE``."""
     urdf = commands.add_parser("urdf", help="write the robot as a URDF file")
-    urdf.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(urdf)
     urdf.add_argument("-o", "--output", required=True, metavar="FILE", help="the .urdf file")
     urdf.set_defaults(run=command_urdf)
 
