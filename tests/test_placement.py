@@ -174,3 +174,11 @@ def test_show_prints_the_placement_table(capsys):
     assert "4 joints, placed joints" in out
     assert "Placed joints (A_i = P_i Rz(theta_i) Tz(d_i); angles in rad):" in out
     assert "DH table" not in out
+
+
+def test_velocity_and_effort_limits_are_read_and_checked():
+    text = HEADER + "[[joints]]\ntype = 'revolute'\naxis = [0, 0, 1]\nmax_velocity = 2.5\n"
+    joint = symkin.robot_from_toml(text + "max_effort = 40\n", "arm.toml").joints[0]
+    assert (joint.max_velocity, joint.max_effort) == (2.5, 40.0)
+    with pytest.raises(RobotError, match=r"joint 1: 'max_effort' must be > 0, got -1"):
+        symkin.robot_from_toml(text + "max_effort = -1\n", "arm.toml")
