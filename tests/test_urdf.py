@@ -205,3 +205,14 @@ def test_cli_names_the_leaves_and_takes_tip(tmp_path, capsys):
     assert main(["eval", str(path), "--tip", "flange", "--q", "0.4,-1.1", "--json"]) == 0
     out = capsys.readouterr().out
     assert '"position"' in out
+
+
+def test_cli_asks_for_missing_inertials_naming_the_file(tmp_path, capsys):
+    path = tmp_path / "bare.urdf"
+    path.write_text(urdf(link("a"), link("b"), joint("j", "a", "b"), name="bare_cli"), "utf-8")
+    code = main(["eval", str(path), "--q", "0.1", "--dq", "0", "--ddq", "0", "--dynamics"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith(
+        f"symkin: error: {path}: bare_cli has no inertial data for m1"
+    )
+    assert len(err.strip().splitlines()) == 1
