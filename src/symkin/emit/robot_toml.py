@@ -98,7 +98,7 @@ def joint_lines(joint: Joint) -> list[str]:
         lines.append(f"limits = {vector_text([repr(float(v)) for v in joint.limits])}")
     for key in ("max_velocity", "max_effort"):
         if getattr(joint, key) is not None:
-            lines.append(f"{key} = {repr(float(getattr(joint, key)))}")
+            lines.append(f"{key} = {float(getattr(joint, key))!r}")
     return lines + (link_lines(joint.link) if joint.link is not None else [])
 
 
