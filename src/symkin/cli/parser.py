@@ -99,6 +99,7 @@ def add_dh(commands: Commands) -> None:
     dh.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
     dh.add_argument("--toml", metavar="FILE", help="write the DH model as a robot file")
     dh.add_argument("--latex", metavar="FILE", help="write the derivation as a LaTeX document")
+    add_set_option(dh)
     dh.set_defaults(run=command_dh)
 
 
@@ -107,6 +108,7 @@ def add_urdf(commands: Commands) -> None:
     urdf = commands.add_parser("urdf", help="write the robot as a URDF file")
     urdf.add_argument("robot", metavar="ROBOT")
     urdf.add_argument("-o", "--output", required=True, metavar="FILE", help="the .urdf file")
+    add_set_option(urdf)
     urdf.set_defaults(run=command_urdf)
 
 
