@@ -33,6 +33,7 @@ from symkin.cli.values import (
     task_rows_from_text,
 )
 from symkin.derive import derive
+from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
@@ -60,14 +61,23 @@ def command_list(_: argparse.Namespace) -> None:
         print(f"{name:<24} {robot.dof} DOF  {robot.convention:<8}  {robot.title}")
 
 
+def derivation_options(args: argparse.Namespace) -> tuple[float | None, bool, bool]:
+    """``(budget, closed_forms, dynamics)`` from ``--budget``, ``--skip`` and
+    ``--kinematics-only`` (a budget of 0 is no limit)."""
+    skip = set(args.skip) | ({"determinant", "dynamics"} if args.kinematics_only else set())
+    return args.budget or None, "determinant" not in skip, "dynamics" not in skip
+
+
 def command_show(args: argparse.Namespace) -> None:
-    model = derive(load_robot(args.robot))
+    budget, closed_forms, dynamics = derivation_options(args)
+    model = derive(load_robot(args.robot), budget, closed_forms)
     rows = task_rows_from_text(args.task)
+    dynamics = dynamics and args.dynamics
     if args.json:
-        dynamics = dynamics_show_json(model) if args.dynamics else {}
-        print(json_text(show_json(model, rows) | dynamics))
+        extra = dynamics_show_json(model) if dynamics else {}
+        print(json_text(show_json(model, rows) | extra))
     else:
-        print(show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else ""))
+        print(show_text(model, rows) + (dynamics_show_text(model) if dynamics else ""))
 
 
 def command_eval(args: argparse.Namespace) -> None:
@@ -104,7 +114,10 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags = ["--precision", args.precision] if args.precision != "double" else []
     flags += ["--numeric-parameters"] if args.numeric_parameters else []
     flags += [word for item in args.set for word in ("--set", item)]
-    return flags + [word for item in args.point for word in ("--point", item)]
+    flags += [word for item in args.point for word in ("--point", item)]
+    flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
+    flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
 def command_derive(args: argparse.Namespace) -> None:
@@ -118,7 +131,17 @@ def command_derive(args: argparse.Namespace) -> None:
         )
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
-    files = files_for_robot(robot, backends, args.precision, points, derive_flags(args))
+    budget, closed_forms, dynamics = derivation_options(args)
+    files = files_for_robot(
+        robot,
+        backends,
+        args.precision,
+        points,
+        derive_flags(args),
+        budget=budget,
+        closed_forms=closed_forms,
+        dynamics=dynamics,
+    )
     out = Path(args.out)
     build = "python" in backends and not args.no_build
 
@@ -155,8 +178,9 @@ def command_latex(args: argparse.Namespace) -> None:
     robot = load_robot(args.robot)
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
+    budget, closed_forms, _ = derivation_options(args)
     files = latex_files(
-        derive(robot),
+        derive(robot, budget, closed_forms),
         sections=sections,
         shorthand=args.shorthand,
         lang=args.lang,

@@ -19,8 +19,8 @@ What keeps it fast on generic arms (issue 15):
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from itertools import product
+from collections.abc import Callable, Sequence
+from itertools import combinations, product
 from math import comb
 
 import sympy as sp
@@ -43,18 +43,41 @@ def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> 
     """
     if not matrix.is_square:
         raise ValueError("determinant of a non-square matrix")
+    return _factored(matrix, angles, determinant_by_minors)
+
+
+def factored_gram_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> sp.Expr:
+    """``det(J J^T)`` of a wide matrix ``J`` (rows <= columns), factored.
+
+    By the Cauchy-Binet formula it is the sum of the squared determinants of the square
+    submatrices made of ``rows`` of the columns (7 for a 7-joint arm's 6 x 7 Jacobian), each
+    computed like :func:`factored_determinant`'s; no product ``J J^T`` is ever expanded.
+    """
+    return _factored(matrix, angles, _gram_by_cauchy_binet)
+
+
+def _gram_by_cauchy_binet(matrix: DomainMatrix) -> object:
+    rows, columns = matrix.shape
+    total = matrix.domain.zero
+    for chosen in combinations(range(columns), rows):
+        minor = determinant_by_minors(matrix.extract(list(range(rows)), list(chosen)))
+        total += minor * minor
+    return total
+
+
+def _factored(
+    matrix: sp.MatrixBase, angles: Sequence[sp.Symbol], determinant: Callable[..., object]
+) -> sp.Expr:
     circle = _CircleVariables.of(angles)
     polynomial_matrix = sp.Matrix(matrix).applyfunc(circle.polynomial)
     inexact = polynomial_matrix.has(sp.Float)
     if inexact:
         polynomial_matrix = polynomial_matrix.applyfunc(_rational_coefficients)
     domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
-    determinant = _rational_polynomial(
-        domain_matrix.domain, determinant_by_minors(domain_matrix)
-    )
-    if isinstance(determinant, sp.Expr):
-        return sp.nfloat(determinant, 15) if inexact else determinant
-    return _readable_factors(circle, determinant, inexact)
+    value = _rational_polynomial(domain_matrix.domain, determinant(domain_matrix))
+    if isinstance(value, sp.Expr):
+        return sp.nfloat(value, 15) if inexact else value
+    return _readable_factors(circle, value, inexact)
 
 
 def _rational_polynomial(domain: object, value: object) -> object:

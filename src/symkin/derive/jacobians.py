@@ -18,7 +18,6 @@ import sympy as sp
 
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, joint_axis_sign
 from symkin.derive.orientation_rates import orientation_rates
-from symkin.derive.determinant import factored_determinant
 from symkin.errors import SymkinError
 from symkin.robot import Robot
 from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation, transform_inverse
@@ -207,15 +206,15 @@ def middle_frame_jacobian(robot: Robot, kinematics: Kinematics) -> sp.Matrix:
     return sp.Matrix.hstack(*columns)
 
 
-def task_jacobian_determinant(
+def determinant_matrix(
     robot: Robot, kinematics: Kinematics, jacobian: sp.MatrixBase, rows: Sequence[str]
-) -> sp.Expr | None:
-    """Factored determinant of the task Jacobian, or ``None`` when it is not square."""
-    if len(rows) != robot.dof:
-        return None
+) -> sp.Matrix:
+    """A matrix with the task Jacobian's determinant (square) or Gram determinant
+    ``det(J J^T)`` (wide): the middle-frame Jacobian when all six rows are taken (same
+    determinants, shorter entries; see :func:`middle_frame_jacobian`), else the rows."""
     if tuple(rows) == ROW_NAMES:
-        return factored_determinant(middle_frame_jacobian(robot, kinematics), kinematics.q)
-    return factored_determinant(task_jacobian(jacobian, rows), kinematics.q)
+        return middle_frame_jacobian(robot, kinematics)
+    return sp.Matrix(task_jacobian(jacobian, rows))
 
 
 def _solve_simple_factor(factor: sp.Expr, variable: sp.Symbol) -> list[sp.Expr] | None:
