@@ -84,9 +84,7 @@ def files_for_robot(
         )
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     model = derive(robot, budget, closed_forms)
-    kernels = functools.cache(
-        lambda: robot_kernels(model, dynamics) + point_kernels(model, points)
-    )
+    kernels = functools.cache(lambda: robot_kernels(model, dynamics) + point_kernels(model, points))
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),
         "c": lambda: {

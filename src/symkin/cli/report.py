@@ -62,9 +62,11 @@ def progress(message: str) -> None:
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:
     """One ``symkin: warning: ...`` line instead of Python's file-and-line format; a budget
     warning names the ``--budget`` flag."""
-    text = message.message_for({"budget": "--budget SECONDS"}) if isinstance(
-        message, BudgetWarning
-    ) else str(message)
+    text = (
+        message.message_for({"budget": "--budget SECONDS"})
+        if isinstance(message, BudgetWarning)
+        else str(message)
+    )
     print(f"symkin: warning: {printable(text)}", file=sys.stderr)
 
 
@@ -218,9 +220,9 @@ def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
         "jacobian": [[sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
         "det": sp.sstr(determinant.value) if determinant.found else None,
         "det_status": determinant.status,
-        "singular": [sp.sstr(c) for c in singular.value] if singular.found else (
-            [] if singular.status == NOT_SQUARE else None
-        ),
+        "singular": [sp.sstr(c) for c in singular.value]
+        if singular.found
+        else ([] if singular.status == NOT_SQUARE else None),
         "singular_status": singular.status,
     }
 

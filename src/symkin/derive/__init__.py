@@ -272,9 +272,7 @@ class Model:
         matrix = jacobians.determinant_matrix(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
-        return self._within(
-            quantity, lambda: sp.sqrt(factored_gram_determinant(matrix, self.q))
-        )
+        return self._within(quantity, lambda: sp.sqrt(factored_gram_determinant(matrix, self.q)))
 
     def manipulability(self, rows: Sequence[str] | None = None) -> sp.Expr | None:
         """Yoshikawa's ``sqrt(det(J J^T))`` of the task Jacobian (``|det J|`` when square);

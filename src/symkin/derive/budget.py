@@ -19,6 +19,7 @@ in process without a deadline; the size guards of :mod:`symkin.derive.determinan
 
 from __future__ import annotations
 
+import contextlib
 import os
 import pickle
 import select
@@ -105,7 +106,7 @@ def run_within(seconds: float | None, compute: Callable[[], Any]) -> Any:
     finally:
         os.close(reader)
         _stop(pid)
-    kind, payload = pickle.loads(data)  # noqa: S301 - bytes from our own child, via a pipe
+    kind, payload = pickle.loads(data)
     if kind == "error":
         raise payload
     return payload
@@ -145,8 +146,6 @@ def _receive(reader: int, deadline: float) -> bytes:
 
 def _stop(pid: int) -> None:
     """Kill the child if it still runs, and reap it."""
-    try:
+    with contextlib.suppress(ProcessLookupError):
         os.kill(pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
     os.waitpid(pid, 0)

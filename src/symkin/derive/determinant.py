@@ -138,7 +138,9 @@ def _readable_factors(circle: _CircleVariables, determinant: sp.Expr, inexact: b
         reduced = _reduce_on_circle(factor, pairs)
         reduced = _chop(reduced) if inexact else reduced
         if reduced.is_ground:
-            value *= ring.domain.to_sympy(reduced.LC if reduced else ring.domain.zero) ** multiplicity
+            value *= (
+                ring.domain.to_sympy(reduced.LC if reduced else ring.domain.zero) ** multiplicity
+            )
         else:
             readable.append((reduced.as_expr(), multiplicity))
     sums = [i for i, (f, m) in enumerate(readable) if f.is_Add and m == 1]
@@ -191,8 +193,10 @@ def _cheap_or_full_factors(polynomial: object) -> tuple[object, list[tuple[objec
     ring = polynomial.ring
     smallest = [min(exponents) for exponents in zip(*polynomial.monoms(), strict=True)]
     rest = ring.from_dict(
-        {tuple(e - m for e, m in zip(monomial, smallest, strict=True)): v
-         for monomial, v in polynomial.items()}
+        {
+            tuple(e - m for e, m in zip(monomial, smallest, strict=True)): v
+            for monomial, v in polynomial.items()
+        }
     )
     content, primitive = rest.primitive()
     factors = [(ring.gens[k], e) for k, e in enumerate(smallest) if e]

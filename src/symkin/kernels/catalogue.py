@@ -12,8 +12,8 @@ import sympy as sp
 
 from symkin.derive import Model
 from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
-from symkin.derive.jacobians import rows_from_names
 from symkin.derive.dynamics import link_inertial_data
+from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
 from symkin.kernels.numeric_determinant import numeric_determinant_kernels
 from symkin.kernels.passes import kernel_from_assignments
@@ -118,8 +118,10 @@ def _determinant_kernels(
     rows = ", ".join(model.task_rows)
     unit = units.determinant(model.robot, model.task_rows)
     if not form.found:
-        reason = "no closed form within the budget" if form.status == OVER_BUDGET else (
-            "closed forms switched off"
+        reason = (
+            "no closed form within the budget"
+            if form.status == OVER_BUDGET
+            else ("closed forms switched off")
         )
         indices = rows_from_names(model.task_rows)
         return numeric_determinant_kernels(jacobian, indices, rows, unit, reason)
