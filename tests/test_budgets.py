@@ -132,7 +132,7 @@ def test_run_within_returns_values_raises_errors_and_stops() -> None:
 
 def test_show_json_over_budget(capsys: pytest.CaptureFixture[str]) -> None:
     # A budget no other test uses: equal models share their cached closed forms (and warn once).
-    assert main(["show", "puma560", "--json", "--budget", "0.0011"]) == 0
+    assert main(["show", "puma560", "--json", "--budget", "0.0011", "--no-cache"]) == 0
     captured = capsys.readouterr()
     data = json.loads(captured.out)
     assert (data["det"], data["det_status"]) == (None, "over budget")
@@ -142,7 +142,7 @@ def test_show_json_over_budget(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_show_text_kinematics_only(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["show", "scara", "--kinematics-only"]) == 0
+    assert main(["show", "scara", "--kinematics-only", "--no-cache"]) == 0
     out = capsys.readouterr().out
     assert "det J: closed form not attempted" in out and "sin(q2)" not in out.split("rows")[-1]
 
@@ -169,7 +169,17 @@ def test_budget_overrun_derive_gives_working_numpy_and_c(
 ) -> None:
     out = tmp_path / "out"
     status = main(
-        ["derive", "puma560", "--out", str(out), "--budget", "0.0012", "--emit", "numpy,c"]
+        [
+            "derive",
+            "puma560",
+            "--out",
+            str(out),
+            "--budget",
+            "0.0012",
+            "--emit",
+            "numpy,c",
+            "--no-cache",
+        ]
     )
     assert status == 0
     err = capsys.readouterr().err

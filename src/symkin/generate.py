@@ -31,6 +31,7 @@ from symkin.output_folder import (
     read_manifest,
     write_folder,
 )
+from symkin.progress import phase
 from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
@@ -54,9 +55,14 @@ def check_backends(backends: Iterable[str]) -> tuple[str, ...]:
 
 
 def robot_kernels(model: Model, dynamics: bool = True) -> tuple[Kernel, ...]:
-    """Every kernel generated for a robot: kinematics, then dynamics (unless ``dynamics`` is
-    false)."""
-    return kinematics_kernels(model) + (dynamics_kernels(model) if dynamics else ())
+    """Every kernel generated for a robot: kinematics, then dynamics unless ``dynamics`` is
+    false (two progress phases)."""
+    with phase("the kinematics kernels (CSE and rewrite passes)"):
+        kinematics = kinematics_kernels(model)
+    if not dynamics:
+        return kinematics
+    with phase("the dynamics kernels (CSE and rewrite passes)"):
+        return kinematics + dynamics_kernels(model)
 
 
 def files_for_robot(
@@ -82,9 +88,11 @@ def files_for_robot(
         raise ParameterError(
             f"{{precision}} must be one of {', '.join(PRECISIONS)}, got {literal(repr(precision))}"
         )
+
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     model = derive(robot, budget, closed_forms)
     kernels = functools.cache(lambda: robot_kernels(model, dynamics) + point_kernels(model, points))
+
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),
         "c": lambda: {
@@ -101,7 +109,8 @@ def files_for_robot(
     }
     files: dict[str, str] = {}
     for backend in check_backends(backends):
-        files.update(emitters[backend]())
+        with phase(f"the {backend} files"):
+            files.update(emitters[backend]())
     return dict(sorted(files.items()))
 
 

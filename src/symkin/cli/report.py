@@ -9,16 +9,16 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
 from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET, ClosedForm
-from symkin.derive.kinematics import joint_dh_values
+from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.errors import BudgetWarning, ParameterError, SymkinError
+from symkin.progress import note
 from symkin.robot import Robot
 from symkin.solve.evaluate import DynamicState, KinematicState
 from symkin.solve.ik.numeric import IKResult
@@ -56,18 +56,21 @@ def error_text(error: SymkinError, command: str) -> str:
 
 
 def progress(message: str) -> None:
-    print(f"symkin: {message}", file=sys.stderr, flush=True)
+    """A ``symkin: ...`` line on stderr, through the command's reporter (which also shows
+    the library's phases; see :mod:`symkin.cli.reporter`)."""
+    note(message)
 
 
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:
-    """One ``symkin: warning: ...`` line instead of Python's file-and-line format; a budget
+    """One ``symkin: warning: ...`` line instead of Python's file-and-line format, through the
+    command's reporter (so it lands above a live progress line, not inside it); a budget
     warning names the ``--budget`` flag."""
     text = (
         message.message_for({"budget": "--budget SECONDS"})
         if isinstance(message, BudgetWarning)
         else str(message)
     )
-    print(f"symkin: warning: {printable(text)}", file=sys.stderr)
+    note(f"warning: {printable(text)}")
 
 
 def _first_non_finite(value: object, where: str = "") -> str | None:
@@ -121,16 +124,49 @@ def dh_table_text(model: Model) -> str:
     return "\n".join(lines)
 
 
+def placement_table_text(model: Model) -> str:
+    """The placed joints: each joint frame's placement in the previous frame (xyz, rpy in
+    rad) and the joint's motion about or along its z axis."""
+    header = f"  {'i':>2}  {'type':<9}  {'name':<20}  {'xyz':<34}  {'rpy':<34}  motion"
+    lines = [header]
+    for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
+        xyz, rpy = placement_xyz_rpy(joint.placement)
+        theta, d, _, _ = joint_dh_values(joint, q)
+        motion = f"Rz({sp.sstr(theta)})" if joint.type == "revolute" else f"Tz({sp.sstr(d)})"
+        triples = [
+            " ".join(sp.sstr(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
+        ]
+        lines.append(
+            f"  {i:>2}  {joint.type:<9}  {joint.name or '':<20}  {triples[0]:<34}  "
+            f"{triples[1]:<34}  {motion}"
+        )
+    return "\n".join(lines)
+
+
+def _joint_table(model: Model) -> list[str]:
+    if model.robot.convention == "placement":
+        return [
+            "Placed joints (A_i = P_i Rz(theta_i) Tz(d_i); angles in rad):",
+            placement_table_text(model),
+        ]
+    return ["DH table (angles in rad):", dh_table_text(model)]
+
+
+def convention_text(convention: str) -> str:
+    """``standard DH``, ``modified DH`` or ``placed joints``."""
+    return "placed joints" if convention == "placement" else f"{convention} DH"
+
+
 def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     robot = model.robot
     parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
     out = [
         f"{robot.name}: {printable(robot.title)}",
         f"source: {printable(robot.source) or '(not given)'}",
-        f"{robot.dof} joints, {robot.convention} DH; parameters: {parameters or 'none'}",
+        f"{robot.dof} joints, {convention_text(robot.convention)}; "
+        f"parameters: {parameters or 'none'}",
         "",
-        "DH table (angles in rad):",
-        dh_table_text(model),
+        *_joint_table(model),
     ]
     for i, link in enumerate(model.link_transforms, start=1):
         out += ["", f"A_{i} (frame {i} in frame {i - 1}):", text_matrix(link)]
