@@ -11,8 +11,11 @@ from collections.abc import Sequence
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
 from symkin.derive.dynamics import link_inertial_data
+from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
+from symkin.kernels.numeric_determinant import numeric_determinant_kernels
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
 
@@ -41,10 +44,32 @@ def _shortest_kernel(
 
     The contracted form wins on short chains (``cos(q1 + q2)``), the raw product form on long
     ones (a 7-DOF Jacobian expanded is ten times longer than its product form after CSE).
-    Ties go to the first form.
+    Ties go to the first form.  The last form (the product form, cheapest to build) is built
+    first, and a form whose :func:`_products_lower_bound` already exceeds the best count so far
+    is not built: on a generic arm the expanded form's CSE costs seconds and cannot win.
     """
-    candidates = [kernel_from_outputs(name, description, inputs, o) for o in outputs_by_form]
-    return min(candidates, key=lambda k: k.operation_counts["total"])
+    candidates: dict[int, Kernel] = {}
+    for index in reversed(range(len(outputs_by_form))):
+        outputs = outputs_by_form[index]
+        best = min((k.operation_counts["total"] for k in candidates.values()), default=None)
+        if best is not None and _products_lower_bound(outputs) > best:
+            continue
+        candidates[index] = kernel_from_outputs(name, description, inputs, outputs)
+    return candidates[min(candidates, key=lambda i: (candidates[i].operation_counts["total"], i))]
+
+
+def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> int:
+    """Fewest operations any CSE of ``outputs`` can take: one multiplication per distinct
+    product among the terms of the entries (coefficients aside).  ``sympy.cse`` shares equal
+    subexpressions but never factors, so each distinct product is formed at least once.
+    """
+    products = {
+        term.as_coeff_Mul()[1]
+        for _, matrix, *_ in outputs
+        for entry in matrix
+        for term in sp.Add.make_args(entry)
+    }
+    return sum(1 for product in products if product.is_Mul)
 
 
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
@@ -101,16 +126,28 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
             "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
         ),
     ]
-    return tuple(kernels) + _determinant_kernels(model, inputs)
+    return tuple(kernels) + _determinant_kernels(model, inputs, kernels[2])
 
 
-def _determinant_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel, ...]:
-    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none)."""
-    determinant = model.determinant()
-    if determinant is None:
+def _determinant_kernels(
+    model: Model, inputs: Sequence[KernelInput], jacobian: Kernel
+) -> tuple[Kernel, ...]:
+    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none):
+    the closed form, or without one (over budget, switched off) the numeric fallback."""
+    form = model.determinant_form()
+    if form.status == NOT_SQUARE:
         return ()
     rows = ", ".join(model.task_rows)
     unit = units.determinant(model.robot, model.task_rows)
+    if not form.found:
+        reason = (
+            "no closed form within the budget"
+            if form.status == OVER_BUDGET
+            else ("closed forms switched off")
+        )
+        indices = rows_from_names(model.task_rows)
+        return numeric_determinant_kernels(jacobian, indices, rows, unit, reason)
+    determinant = form.value
     return (
         kernel_from_outputs(
             "det",
