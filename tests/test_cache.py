@@ -364,3 +364,47 @@ def test_interrupted_store_leaves_no_temporary_file(
     with pytest.raises(KeyboardInterrupt):
         cache.store("show", "0" * 64, "text", [])
     assert list(cache.directory.iterdir()) == []
+
+
+def test_cache_folder_that_is_a_symlink_is_not_used(tmp_path: Path) -> None:
+    """``$XDG_CACHE_HOME/symkin`` as a symbolic link (in a shared ``XDG_CACHE_HOME`` whoever
+    made the link can point it elsewhere after the check) is refused, as output folders are."""
+    (tmp_path / "mine").mkdir(mode=0o700)
+    (tmp_path / "xdg").mkdir()
+    (tmp_path / "xdg" / "symkin").symlink_to(tmp_path / "mine")
+    assert user_cache({"XDG_CACHE_HOME": str(tmp_path / "xdg")}) is None
+
+
+def test_entry_that_is_a_symlink_is_not_followed(
+    shown: tuple[str, list], cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path, calls = shown
+    good, _ = run(capsys, "show", path)
+    (entry,) = entries(cache_root)
+    elsewhere = tmp_path / "elsewhere.json"
+    entry.rename(elsewhere)
+    entry.symlink_to(elsewhere)
+    again, err = run(capsys, "show", path, "--verbose")
+    assert again == good and len(calls) == 2 and "cannot read" in err
+
+
+@pytest.mark.parametrize("relative", ["../../escaped.py", "/tmp/absolute.py", "numpy/../../x.py"])
+def test_entry_with_a_path_out_of_the_folder_is_rebuilt(
+    relative: str, cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A ``derive`` entry whose file map leaves the output folder is not a valid entry: it is
+    ignored and rebuilt (not written, and not an error that blocks the command)."""
+    path = str(robot_file(tmp_path))
+    run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / "cold"))
+    (entry,) = entries(cache_root)
+    data = json.loads(entry.read_text())
+    data["value"][relative] = "import os\n"
+    entry.write_text(json.dumps(data))
+    _, err = run(
+        capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / "warm"), "--verbose"
+    )
+    assert "not a valid entry" in err
+    assert not (tmp_path / "escaped.py").exists() and not Path("/tmp/absolute.py").exists()
+    assert sorted(p.name for p in (tmp_path / "warm").rglob("*.py")) == sorted(
+        p.name for p in (tmp_path / "cold").rglob("*.py")
+    )

@@ -37,7 +37,8 @@ from pathlib import Path
 
 import sympy as sp
 
-from symkin.errors import BudgetWarning, RobotWarning
+from symkin.errors import BudgetWarning, RobotWarning, SymkinError
+from symkin.output_folder import check_relative
 from symkin.progress import detail
 from symkin.robot import Robot
 
@@ -131,6 +132,17 @@ def _is_text(value: object) -> bool:
     )
 
 
+def _is_file_map(value: object) -> bool:
+    """Text, or ``{path: text}`` whose every path is a plain relative one (no ``..``, not
+    absolute): an entry naming a file outside the output folder is not an entry of ours."""
+    if isinstance(value, str):
+        return True
+    try:
+        return _is_text(value) and all(check_relative(path) for path in value)
+    except SymkinError:
+        return False
+
+
 def _warnings_of(entry: dict) -> list[dict[str, str]] | None:
     """The entry's ``[{"category": name, "text": message or template}]``, or None if malformed."""
     said = entry.get("warnings")
@@ -191,7 +203,7 @@ class DiskCache:
             FORMAT,
             key,
         )
-        if not valid or not _is_text(entry.get("value")) or _warnings_of(entry) is None:
+        if not valid or not _is_file_map(entry.get("value")) or _warnings_of(entry) is None:
             detail(f"cache: ignoring {path}: not a valid entry of this symkin; rebuilding it")
             return None
         return entry["value"], _warnings_of(entry)
@@ -229,11 +241,14 @@ def user_cache(environ: Mapping[str, str] = os.environ) -> DiskCache | None:
     try:
         directory.parent.mkdir(parents=True, exist_ok=True)
         directory.mkdir(mode=0o700, exist_ok=True)
-        status = directory.stat()
+        # lstat: a symbolic link is refused, not followed (its owner could repoint it after
+        # this check); set XDG_CACHE_HOME to keep the cache elsewhere.
+        status = directory.lstat()
     except OSError as error:
         detail(f"cache: not used: cannot create {directory} ({error.strerror})")
         return None
     why = "is not a directory" if not stat.S_ISDIR(status.st_mode) else _unsafe(status)
+    why = "is a symbolic link" if stat.S_ISLNK(status.st_mode) else why
     if why:
         detail(f"cache: not used: {directory} {why}")
         return None
