@@ -15,6 +15,7 @@ import re
 import subprocess
 import sys
 from collections.abc import Callable
+from contextlib import closing
 from pathlib import Path
 
 import pytest
@@ -408,3 +409,18 @@ def test_entry_with_a_path_out_of_the_folder_is_rebuilt(
     assert sorted(p.name for p in (tmp_path / "warm").rglob("*.py")) == sorted(
         p.name for p in (tmp_path / "cold").rglob("*.py")
     )
+
+
+def test_closing_the_reporter_stops_a_display_left_running(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C inside ``started`` (the display begun, the phase not yet recorded) leaves no
+    phase to end it; the command closes its reporter, which stops the display anyway."""
+    from rich.progress import Progress
+
+    def interrupted(*_: object, **__: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Progress, "add_task", interrupted)
+    reporter = CommandReporter(verbose=False, live=True, stream=io.StringIO())
+    with pytest.raises(KeyboardInterrupt), closing(reporter), reporting(reporter), phase("x"):
+        pass
+    assert reporter.display is None
