@@ -40,11 +40,7 @@ def test_ctrl_c_during_derive_is_one_line_exit_130_and_leaves_the_folder(tmp_pat
 
 
 def test_time_limit_stops_a_derivation_too_large_for_it(tmp_path: Path):
-    lines = ['name = "chain20"', "[parameters]", *(f"L{i} = 0.1" for i in range(1, 21))]
-    for i in range(1, 21):
-        lines += ["[[joints]]", 'type = "revolute"', f'a = "L{i}"', f"alpha = {90 * (i % 2)}"]
-    robot = tmp_path / "chain20.toml"
-    robot.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    robot = _chain_file(tmp_path, 20)
     started = time.monotonic()
     done = subprocess.run(
         [*SYMKIN, "--time-limit", "3", "show", str(robot)],
