@@ -1,0 +1,188 @@
+"""Time to the first numeric answer (issue 15): ``symkin eval``, ``ik`` and ``trajopt`` from a
+cold process, the per-call cost of ``kinematic_state`` and the first ``solve_ik`` call.
+
+Each command runs in a fresh interpreter (no derivation cache of any kind carried over) with
+``--no-cache`` when the CLI has it, so the figure is what a new user waits for.  Run from the
+repository root::
+
+    python bench/numeric_first_answer.py [--src DIR] [--timeout S] [--skip-cli] [ROBOT ...]
+
+``--src`` points at another checkout's ``src`` to measure it (a before/after comparison);
+robots are catalogue names or the benchmark arms ``jaco_like``, ``random6`` (seeded right-angle
+6R with inertial data) and ``random5``.  Prints one line per measurement; wall times depend on
+the machine's load, which is printed with them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from random_arms import jaco_like_toml, random_arm_toml
+
+BENCH_ARMS = {
+    "jaco_like": jaco_like_toml,
+    "random6": lambda: random_arm_toml(6, 1, dynamics=True),
+    "random5": lambda: random_arm_toml(5, 1, dynamics=True),
+}
+# A configuration away from singularities, within the PUMA's and the Panda's joint limits, as
+# is Q + 0.2 (the IK target and the trajectory's goal); the first n values.
+Q = (0.3, -0.5, 0.5, -1.2, -0.6, 0.8, 0.2)
+
+PROBE = """
+import sys, time
+import numpy as np
+import symkin
+from symkin.solve.evaluate import kinematic_state
+model = symkin.derive(symkin.load_robot(sys.argv[1]))
+q = {q}[: model.robot.dof]
+start = time.perf_counter()
+kinematic_state(model, q)
+first = time.perf_counter() - start
+times = []
+for _ in range({calls}):
+    start = time.perf_counter()
+    kinematic_state(model, q)
+    times.append(time.perf_counter() - start)
+times.sort()
+pose = kinematic_state(model, [v + 0.2 for v in q]).transform
+start = time.perf_counter()
+result = symkin.solve_ik(model, pose, q0=q)
+ik = time.perf_counter() - start
+print(first, times[len(times) // 2], ik, result.success)
+"""
+
+
+def robot_path(name: str, folder: Path) -> str:
+    """A catalogue name as it is, a benchmark arm written to a file in ``folder``."""
+    if name not in BENCH_ARMS:
+        return name
+    path = folder / f"{name}.toml"
+    path.write_text(BENCH_ARMS[name]())
+    return str(path)
+
+
+def run(command: list[str], environment: dict[str, str], timeout: float) -> str:
+    """Wall time of one command in seconds (``> timeout`` when it ran out), as text."""
+    start = time.perf_counter()
+    try:
+        done = subprocess.run(command, env=environment, capture_output=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return f"> {timeout:.0f} s (stopped)"
+    elapsed = time.perf_counter() - start
+    status = "" if done.returncode == 0 else f" (exit {done.returncode}: {done.stderr[-200:]!r})"
+    return f"{elapsed:.2f} s{status}"
+
+
+def cli_commands(robot: str, dof: int, target: str) -> dict[str, list[str]]:
+    q = ",".join(str(v) for v in Q[:dof])
+    goal = ",".join(f"{v + 0.2:.3g}" for v in Q[:dof])
+    return {
+        "eval": ["eval", robot, "--q", q],
+        "ik": ["ik", robot, "--target", target, "--q0", q],
+        "trajopt": [
+            "trajopt",
+            robot,
+            "--from",
+            q,
+            "--to",
+            goal,
+            "--intervals",
+            "10",
+            "--time",
+            "1",
+        ],
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("robots", nargs="*", default=["puma560", "panda", "jaco_like", "random6"])
+    parser.add_argument("--src", default=str(Path(__file__).resolve().parents[1] / "src"))
+    parser.add_argument("--timeout", type=float, default=600.0)
+    parser.add_argument("--calls", type=int, default=20)
+    parser.add_argument("--skip-cli", action="store_true")
+    parser.add_argument("--skip-api", action="store_true")
+    args = parser.parse_args()
+    environment = os.environ | {"PYTHONPATH": args.src}
+    python = sys.executable
+    print(f"src {args.src}; load average {os.getloadavg()[0]:.2f} (2 cores, shared)")
+    with tempfile.TemporaryDirectory() as folder:
+        for name in args.robots:
+            robot = robot_path(name, Path(folder))
+            dof = int(
+                subprocess.run(
+                    [python, "-c", f"import symkin; print(symkin.load_robot({robot!r}).dof)"],
+                    env=environment,
+                    capture_output=True,
+                    text=True,
+                    check=True,
+                ).stdout
+            )
+            if not args.skip_api:
+                probe = PROBE.format(q=Q, calls=args.calls)
+                start = time.perf_counter()
+                try:
+                    out = subprocess.run(
+                        [python, "-c", probe, robot],
+                        env=environment,
+                        capture_output=True,
+                        text=True,
+                        timeout=args.timeout,
+                    ).stdout.split()
+                    first, median, ik, success = out
+                    print(
+                        f"{name}: kinematic_state first {float(first):.3f} s, then median "
+                        f"{float(median) * 1e6:.0f} us/call; first solve_ik {float(ik):.2f} s "
+                        f"(success {success}); process {time.perf_counter() - start:.1f} s"
+                    )
+                except subprocess.TimeoutExpired:
+                    print(f"{name}: API probe > {args.timeout:.0f} s (stopped)")
+                except ValueError:
+                    print(f"{name}: API probe failed")
+            if args.skip_cli:
+                continue
+            target = target_text(python, environment, robot, dof)
+            for command, words in cli_commands(robot, dof, target).items():
+                words += no_cache_flag(python, environment, command)
+                elapsed = run([python, "-m", "symkin.cli", *words], environment, args.timeout)
+                load = os.getloadavg()[0]
+                print(f"{name}: symkin {command}: {elapsed} (load {load:.2f})", flush=True)
+
+
+def no_cache_flag(python: str, environment: dict[str, str], command: str) -> list[str]:
+    """``["--no-cache"]`` when this checkout's ``command`` has the option, else nothing."""
+    done = subprocess.run(
+        [python, "-m", "symkin.cli", command, "--help"],
+        env=environment,
+        capture_output=True,
+        text=True,
+    )
+    return ["--no-cache"] if "--no-cache" in done.stdout else []
+
+
+def target_text(python: str, environment: dict[str, str], robot: str, dof: int) -> str:
+    """``x,y,z,rx,ry,rz`` of the tool at ``Q + 0.2`` by a numeric DH product (not timed)."""
+    script = (
+        "import sys, numpy as np, symkin\n"
+        "from symkin.derive.numeric import numeric_function\n"
+        "from symkin.spatial import euler_zyx_from_rotation\n"
+        "m = symkin.derive(symkin.load_robot(sys.argv[1])).product_form\n"
+        f"T = numeric_function(m, m.forward_kinematics)([v + 0.2 for v in {Q}][:{dof}])\n"
+        "e = euler_zyx_from_rotation(T[:3, :3])\n"
+        "print(','.join(f'{v:.12g}' for v in (*T[:3, 3], e.phi, e.theta, e.psi)))\n"
+    )
+    done = subprocess.run(
+        [python, "-c", script, robot], env=environment, capture_output=True, text=True, check=True
+    )
+    return done.stdout.strip()
+
+
+if __name__ == "__main__":
+    main()
