@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from numeric_dh import NumericRobot
 
 import symkin
+from numeric_dh import NumericRobot
 from symkin.cli import main
 from symkin.derive import Model
 from symkin.io import load_robot
@@ -135,7 +135,7 @@ def test_dynamics_and_trajectory_modules_leave_out_what_they_do_not_use(
 
 
 def test_solve_ik_derives_no_determinant(no_symbolic_extras: None) -> None:
-    model = symkin.derive(load_robot("planar_3r"))
+    model = Model(load_robot("planar_3r"))  # not derive(): its cached model may be used
     reference = NumericRobot.from_robot(model.robot)
     target = reference.fk([0.3, 0.6, -0.4])
     result = symkin.solve_ik(model, target, q0=[0.2, 0.5, -0.3])
@@ -148,7 +148,7 @@ def test_solve_ik_derives_no_determinant(no_symbolic_extras: None) -> None:
 def test_jaco_like_numbers_without_its_determinant(no_symbolic_extras: None) -> None:
     """The issue's arm, whose factored determinant takes minutes: numbers in seconds, equal to
     the numeric DH product and its complex-step Jacobian."""
-    model = symkin.derive(load_robot(str(JACO)))
+    model = Model(load_robot(str(JACO)))
     reference = NumericRobot.from_robot(model.robot)
     state = kinematic_state(model, Q)
     np.testing.assert_allclose(state.transform, reference.fk(Q), atol=1e-12)
