@@ -541,7 +541,7 @@ ERROR_CASES: list[tuple[str, str, list[str]]] = [
     ("joint-name-upper", joint_with('name = "Elbow"\n'), ["joint 1: 'name' must match"]),
     ("joint-name-number", joint_with("name = 2\n"), ["joint 1: 'name' must match"]),
     ("bad-convention", HEADER + 'convention = "craig"\n' + REV,
-     ["'convention' must be \"standard\" or \"modified\", got \"craig\""]),
+     ["'convention' must be \"standard\" or \"modified\" or \"placement\", got \"craig\""]),
     ("bad-angles", HEADER + 'angles = "degrees"\n' + REV,
      ["'angles' must be \"deg\" or \"rad\", got \"degrees\""]),
     ("gravity-length", HEADER + "gravity = [0, -9.81]\n" + REV,

@@ -10,6 +10,11 @@ Conventions (docs/conventions.md):
 * standard (distal) DH:  ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
 * modified DH (Craig):   ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, where the
   joint row holds the ``alpha``/``a`` that precede it.
+* placement (URDF-like):  ``A_i = P_i Rz(theta_i) Tz(d_i)``, where ``P_i`` is the joint's
+  constant ``placement`` (pose of the joint frame i in frame i-1 at ``q_i = 0``, any rotation
+  and translation); ``a`` and ``alpha`` are 0.  It is modified DH with a general constant
+  part: the loaders (``symkin.io.placement``) turn each URDF-style ``origin`` + ``axis`` into
+  a placement whose z axis is the joint axis.
 * revolute joint:  ``theta_i = q_i + theta`` (``theta`` is the offset), ``d`` constant;
   prismatic joint: ``d_i = q_i + d`` (``d`` is the offset), ``theta`` constant.
   A flipped joint (``flip=True``) has ``-q_i`` in place of ``q_i``: it turns about (or
@@ -30,7 +35,8 @@ from symkin.symbols import parameter_symbol
 from symkin.text import unprintable_characters
 
 JointType = Literal["revolute", "prismatic"]
-Convention = Literal["standard", "modified"]
+Convention = Literal["standard", "modified", "placement"]
+CONVENTIONS: tuple[str, ...] = ("standard", "modified", "placement")
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
 DEFAULT_GRAVITY: tuple[sp.Expr, sp.Expr, sp.Expr] = (
@@ -73,7 +79,11 @@ class Link:
 
 @dataclass(frozen=True)
 class Joint:
-    """One row of the DH table (SI units, radians).
+    """One row of the DH table (SI units, radians), or one placed joint.
+
+    ``placement``: in a robot of the ``"placement"`` convention, the constant 4x4 transform
+    from frame i-1 to joint frame i at ``q_i = 0``; the joint then turns about (slides along)
+    that frame's z axis: ``A_i = placement * Rz(theta_i) Tz(d_i)``.  None in a DH robot.
 
     ``flip``: the joint variable enters with a minus sign (``theta_i = -q_i + theta`` or
     ``d_i = -q_i + d``), as in DH tables whose joint axis points against ``z``.
@@ -88,6 +98,7 @@ class Joint:
     limits: tuple[float, float] | None = None
     link: Link | None = None
     flip: bool = False
+    placement: sp.ImmutableMatrix | None = None
 
     def __post_init__(self) -> None:
         if self.type not in ("revolute", "prismatic"):
@@ -96,6 +107,19 @@ class Joint:
             raise RobotError(f"joint 'flip' must be true or false, got {self.flip!r}")
         for key in ("theta", "d", "a", "alpha"):
             object.__setattr__(self, key, sp.sympify(getattr(self, key)))
+        if self.placement is not None:
+            object.__setattr__(self, "placement", _checked_placement(self))
+
+
+def _checked_placement(joint: Joint) -> sp.ImmutableMatrix:
+    """The placement as an immutable 4x4 homogeneous transform; ``a`` and ``alpha`` must be 0
+    (the placement holds the whole constant part of the link transform)."""
+    placement = sp.ImmutableMatrix(joint.placement)
+    if placement.shape != (4, 4) or list(placement[3, :]) != [0, 0, 0, 1]:
+        raise RobotError(f"joint 'placement' must be a 4x4 homogeneous transform, got {placement}")
+    if joint.a != 0 or joint.alpha != 0:
+        raise RobotError("a placed joint has no 'a' or 'alpha': its placement holds them")
+    return placement
 
 
 @dataclass(frozen=True)
@@ -125,9 +149,15 @@ class Robot:
             raise RobotError(f"'name' must match [a-z][a-z0-9_]*, got {self.name!r}")
         if not self.joints:
             raise RobotError("a robot needs at least one joint, the joint list is empty")
-        if self.convention not in ("standard", "modified"):
+        if self.convention not in CONVENTIONS:
             raise RobotError(
-                f'\'convention\' must be "standard" or "modified", got {self.convention!r}'
+                f"'convention' must be one of {', '.join(CONVENTIONS)}, got {self.convention!r}"
+            )
+        placed = [j.placement is not None for j in self.joints]
+        if any(placed) != (self.convention == "placement") or any(placed) != all(placed):
+            raise RobotError(
+                "every joint of a robot of the 'placement' convention has a placement, "
+                "and no joint of a DH robot has one"
             )
         for key in ("title", "source"):
             # Titles reach terminals, comments of generated files and TeX: one printable line.

@@ -18,6 +18,7 @@ from symkin.cli.commands import (
     command_show,
     command_trajopt,
 )
+from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
 from symkin.cli.values import DEFAULT_TIME_LIMIT, seed_from_text, time_limit_from_text
 from symkin.emit.c import PRECISIONS
@@ -60,7 +61,34 @@ def build_parser() -> argparse.ArgumentParser:
     add_generate(commands)
     add_ik(commands)
     add_trajopt(commands)
+    add_dh(commands)
+    add_urdf(commands)
     return parser
+
+
+def add_dh(commands: Commands) -> None:
+    """``symkin dh ROBOT``."""
+    dh = commands.add_parser(
+        "dh",
+        help="the DH table of the chain, by the frame-assignment procedure, with proof",
+        description="Assign DH frames from the joint axes (common normals; skew, parallel, "
+        "intersecting and coincident axes), print the table with the base and tool transforms "
+        "that make it exact, and prove that its FK equals the robot's.",
+    )
+    dh.add_argument("robot", metavar="ROBOT")
+    dh.add_argument("--convention", choices=("standard", "modified"), default="standard")
+    dh.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
+    dh.add_argument("--toml", metavar="FILE", help="write the DH model as a robot file")
+    dh.add_argument("--latex", metavar="FILE", help="write the derivation as a LaTeX document")
+    dh.set_defaults(run=command_dh)
+
+
+def add_urdf(commands: Commands) -> None:
+    """``symkin urdf ROBOT -o FILE``."""
+    urdf = commands.add_parser("urdf", help="write the robot as a URDF file")
+    urdf.add_argument("robot", metavar="ROBOT")
+    urdf.add_argument("-o", "--output", required=True, metavar="FILE", help="the .urdf file")
+    urdf.set_defaults(run=command_urdf)
 
 
 def add_list(commands: Commands) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.derive.kinematics import joint_dh_values
+from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.errors import ParameterError, SymkinError
 from symkin.robot import Robot
@@ -114,16 +114,49 @@ def dh_table_text(model: Model) -> str:
     return "\n".join(lines)
 
 
+def placement_table_text(model: Model) -> str:
+    """The placed joints: each joint frame's placement in the previous frame (xyz, rpy in
+    rad) and the joint's motion about or along its z axis."""
+    header = f"  {'i':>2}  {'type':<9}  {'name':<20}  {'xyz':<34}  {'rpy':<34}  motion"
+    lines = [header]
+    for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
+        xyz, rpy = placement_xyz_rpy(joint.placement)
+        theta, d, _, _ = joint_dh_values(joint, q)
+        motion = f"Rz({sp.sstr(theta)})" if joint.type == "revolute" else f"Tz({sp.sstr(d)})"
+        triples = [
+            " ".join(sp.sstr(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
+        ]
+        lines.append(
+            f"  {i:>2}  {joint.type:<9}  {joint.name or '':<20}  {triples[0]:<34}  "
+            f"{triples[1]:<34}  {motion}"
+        )
+    return "\n".join(lines)
+
+
+def _joint_table(model: Model) -> list[str]:
+    if model.robot.convention == "placement":
+        return [
+            "Placed joints (A_i = P_i Rz(theta_i) Tz(d_i); angles in rad):",
+            placement_table_text(model),
+        ]
+    return ["DH table (angles in rad):", dh_table_text(model)]
+
+
+def convention_text(convention: str) -> str:
+    """``standard DH``, ``modified DH`` or ``placed joints``."""
+    return "placed joints" if convention == "placement" else f"{convention} DH"
+
+
 def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     robot = model.robot
     parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
     out = [
         f"{robot.name}: {printable(robot.title)}",
         f"source: {printable(robot.source) or '(not given)'}",
-        f"{robot.dof} joints, {robot.convention} DH; parameters: {parameters or 'none'}",
+        f"{robot.dof} joints, {convention_text(robot.convention)}; "
+        f"parameters: {parameters or 'none'}",
         "",
-        "DH table (angles in rad):",
-        dh_table_text(model),
+        *_joint_table(model),
     ]
     for i, link in enumerate(model.link_transforms, start=1):
         out += ["", f"A_{i} (frame {i} in frame {i - 1}):", text_matrix(link)]

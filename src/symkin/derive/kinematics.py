@@ -8,6 +8,10 @@ Modified DH (Craig, eq. 3.6)::
 
     A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)
 
+Placement form (URDF-like; ``P_i`` the joint's constant ``placement``)::
+
+    A_i = P_i Rz(theta_i) Tz(d_i)
+
 with ``theta_i = q_i + theta`` (revolute) or ``d_i = q_i + d`` (prismatic), ``-q_i`` for a
 flipped joint, and ``T = base * A_1 * ... * A_n * tool``.  Each product is contracted with
 :func:`~symkin.derive.simplify.contract_trig` as it is formed, so ``T_0_i`` stays readable
@@ -24,7 +28,7 @@ import sympy as sp
 
 from symkin.derive.simplify import contract_matrix
 from symkin.robot import Joint, Robot
-from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z
+from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z, rpy_from_rotation
 from symkin.symbols import joint_symbols
 
 
@@ -87,10 +91,34 @@ def modified_dh_matrix(theta: sp.Expr, d: sp.Expr, a: sp.Expr, alpha: sp.Expr) -
     )
 
 
+def joint_placement(joint: Joint, convention: str) -> sp.ImmutableMatrix:
+    """The constant part ``C_i`` of ``A_i = C_i Rz(theta_i) Tz(d_i)`` in the modified and
+    placement forms: ``Rx(alpha_{i-1}) Tx(a_{i-1})`` (Craig's eq. 3.6) or the joint's
+    ``placement``.  Its z axis is the joint axis and its origin a point of it, in frame i-1."""
+    if convention == "placement":
+        return numeric_trig_constants(joint.placement)
+    return sp.ImmutableMatrix(modified_dh_matrix(sp.S.Zero, sp.S.Zero, joint.a, joint.alpha))
+
+
+def placement_xyz_rpy(placement: sp.MatrixBase) -> tuple[tuple[sp.Expr, ...], tuple[sp.Expr, ...]]:
+    """``(xyz, rpy)`` of a placement, URDF's ``origin`` form: translation and fixed-axis
+    roll-pitch-yaw, ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
+    angles = rpy_from_rotation(sp.Matrix(placement[:3, :3]))
+    xyz = tuple(placement[:3, 3])
+    return xyz, tuple(sp.sympify(a) for a in (angles.roll, angles.pitch, angles.yaw))
+
+
 def link_transform(joint: Joint, q: sp.Symbol, convention: str) -> sp.ImmutableMatrix:
     """``A_i``: pose of frame i in frame i-1 for one joint."""
-    matrix = standard_dh_matrix if convention == "standard" else modified_dh_matrix
-    return sp.ImmutableMatrix(matrix(*joint_dh_values(joint, q)))
+    theta, d, a, alpha = joint_dh_values(joint, q)
+    if convention == "standard":
+        return sp.ImmutableMatrix(standard_dh_matrix(theta, d, a, alpha))
+    if convention == "modified":
+        return sp.ImmutableMatrix(modified_dh_matrix(theta, d, a, alpha))
+    # Placement: the variable part is modified DH's with a = alpha = 0 (Rz(theta) Tz(d)).
+    return sp.ImmutableMatrix(
+        joint_placement(joint, convention) * modified_dh_matrix(theta, d, sp.S.Zero, sp.S.Zero)
+    )
 
 
 @dataclass(frozen=True)
@@ -147,9 +175,14 @@ def _rotation_between_revolute_axes(robot: Robot, j: int, k: int) -> sp.Matrix:
             rotation *= rot_z(joints[m].theta) * rot_x(joints[m].alpha)
     else:
         for m in range(j + 1, k):
-            rotation *= rot_x(joints[m].alpha) * rot_z(joints[m].theta)
-        rotation *= rot_x(joints[k].alpha)
+            rotation *= _constant_rotation(joints[m], robot.convention) * rot_z(joints[m].theta)
+        rotation *= _constant_rotation(joints[k], robot.convention)
     return rotation
+
+
+def _constant_rotation(joint: Joint, convention: str) -> sp.Matrix:
+    """The rotation of :func:`joint_placement` (``Rx(alpha)`` in modified DH)."""
+    return sp.Matrix(joint_placement(joint, convention)[:3, :3])
 
 
 def has_parallel_revolute_axes(robot: Robot) -> bool:

@@ -48,9 +48,8 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive.dynamics import link_inertial_data
-from symkin.derive.kinematics import Kinematics, joint_axis_sign
+from symkin.derive.kinematics import Kinematics, joint_axis_sign, joint_placement
 from symkin.robot import Link, Robot
-from symkin.spatial import rot_x
 
 
 @dataclass(frozen=True)
@@ -184,9 +183,9 @@ def _joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometr
         rotation, translation = sp.Matrix(link[:3, :3]), sp.Matrix(link[:3, 3])
         if robot.convention == "standard":
             axis, point = Z_AXIS, sp.zeros(3, 1)
-        else:
-            twist = sp.Matrix(rot_x(joint.alpha))
-            axis, point = twist * Z_AXIS, twist * sp.Matrix([joint.a, 0, 0])
+        else:  # modified DH and placement: A_i = C_i Rz Tz, the axis is C_i's z axis
+            constant = joint_placement(joint, robot.convention)
+            axis, point = sp.Matrix(constant[:3, :3]) * Z_AXIS, sp.Matrix(constant[:3, 3])
         axis = joint_axis_sign(joint) * axis
         geometry.append(
             _JointGeometry(

@@ -43,9 +43,13 @@ class Context:
         """The dotted key as shown to the user, e.g. ``link.inertia.ixx``."""
         return f"{self.prefix}{key}"
 
+    @property
+    def where(self) -> str:
+        """The file and joint, ``robots/arm.toml: joint 2``, that start a message."""
+        return self.file if self.joint is None else f"{self.file}: joint {self.joint}"
+
     def error(self, message: str) -> RobotError:
-        where = [self.file] if self.joint is None else [self.file, f"joint {self.joint}"]
-        return RobotError(": ".join([*where, message]))
+        return RobotError(f"{self.where}: {message}")
 
 
 def did_you_mean(word: str, choices: Iterable[str]) -> str:

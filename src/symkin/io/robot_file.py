@@ -22,13 +22,17 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import sympy as sp
+
 from symkin.errors import RobotError
 from symkin.io.context import Context, check_keys, did_you_mean, read_choice, read_text, show
+from symkin.io.placement import canonical_joints
 from symkin.io.robot_tables import (
     check_link_symbol_clash,
     read_frame,
     read_joints,
     read_parameters,
+    read_placed_joints,
     read_vector,
 )
 from symkin.names import robot_name_reason
@@ -46,7 +50,7 @@ TOP_KEYS = (
     "name", "title", "source", "convention", "angles", "gravity",
     "parameters", "joints", "tool", "base",
 )  # fmt: skip
-CONVENTIONS = ("standard", "modified")
+CONVENTIONS = ("standard", "modified", "placement")
 ANGLE_UNITS = ("deg", "rad")
 
 CATALOGUE_DIR = "robots"
@@ -176,14 +180,18 @@ def _robot_from_document(document: dict[str, Any], file: str) -> Robot:
         symbols={n: parameter_symbol(n) for n, _ in parameters},
         values=dict(parameters),
     )
-    joints = read_joints(document, ctx)
-    check_link_symbol_clash(parameters, joints, ctx)
     extra: dict[str, Any] = {}
     if "gravity" in document:
         extra["gravity"] = read_vector(document["gravity"], "gravity", 3, ctx)
     for key in ("base", "tool"):
         if key in document:
             extra[key] = read_frame(document[key], key, ctx)
+    if convention == "placement":
+        placed, axes = read_placed_joints(document, ctx)
+        joints, extra["tool"] = canonical_joints(placed, axes, extra.get("tool", sp.eye(4)))
+    else:
+        joints = read_joints(document, ctx)
+    check_link_symbol_clash(parameters, joints, ctx)
     extra["title"] = read_text(document, "title", ctx)
     extra["source"] = read_text(document, "source", ctx)
     try:

@@ -27,12 +27,15 @@ from symkin.io.expressions import (
     numeric_value,
     sympy_value,
 )
+from symkin.io.placement import unit_axis, warn_normalised
 from symkin.names import reserved_reason
 from symkin.robot import NAME_PATTERN, Joint, Link
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
 
 # Allowed keys per table.  Anything else is an error with a "did you mean" hint.
 JOINT_KEYS = ("type", "name", "theta", "d", "a", "alpha", "flip", "limits", "link")
+# A joint of the placement form (convention = "placement"): URDF's origin and axis.
+PLACED_JOINT_KEYS = ("type", "name", "origin", "axis", "limits", "link")
 FRAME_KEYS = ("xyz", "rpy")
 LINK_KEYS = ("mass", "com", "inertia", "motor_inertia", "friction")
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
@@ -106,14 +109,63 @@ def check_link_symbol_clash(
 
 def read_joints(document: Mapping[str, Any], ctx: Context) -> tuple[Joint, ...]:
     """``[[joints]]`` in file order, each checked, with unique names."""
+    tables = _joint_tables(document, ctx)
+    joints = tuple(_joint(t, ctx.at_joint(i)) for i, t in enumerate(tables, start=1))
+    _check_unique_joint_names(joints, ctx)
+    return joints
+
+
+def read_placed_joints(
+    document: Mapping[str, Any], ctx: Context
+) -> tuple[tuple[Joint, ...], tuple[tuple[sp.Expr, ...], ...]]:
+    """``[[joints]]`` of the placement form: joints whose ``placement`` is the URDF ``origin``
+    (from the parent link frame) and links in the child link frame, and their unit axes
+    (:func:`symkin.io.placement.canonical_joints` makes them canonical)."""
+    tables = _joint_tables(document, ctx)
+    placed = [_placed_joint(t, ctx.at_joint(i)) for i, t in enumerate(tables, start=1)]
+    joints = tuple(joint for joint, _ in placed)
+    _check_unique_joint_names(joints, ctx)
+    return joints, tuple(axis for _, axis in placed)
+
+
+def _joint_tables(document: Mapping[str, Any], ctx: Context) -> list[Any]:
     tables = document.get("joints")
     if tables is None or tables == []:
         raise ctx.error("the joint list is empty; add at least one [[joints]] table")
     if not isinstance(tables, list):
         raise ctx.error(f"'joints' must be an array of tables ([[joints]]), got {show(tables)}")
-    joints = tuple(_joint(t, ctx.at_joint(i)) for i, t in enumerate(tables, start=1))
-    _check_unique_joint_names(joints, ctx)
-    return joints
+    for index, table in enumerate(tables, start=1):
+        if not isinstance(table, dict):
+            raise ctx.at_joint(index).error(
+                f"each entry of 'joints' must be a table, got {show(table)}"
+            )
+    return tables
+
+
+def _placed_joint(table: dict[str, Any], ctx: Context) -> tuple[Joint, tuple[sp.Expr, ...]]:
+    check_keys(table, PLACED_JOINT_KEYS, ctx)
+    kind = _joint_type(table, ctx)
+    if "axis" not in table:
+        raise ctx.error("'axis' is missing; give the joint's direction, e.g. axis = [0, 0, 1]")
+    values = _list_of(table["axis"], "axis", 3, ctx)
+    raw = [_constant(v, f"axis[{i}]", ctx, angle=False) for i, v in enumerate(values)]
+    axis, normalised = unit_axis(raw, ctx.where)
+    if normalised:
+        warn_normalised(ctx.where, raw)
+    joint = Joint(
+        type=kind,  # type: ignore[arg-type]
+        name=_joint_name(table, ctx),
+        limits=_limits(table, kind, ctx),
+        link=_link(table["link"], ctx.within("link")) if "link" in table else None,
+        placement=read_frame(table.get("origin", {}), "origin", ctx),
+    )
+    return joint, axis
+
+
+def _list_of(value: Any, key: str, length: int, ctx: Context) -> list[Any]:
+    if not isinstance(value, list) or len(value) != length:
+        raise ctx.error(f"{ctx.key(key)!r} must be a list of {length} values, got {show(value)}")
+    return value
 
 
 def _check_unique_joint_names(joints: tuple[Joint, ...], ctx: Context) -> None:
@@ -128,9 +180,7 @@ def _check_unique_joint_names(joints: tuple[Joint, ...], ctx: Context) -> None:
         first_use[joint.name] = index
 
 
-def _joint(table: Any, ctx: Context) -> Joint:
-    if not isinstance(table, dict):
-        raise ctx.error(f"each entry of 'joints' must be a table, got {show(table)}")
+def _joint(table: dict[str, Any], ctx: Context) -> Joint:
     check_keys(table, JOINT_KEYS, ctx)
     kind = _joint_type(table, ctx)
     fields = {

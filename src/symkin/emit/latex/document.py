@@ -230,7 +230,7 @@ def _document(
         "latex/document.tex.j2",
         geometry=geometry,
         header=header_lines(model, "LaTeX derivation", command),
-        title=_escape_text(robot.title or robot.name),
+        title=escape_text(robot.title or robot.name),
         intro=intro,
         configuration=configuration,
         legend=legend,
@@ -261,7 +261,7 @@ def _snippets_and_macros(
     return files
 
 
-def _escape_text(text: str) -> str:
+def escape_text(text: str) -> str:
     """Plain text for LaTeX (robot titles): unprintable characters as visible escapes, then
     TeX's special characters as text."""
     text = printable(text)

@@ -68,8 +68,9 @@ def _recognised(
 ) -> tuple[ClosedFormPlan, Solver] | None:
     """The plan of the first family that accepts the robot's numeric table, with its solver
     at those numbers, or None.  The families' formulas take ``theta_i = q_i + offset``: a
-    robot with a flipped joint is left to the numeric solver."""
-    if any(joint.flip for joint in robot.joints):
+    robot with a flipped joint is left to the numeric solver, and so is a robot of placed
+    joints (URDF-like): the families read a DH table, which such a robot does not have."""
+    if robot.convention == "placement" or any(joint.flip for joint in robot.joints):
         return None
     numbers = parameter_numbers(robot, dict(overrides), generic)
     chain = symbolic_chain(robot).at(numbers)

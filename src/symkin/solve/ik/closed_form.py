@@ -45,6 +45,7 @@ from symkin.kernels.ik.plan import (
     closed_form_solver,
     has_closed_form,
 )
+from symkin.robot import Robot
 
 __all__ = [
     "VERIFY_TOL",
@@ -106,6 +107,19 @@ def batched_forward_kinematics(
     return fk
 
 
+def _no_closed_form_reason(robot: Robot) -> str:
+    if robot.convention == "placement":
+        return (
+            f"{robot.name}: no closed-form inverse kinematics for a robot of placed joints "
+            "(URDF-like): the closed forms read a DH table; use the numeric solver"
+        )
+    return (
+        f"{robot.name}: no closed-form inverse kinematics for this {robot.dof}-joint "
+        "structure (closed forms: planar 2R/3R arms, six-joint arms with a spherical "
+        "wrist, UR-type arms); use the numeric solver"
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class _Prepared:
     """Everything per-pose work needs about one model and parameter set."""
@@ -132,11 +146,7 @@ def _prepared(model: Model, overrides: Mapping[str, float] | None) -> _Prepared:
     robot = model.robot
     solver = closed_form_solver(robot, overrides)
     if solver is None:
-        raise SymkinError(
-            f"{robot.name}: no closed-form inverse kinematics for this {robot.dof}-joint "
-            "structure (closed forms: planar 2R/3R arms, six-joint arms with a spherical "
-            "wrist, UR-type arms); use the numeric solver"
-        )
+        raise SymkinError(_no_closed_form_reason(robot))
     prepared = _Prepared(
         solver=solver,
         fk=batched_forward_kinematics(model, overrides),

@@ -1,0 +1,161 @@
+"""DH extraction (symkin dh): published tables come back, FK and dynamics are kept.
+
+Expected values: the published DH tables typed here from their sources (the UR support
+article's UR5 table; the Franka Control Interface documentation's Panda table, modified
+convention, flange 0.107 m along z7) and the naive NumPy DH model of tests/numeric_dh.py.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from numeric_dh import NumericRobot
+from symkin import derive, load_robot, robot_from_toml
+from symkin.derive import dh_proof
+from symkin.derive.dh_extraction import extract_dh
+from symkin.derive.dh_proof import (
+    prove_forward_kinematics,
+    random_configurations,
+    symbolic_difference,
+)
+from symkin.emit.robot_toml import robot_toml
+from symkin.errors import RobotError
+
+DATA = Path(__file__).parent / "data"
+# (theta offset, d, a, alpha) per row, alpha in degrees, lengths in metres.
+UR5_PUBLISHED = [
+    (0, 0.089159, 0, 90),
+    (0, 0, -0.425, 0),
+    (0, 0, -0.39225, 0),
+    (0, 0.10915, 0, 90),
+    (0, 0.09465, 0, -90),
+    (0, 0.0823, 0, 0),
+]
+# Modified: (theta offset, d_i, a_{i-1}, alpha_{i-1}); the flange is the tool Tz(0.107).
+PANDA_PUBLISHED = [
+    (0, 0.333, 0, 0),
+    (0, 0, 0, -90),
+    (0, 0.316, 0, 90),
+    (0, 0, 0.0825, 90),
+    (0, 0.384, -0.0825, -90),
+    (0, 0, 0, 90),
+    (0, 0, 0.088, 90),
+]
+
+
+def rows_of(robot):
+    return [
+        (float(j.theta), float(j.d), float(j.a), math.degrees(float(j.alpha))) for j in robot.joints
+    ]
+
+
+def test_ur5_extracted_table_is_the_published_one():
+    extraction = extract_dh(load_robot("ur5"), "standard")
+    assert np.allclose(rows_of(extraction.robot), UR5_PUBLISHED, atol=1e-12)
+    assert extraction.robot.base == sp.eye(4) and extraction.robot.tool == sp.eye(4)
+    assert [s.case for s in extraction.steps] == [
+        "intersecting",
+        "parallel",
+        "parallel",
+        "intersecting",
+        "intersecting",
+        "coincident",
+    ]
+
+
+def test_panda_extracted_table_is_the_published_one_with_the_flange_as_tool():
+    extraction = extract_dh(load_robot("panda"), "modified")
+    assert np.allclose(rows_of(extraction.robot), PANDA_PUBLISHED, atol=1e-12)
+    flange = np.eye(4)
+    flange[2, 3] = 0.107
+    assert extraction.robot.base == sp.eye(4)
+    assert np.allclose(np.array(extraction.robot.tool, dtype=float), flange, atol=1e-15)
+    assert extraction.robot.joints[1].alpha == -sp.pi / 2  # exact, not a float
+
+
+def fk_difference(source, extracted, count=30):
+    """Largest FK difference; the naive model has no flip, so a flipped joint gets -q."""
+    reference, candidate = NumericRobot.from_robot(source), NumericRobot.from_robot(extracted)
+    signs = np.array([-1.0 if joint.flip else 1.0 for joint in source.joints])
+    return max(
+        np.abs(reference.fk(signs * q) - candidate.fk(q)).max()
+        for q in random_configurations(source, count, seed=7)
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_generic_tilted_arm_keeps_its_forward_kinematics(convention):
+    source = load_robot(DATA / "dh_tilted_arm.toml")
+    extraction = extract_dh(source, convention)
+    assert fk_difference(source, extraction.robot) < 1e-12
+    proof = prove_forward_kinematics(extraction)
+    assert proof.method == "symbolic" and proof.symbolic_error < 1e-12
+    assert not any(j.flip for j in extraction.robot.joints)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize(
+    "name", ["cylindrical_rtt_wrist", "panda", "planar_3r", "puma560", "rpr", "scara", "stanford"]
+)
+def test_every_catalogue_robot_keeps_its_forward_kinematics(name, convention):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        source = load_robot(name)
+    extraction = extract_dh(source, convention)
+    assert fk_difference(source, extraction.robot) < 1e-12
+    assert prove_forward_kinematics(extraction).method == "symbolic"
+
+
+def test_the_symbolic_comparison_sees_a_wrong_table():
+    source = load_robot("ur5")
+    model = extract_dh(source).robot
+    joints = list(model.joints)
+    joints[2] = replace(joints[2], d=sp.Float(1e-6))
+    assert symbolic_difference(source, replace(model, joints=tuple(joints))) > 1e-7
+
+
+def test_over_budget_the_proof_is_numeric_and_says_why(monkeypatch):
+    monkeypatch.setattr(dh_proof, "SYMBOLIC_COEFFICIENTS", 10)
+    proof = prove_forward_kinematics(extract_dh(load_robot("planar_2r")))
+    assert proof.method == "numeric" and "budget" in proof.reason
+    assert proof.numeric_error < 1e-12 and proof.configurations == 100
+    assert "numeric only" in proof.summary()
+
+
+@pytest.mark.parametrize(
+    ("file", "words"),
+    [
+        ("dh_coincident_revolutes.toml", "joints 1 and 2 turn about the same line"),
+        ("dh_parallel_prismatics.toml", "prismatic joint along the previous axis"),
+    ],
+)
+def test_degenerate_chains_are_explained_not_tabled(file, words):
+    with pytest.raises(RobotError, match=words):
+        extract_dh(load_robot(DATA / file))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_written_robot_file_has_the_sources_dynamics(convention):
+    from symkin.solve.evaluate import dynamic_state
+
+    source = load_robot(DATA / "dh_tilted_arm.toml")
+    text = robot_toml(extract_dh(source, convention).robot, "test")
+    written = robot_from_toml(text, "written.toml")
+    assert written.convention == convention
+    rng = np.random.default_rng(3)
+    for q in random_configurations(source, 4, seed=5):
+        dq, ddq = rng.uniform(-1, 1, 4), rng.uniform(-1, 1, 4)
+        expected = dynamic_state(derive(source), q, dq, ddq)
+        got = dynamic_state(derive(written), q, dq, ddq)
+        assert np.allclose(got.mass_matrix, expected.mass_matrix, atol=1e-12)
+        assert np.allclose(got.torque, expected.torque, atol=1e-11)
