@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -42,9 +43,9 @@ import symkin
 from symkin.solve.evaluate import kinematic_state
 model = symkin.derive(symkin.load_robot(sys.argv[1]))
 q = {q}[: model.robot.dof]
-start = time.perf_counter()
+start = time.process_time()
 kinematic_state(model, q)
-first = time.perf_counter() - start
+first = time.process_time() - start
 times = []
 for _ in range({calls}):
     start = time.perf_counter()
@@ -52,9 +53,9 @@ for _ in range({calls}):
     times.append(time.perf_counter() - start)
 times.sort()
 pose = kinematic_state(model, [v + 0.2 for v in q]).transform
-start = time.perf_counter()
+start = time.process_time()
 result = symkin.solve_ik(model, pose, q0=q)
-ik = time.perf_counter() - start
+ik = time.process_time() - start
 print(first, times[len(times) // 2], ik, result.success)
 """
 
@@ -69,15 +70,19 @@ def robot_path(name: str, folder: Path) -> str:
 
 
 def run(command: list[str], environment: dict[str, str], timeout: float) -> str:
-    """Wall time of one command in seconds (``> timeout`` when it ran out), as text."""
+    """Wall and CPU time (user + system) of one command, as text; CPU time is the fairer
+    figure on a shared machine (it hardly depends on the load)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     try:
         done = subprocess.run(command, env=environment, capture_output=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        return f"> {timeout:.0f} s (stopped)"
+        return f"> {timeout:.0f} s wall (stopped)"
     elapsed = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     status = "" if done.returncode == 0 else f" (exit {done.returncode}: {done.stderr[-200:]!r})"
-    return f"{elapsed:.2f} s{status}"
+    return f"{elapsed:.2f} s wall, {cpu:.2f} s CPU{status}"
 
 
 def cli_commands(robot: str, dof: int, target: str) -> dict[str, list[str]]:
@@ -138,8 +143,8 @@ def main() -> None:
                     ).stdout.split()
                     first, median, ik, success = out
                     print(
-                        f"{name}: kinematic_state first {float(first):.3f} s, then median "
-                        f"{float(median) * 1e6:.0f} us/call; first solve_ik {float(ik):.2f} s "
+                        f"{name}: kinematic_state first {float(first):.3f} s CPU, then median "
+                        f"{float(median) * 1e6:.0f} us/call; first solve_ik {float(ik):.2f} s CPU "
                         f"(success {success}); process {time.perf_counter() - start:.1f} s"
                     )
                 except subprocess.TimeoutExpired:
