@@ -13,6 +13,7 @@ import importlib.util
 import os
 import shutil
 import tempfile
+import threading
 from collections.abc import Callable, Hashable
 from functools import lru_cache
 from pathlib import Path
@@ -62,9 +63,10 @@ def generated_point_module(
 
 
 # The modules of the models used last, by identity: hashing a model hashes its robot's every
-# SymPy number (about 0.5 ms for the PUMA), ten times the cost of the kernels themselves.
+# SymPy number, which for the PUMA takes three times as long as its fk_jacobian kernel.
 _RECENT: dict[tuple[int, Hashable], tuple[Model, ModuleType]] = {}
 _RECENT_SIZE = 64
+_RECENT_LOCK = threading.Lock()
 
 
 def _remembered(
@@ -76,9 +78,10 @@ def _remembered(
     if entry is not None and entry[0] is model:
         return entry[1]
     module = build(model.product_form, *arguments)
-    if len(_RECENT) >= _RECENT_SIZE:
-        del _RECENT[next(iter(_RECENT))]
-    _RECENT[(id(model), key)] = (model, module)  # the model is kept, so its id is not reused
+    with _RECENT_LOCK:  # threads may share a model; the oldest entry goes first
+        if len(_RECENT) >= _RECENT_SIZE:
+            del _RECENT[next(iter(_RECENT))]
+        _RECENT[(id(model), key)] = (model, module)  # the model is kept: its id is not reused
     return module
 
 
