@@ -8,12 +8,29 @@ test function import ``numeric_dh.model`` directly; it is the same cache.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Iterator
 
 import pytest
 
 from numeric_dh import model as cached_model
 from symkin.derive import Model
+
+
+@pytest.fixture(scope="session", autouse=True)
+def no_user_cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """Never read or fill the user's derivation cache, nor carry results between tests: the
+    cache is off (``SYMKIN_NO_CACHE``, inherited by subprocesses too) and points at a private
+    folder; tests of the cache turn it on with their own folder (tests/test_cache.py)."""
+    saved = {name: os.environ.get(name) for name in ("SYMKIN_NO_CACHE", "XDG_CACHE_HOME")}
+    os.environ["SYMKIN_NO_CACHE"] = "1"
+    os.environ["XDG_CACHE_HOME"] = str(tmp_path_factory.mktemp("xdg-cache"))
+    yield
+    for name, value in saved.items():
+        if value is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = value
 
 
 @pytest.fixture(scope="session")

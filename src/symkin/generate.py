@@ -30,6 +30,7 @@ from symkin.output_folder import (
     read_manifest,
     write_folder,
 )
+from symkin.progress import phase
 from symkin.robot import Robot
 
 # "python" is the CPython binding of the C kernels; it needs the "c" files beside it.
@@ -73,10 +74,13 @@ def files_for_robot(
         raise ParameterError(
             f"{{precision}} must be one of {', '.join(PRECISIONS)}, got {literal(repr(precision))}"
         )
+
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
-    kernels = functools.cache(
-        lambda: robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
-    )
+    @functools.cache
+    def kernels() -> tuple[Kernel, ...]:
+        with phase("the kernels (CSE and rewrite passes)"):
+            return robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
+
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),
         "c": lambda: {
@@ -93,7 +97,8 @@ def files_for_robot(
     }
     files: dict[str, str] = {}
     for backend in check_backends(backends):
-        files.update(emitters[backend]())
+        with phase(f"the {backend} files"):
+            files.update(emitters[backend]())
     return dict(sorted(files.items()))
 
 

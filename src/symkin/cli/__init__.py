@@ -15,8 +15,10 @@ from collections.abc import Sequence
 
 from symkin.cli.parser import build_parser
 from symkin.cli.report import error_text, show_warning
+from symkin.cli.reporter import command_reporter
 from symkin.cli.values import join_negative_values
 from symkin.errors import SymkinError
+from symkin.progress import reporting
 from symkin.text import printable
 
 
@@ -42,7 +44,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     subject = f"{args.command} {printable(getattr(args, 'robot', '') or '')}".rstrip()
     try:
         _stop_at_time_limit(args.time_limit)
-        with warnings.catch_warnings():
+        reporter = command_reporter(getattr(args, "verbose", False), getattr(args, "json", False))
+        with warnings.catch_warnings(), reporting(reporter):
             warnings.showwarning = show_warning
             status = args.run(args) or 0  # ik: 1 when the target is not reached
     except SymkinError as error:

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from symkin.cache import DiskCache, remembered, user_cache
 from symkin.cli.report import (
     dynamics_json,
     dynamics_show_json,
@@ -50,6 +51,22 @@ from symkin.solve.trajopt import (
     write_trajectory,
 )
 
+# Arguments that do not shape a command's text (where it goes, how the run is shown or
+# limited); every other argument, present or future, is part of the cache key.
+NOT_SHAPING = frozenset(
+    {"run", "robot", "out", "output", "no_build", "pdf", "no_cache", "verbose", "time_limit"}
+)
+
+
+def cache_options(args: argparse.Namespace) -> dict[str, object]:
+    """The command's options that shape its text, for the cache key (the robot is keyed by
+    its content, not by the ROBOT argument)."""
+    return {k: v for k, v in sorted(vars(args).items()) if k not in NOT_SHAPING}
+
+
+def command_cache(args: argparse.Namespace) -> DiskCache | None:
+    return None if args.no_cache else user_cache()
+
 
 def command_list(_: argparse.Namespace) -> None:
     for name in catalogue_names():
@@ -61,13 +78,17 @@ def command_list(_: argparse.Namespace) -> None:
 
 
 def command_show(args: argparse.Namespace) -> None:
-    model = derive(load_robot(args.robot))
+    robot = load_robot(args.robot)
     rows = task_rows_from_text(args.task)
-    if args.json:
-        dynamics = dynamics_show_json(model) if args.dynamics else {}
-        print(json_text(show_json(model, rows) | dynamics))
-    else:
-        print(show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else ""))
+
+    def report() -> str:
+        model = derive(robot)
+        if args.json:
+            dynamics = dynamics_show_json(model) if args.dynamics else {}
+            return json_text(show_json(model, rows) | dynamics)
+        return show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else "")
+
+    print(remembered(command_cache(args), "show", robot, cache_options(args), report))
 
 
 def command_eval(args: argparse.Namespace) -> None:
@@ -118,7 +139,13 @@ def command_derive(args: argparse.Namespace) -> None:
         )
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
-    files = files_for_robot(robot, backends, args.precision, points, derive_flags(args))
+    files = remembered(
+        command_cache(args),
+        "derive",
+        robot,
+        cache_options(args),
+        lambda: files_for_robot(robot, backends, args.precision, points, derive_flags(args)),
+    )
     out = Path(args.out)
     build = "python" in backends and not args.no_build
 
@@ -155,14 +182,23 @@ def command_latex(args: argparse.Namespace) -> None:
     robot = load_robot(args.robot)
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
-    files = latex_files(
-        derive(robot),
-        sections=sections,
-        shorthand=args.shorthand,
-        lang=args.lang,
-        q=q,
-        overrides=parameter_overrides(args.set),
-        text_width_cm=args.text_width,
+    overrides = parameter_overrides(args.set)
+    files = dict(
+        remembered(
+            command_cache(args),
+            "latex",
+            robot,
+            cache_options(args),
+            lambda: latex_files(
+                derive(robot),
+                sections=sections,
+                shorthand=args.shorthand,
+                lang=args.lang,
+                q=q,
+                overrides=overrides,
+                text_width_cm=args.text_width,
+            ),
+        )
     )
     out = Path(args.output or f"{robot.name}.tex")
     # snippets/ and <robot>-macros.tex beside the document

@@ -29,6 +29,8 @@ from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
 
 # argparse's (private) type of the object that add_subparsers returns
 Commands = argparse._SubParsersAction
+# Commands whose text products the derivation cache keeps (symkin.cache).
+CACHED_COMMANDS = ("show", "derive", "latex")
 TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
 
 
@@ -63,7 +65,24 @@ def build_parser() -> argparse.ArgumentParser:
     add_trajopt(commands)
     add_dh(commands)
     add_urdf(commands)
+    for name, command in commands.choices.items():
+        add_run_options(command, cached=name in CACHED_COMMANDS)
     return parser
+
+
+def add_run_options(command: argparse.ArgumentParser, cached: bool) -> None:
+    """``--verbose`` on every command; ``--no-cache`` on those whose results are cached."""
+    command.add_argument(
+        "--verbose",
+        action="store_true",
+        help="print the time of each derivation phase and the cache's decisions on stderr",
+    )
+    if cached:
+        command.add_argument(
+            "--no-cache",
+            action="store_true",
+            help="derive afresh: neither read nor write the derivation cache",
+        )
 
 
 def add_dh(commands: Commands) -> None:

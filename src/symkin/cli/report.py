@@ -18,6 +18,7 @@ from symkin.derive import Model
 from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.errors import ParameterError, SymkinError
+from symkin.progress import note
 from symkin.robot import Robot
 from symkin.solve.evaluate import DynamicState, KinematicState
 from symkin.solve.ik.numeric import IKResult
@@ -55,7 +56,9 @@ def error_text(error: SymkinError, command: str) -> str:
 
 
 def progress(message: str) -> None:
-    print(f"symkin: {message}", file=sys.stderr, flush=True)
+    """A ``symkin: ...`` line on stderr, through the command's reporter (which also shows
+    the library's phases; see :mod:`symkin.cli.reporter`)."""
+    note(message)
 
 
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:

@@ -21,6 +21,7 @@ from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
 from symkin.errors import SymkinError
+from symkin.progress import phase
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
 
@@ -37,13 +38,14 @@ class DerivationError(SymkinError):
 def derivation_step(quantity: str) -> Callable[[Method], Method]:
     """Turn any exception of the algebra inside ``quantity``'s derivation into one
     :class:`DerivationError` (the loader rejects the constructs known to cause them; this is
-    the net for the rest)."""
+    the net for the rest).  The step is a progress phase named ``quantity``."""
 
     def decorate(method: Method) -> Method:
         @functools.wraps(method)
         def derive_quantity(self: Model, *args: Any, **kwargs: Any) -> Any:
             try:
-                return method(self, *args, **kwargs)
+                with phase(quantity):
+                    return method(self, *args, **kwargs)
             except SymkinError:
                 raise
             except (ArithmeticError, TypeError, ValueError, KeyError, RecursionError) as error:

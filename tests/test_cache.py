@@ -1,0 +1,294 @@
+"""The derivation cache on disk (:mod:`symkin.cache`) and the progress lines of the command.
+
+Evidence that a run did not derive is timing-free: the command's report function is wrapped
+with a call counter, the in-process model cache is cleared between runs, and ``--verbose``
+lists every derivation phase that ran.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import re
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+import symkin.cli.commands as commands
+from symkin.cache import FORMAT, cache_directory, entry_key, remembered, user_cache
+from symkin.cli import main
+from symkin.derive import derive
+from symkin.io import load_robot
+
+ROBOT = """\
+name = "two_link"
+title = "Planar 2R arm for the cache tests"
+convention = "standard"
+
+[parameters]
+L1 = {L1}
+L2 = 0.5
+
+[[joints]]
+type = "revolute"
+a = "L1"
+
+[[joints]]
+type = "revolute"
+a = "L2"
+"""
+PHASE_LINE = re.compile(r"^symkin: +\d+\.\d\d s  the geometric Jacobian$", re.MULTILINE)
+
+
+@pytest.fixture
+def cache_root(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """The cache turned on, in a folder of this test only; the folder ``symkin`` uses."""
+    monkeypatch.delenv("SYMKIN_NO_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    derive.cache_clear()
+    return tmp_path / "xdg" / "symkin"
+
+
+def robot_file(folder: Path, L1: float = 1.0, name: str = "robot.toml") -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / name
+    path.write_text(ROBOT.format(L1=L1))
+    return path
+
+
+def counted(monkeypatch: pytest.MonkeyPatch, name: str) -> list[int]:
+    """Count the calls of ``symkin.cli.commands.<name>`` (runs only when the cache misses)."""
+    calls: list[int] = []
+    original: Callable = getattr(commands, name)
+
+    def wrapper(*args: object, **kwargs: object) -> object:
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(commands, name, wrapper)
+    return calls
+
+
+@pytest.fixture
+def shown(cache_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> tuple[str, list]:
+    """A robot file for ``show`` (cache on) and the call counter of show's report."""
+    return str(robot_file(tmp_path)), counted(monkeypatch, "show_text")
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[str, str]:
+    derive.cache_clear()  # an in-process model would hide a second derivation
+    assert main(list(argv)) == 0
+    return capsys.readouterr()
+
+
+def entries(root: Path) -> list[Path]:
+    return sorted(root.glob("*.json"))
+
+
+def test_directory_follows_xdg(tmp_path: Path) -> None:
+    assert cache_directory({"XDG_CACHE_HOME": str(tmp_path)}) == tmp_path / "symkin"
+    # The XDG spec: a relative XDG_CACHE_HOME is invalid and ignored.
+    assert cache_directory({"XDG_CACHE_HOME": "rel"}) == Path.home() / ".cache" / "symkin"
+    assert cache_directory({}) == Path.home() / ".cache" / "symkin"
+    assert user_cache({"XDG_CACHE_HOME": str(tmp_path), "SYMKIN_NO_CACHE": "1"}) is None
+    cache = user_cache({"XDG_CACHE_HOME": str(tmp_path / "new")})
+    assert cache is not None and cache.directory == tmp_path / "new" / "symkin"
+    assert cache.directory.stat().st_mode & 0o777 == 0o700
+
+
+def test_key_follows_content_not_path(tmp_path: Path) -> None:
+    first = load_robot(str(robot_file(tmp_path / "a")))
+    moved = load_robot(str(robot_file(tmp_path / "b", name="other.toml")))
+    changed = load_robot(str(robot_file(tmp_path / "c", L1=1.25)))
+    assert first.file != moved.file
+    assert entry_key("show", first, {}) == entry_key("show", moved, {})
+    assert entry_key("show", first, {}) != entry_key("show", changed, {})
+    assert entry_key("show", first, {}) != entry_key("show", first, {"json": True})
+    assert entry_key("show", first, {}) != entry_key("latex", first, {})
+
+
+def test_second_show_reads_the_cache(
+    shown: tuple[str, list], cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path, calls = shown
+    cold, cold_err = run(capsys, "show", path, "--verbose")
+    assert PHASE_LINE.search(cold_err), cold_err
+    warm, warm_err = run(capsys, "show", path, "--verbose")
+    assert warm == cold and len(calls) == 1
+    assert "cache: show of two_link from" in warm_err
+    assert "s  the " not in warm_err  # no derivation phase ran
+    assert len(entries(cache_root)) == 1
+    # The same content under another path is the same entry.
+    run(capsys, "show", str(robot_file(tmp_path / "elsewhere")))
+    assert len(calls) == 1
+    # One parameter value changed: a new entry.
+    run(capsys, "show", str(robot_file(tmp_path / "longer", L1=2.0)))
+    assert len(calls) == 2 and len(entries(cache_root)) == 2
+
+
+@pytest.mark.slow
+def test_derive_files_come_from_the_cache(
+    cache_root: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch
+) -> None:
+    path = str(robot_file(tmp_path))
+    calls = counted(monkeypatch, "files_for_robot")
+    for out in ("cold", "warm"):
+        run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / out))
+    assert len(calls) == 1
+    cold, warm = tmp_path / "cold", tmp_path / "warm"
+    written = sorted(p.relative_to(cold) for p in cold.rglob("*") if p.is_file())
+    assert written == sorted(p.relative_to(warm) for p in warm.rglob("*") if p.is_file())
+    for relative in written:
+        assert (cold / relative).read_bytes() == (warm / relative).read_bytes()
+    # Another backend set is another product.
+    run(capsys, "derive", path, "--emit", "casadi", "--out", str(tmp_path / "casadi"))
+    assert len(calls) == 2
+
+
+def test_no_cache_neither_reads_nor_writes(
+    shown: tuple[str, list], cache_root: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path, calls = shown
+    run(capsys, "show", path, "--no-cache")
+    assert entries(cache_root) == []
+    run(capsys, "show", path)
+    run(capsys, "show", path, "--no-cache")
+    assert len(calls) == 3
+
+
+def _truncated(text: str) -> str:
+    return text[: len(text) // 2]
+
+
+def _other_format(text: str) -> str:
+    return json.dumps(json.loads(text) | {"format": FORMAT + 1, "value": "stale"})
+
+
+def _not_text(text: str) -> str:
+    return json.dumps(json.loads(text) | {"value": {"a": 1}})
+
+
+@pytest.mark.parametrize(
+    "spoil",
+    [_truncated, lambda _: "\x00\xff garbage", lambda _: "", _other_format, _not_text],
+    ids=["truncated", "garbage", "empty", "other-format", "not-text"],
+)
+def test_spoilt_entry_is_rebuilt(
+    spoil: Callable[[str], str],
+    shown: tuple[str, list],
+    cache_root: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    path, calls = shown
+    good, _ = run(capsys, "show", path)
+    (entry,) = entries(cache_root)
+    valid = entry.read_text()
+    entry.write_text(spoil(valid), errors="surrogateescape")
+    again, err = run(capsys, "show", path, "--verbose")
+    assert again == good and len(calls) == 2
+    assert "not a valid entry" in err
+    assert entry.read_text() == valid  # rebuilt
+
+
+@pytest.mark.parametrize("target", ["directory", "entry"])
+def test_writable_by_others_is_not_trusted(
+    target: str,
+    shown: tuple[str, list],
+    cache_root: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    path, calls = shown
+    run(capsys, "show", path)
+    (entry,) = entries(cache_root)
+    (cache_root if target == "directory" else entry).chmod(0o777)
+    _, err = run(capsys, "show", path, "--verbose")
+    assert len(calls) == 2
+    assert err.count("writable by group or others") == 1, err  # said once
+    _, err = run(capsys, "show", path)
+    assert "cache" not in err  # only with --verbose
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="only root can give a file to another user")
+def test_entry_of_another_user_is_not_read(
+    shown: tuple[str, list], cache_root: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path, calls = shown
+    run(capsys, "show", path)
+    (entry,) = entries(cache_root)
+    os.chown(entry, 4242, -1)
+    _, err = run(capsys, "show", path, "--verbose")
+    assert len(calls) == 2 and "not owned by you" in err
+
+
+def test_warnings_are_given_again_on_a_hit(cache_root: Path, tmp_path: Path) -> None:
+    robot = load_robot(str(robot_file(tmp_path)))
+    cache = user_cache()
+
+    def compute() -> str:
+        import warnings
+
+        warnings.warn("link 2: odd inertia", UserWarning, stacklevel=1)
+        return "text"
+
+    for _ in range(2):
+        with pytest.warns(UserWarning, match="link 2: odd inertia"):
+            assert remembered(cache, "show", robot, {}, compute) == "text"
+
+
+def _store_many(directory: str, robot_path: str, rounds: int) -> None:
+    os.environ["XDG_CACHE_HOME"] = directory
+    os.environ.pop("SYMKIN_NO_CACHE", None)
+    robot = load_robot(robot_path)
+    for _ in range(rounds):
+        value = remembered(user_cache(), "derive", robot, {}, lambda: {"a.py": "x = 1\n" * 5000})
+        assert value == {"a.py": "x = 1\n" * 5000}
+
+
+def test_concurrent_writers_leave_one_valid_entry(tmp_path: Path) -> None:
+    robot_path = str(robot_file(tmp_path))
+    context = multiprocessing.get_context("fork")
+    workers = [
+        context.Process(target=_store_many, args=(str(tmp_path / "xdg"), robot_path, 30))
+        for _ in range(4)
+    ]
+    for worker in workers:
+        worker.start()
+    for worker in workers:
+        worker.join(60)
+    assert [w.exitcode for w in workers] == [0] * 4
+    folder = tmp_path / "xdg" / "symkin"
+    (entry,) = entries(folder)
+    assert json.loads(entry.read_text())["value"] == {"a.py": "x = 1\n" * 5000}
+    assert [p.name for p in folder.iterdir()] == [entry.name]  # no temporary file left
+
+
+@pytest.mark.slow
+def test_two_commands_at_once(tmp_path: Path) -> None:
+    """Two ``symkin show`` processes on the same robot at the same time: both succeed with
+    the same text, one valid entry remains."""
+    path = str(robot_file(tmp_path))
+    env = os.environ | {"XDG_CACHE_HOME": str(tmp_path / "xdg")}
+    env.pop("SYMKIN_NO_CACHE")
+    command = [sys.executable, "-m", "symkin.cli", "show", path, "--dynamics"]
+    running = [subprocess.Popen(command, env=env, stdout=subprocess.PIPE, text=True) for _ in "ab"]
+    outputs = [p.communicate(timeout=300)[0] for p in running]
+    assert [p.returncode for p in running] == [0, 0]
+    assert outputs[0] == outputs[1] and "two_link" in outputs[0]
+    (entry,) = entries(tmp_path / "xdg" / "symkin")
+    assert json.loads(entry.read_text())["value"] == outputs[0].rstrip("\n")
+
+
+def test_verbose_prints_phases_and_json_stays_pure(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = str(robot_file(tmp_path))
+    out, err = run(capsys, "show", path, "--json", "--verbose", "--no-cache")
+    assert json.loads(out)["robot"] == "two_link"
+    assert PHASE_LINE.search(err), err
+    # Not a terminal and not --verbose: no phase lines at all.
+    _, err = run(capsys, "show", path, "--no-cache")
+    assert err == ""
