@@ -77,7 +77,10 @@ def run(command: list[str], environment: dict[str, str], timeout: float) -> str:
     try:
         done = subprocess.run(command, env=environment, capture_output=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        return f"> {timeout:.0f} s wall (stopped)"
+        # subprocess.run kills and reaps the child, so its CPU time is counted all the same.
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+        return f"> {timeout:.0f} s wall, > {cpu:.1f} s CPU (stopped)"
     elapsed = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
