@@ -8,6 +8,9 @@ RUN_STAMP := $(VENV)/.installed-run
 TEST_STAMP := $(VENV)/.installed-test
 # The edit-test loop: everything but the slow, LaTeX and outside-oracle tests.
 FAST := not slow and not needs_latex and not oracle
+# bench/derivation_scaling.py: its options, and a SymPyBotics checkout (not on PyPI) if any.
+SCALING ?=
+SYMPYBOTICS ?=
 
 .PHONY: run test test-fast lint bench clean generate
 
@@ -49,6 +52,7 @@ bench: $(TEST_STAMP)
 	$(BIN)/python bench/codegen_speed.py
 	$(BIN)/python bench/dynamics_speed.py
 	$(BIN)/python bench/inertial_parameters.py
+	$(BIN)/python bench/derivation_scaling.py $(SCALING) $(if $(SYMPYBOTICS),--sympybotics $(SYMPYBOTICS))
 
 clean:
 	rm -rf $(VENV) build dist src/*.egg-info .pytest_cache

@@ -138,12 +138,17 @@ def test_flipped_jacobian_columns_are_finite_differences_and_negated(convention)
     )
 
 
-def test_point_motion_of_a_flipped_chain_is_the_derivative_of_its_position():
+@pytest.mark.parametrize("form", ["closed", "recursive"])
+def test_point_motion_of_a_flipped_chain_is_the_derivative_of_its_position(form):
     model = arm()
     motion = model.point_motion(3, [0.05, -0.02, 0.1])
     position = function(model, motion.position)
-    velocity = function(model, motion.velocity)
-    acceleration = function(model, motion.acceleration)
+    if form == "closed":
+        velocity = function(model, motion.velocity)
+        acceleration = function(model, motion.acceleration)
+    else:
+        velocity = function(model, motion.outputs[1], motion.assignments)
+        acceleration = function(model, motion.outputs[2], motion.assignments)
     q, dq, ddq = random_state(3)
     step = 1e-5
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from numeric_dh import function, model, random_q, reference, robot
+from numeric_dh import function, model, overrides, random_q, reference, robot
 from symkin.errors import SymkinError
 
 # (robot, link, point in that link's frame).  Prismatic joints: scara 3, rpr 2, stanford 3,
@@ -34,12 +34,28 @@ VELOCITY_TOL = 1e-6  # central difference, h = 1e-6
 ACCELERATION_TOL = 1e-6  # second central difference, h = 1e-4: error ~1e-8
 
 
-def _motion_function(name: str, link: int, point: tuple[float, float, float]):
+def _motion_function(name: str, link: int, point: tuple[float, float, float], form: str):
+    """``[p v a]`` as a function of ``(q, dq, ddq)``: the closed forms (U-matrix method) or
+    the link-by-link recursion with its named intermediates (what code generation prints)."""
     m = model(name)
     motion = m.point_motion(link, point)
-    return function(
-        name, sp.Matrix.hstack(motion.position, motion.velocity, motion.acceleration), m.dq, m.ddq
+    if form == "closed":
+        return function(
+            name,
+            sp.Matrix.hstack(motion.position, motion.velocity, motion.acceleration),
+            m.dq,
+            m.ddq,
+        )
+    values = {
+        sp.Symbol(key, real=True): sp.Float(value)
+        for key, value in robot(name).parameter_values(overrides(name)).items()
+    }
+    assigned = [(symbol, expr.xreplace(values)) for symbol, expr in motion.assignments]
+    matrix = sp.Matrix.hstack(*motion.outputs).xreplace(values)
+    evaluate = sp.lambdify(
+        [list(m.q), list(m.dq), list(m.ddq)], matrix, "numpy", cse=lambda e: (assigned, e)
     )
+    return lambda q, dq, ddq: np.array(evaluate(list(q), list(dq), list(ddq)), dtype=float)
 
 
 def _states(name: str, seed: int, count: int = 3):
@@ -49,11 +65,12 @@ def _states(name: str, seed: int, count: int = 3):
         yield random_q(name, rng), rng.uniform(-1.0, 1.0, n), rng.uniform(-1.0, 1.0, n)
 
 
+@pytest.mark.parametrize("form", ["closed", "recursive"])
 @pytest.mark.parametrize(("name", "link", "point"), CASES)
 def test_point_motion_matches_time_differences(
-    name: str, link: int, point: tuple[float, float, float]
+    name: str, link: int, point: tuple[float, float, float], form: str
 ) -> None:
-    evaluate = _motion_function(name, link, point)
+    evaluate = _motion_function(name, link, point, form)
     for q0, dq0, ddq0 in _states(name, 30 + link):
 
         def position(t: float, q0=q0, dq0=dq0, ddq0=ddq0) -> np.ndarray:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.derive.simplify import contract_matrix
+from symkin.derive.simplify import contract_matrix, contract_product
 from symkin.robot import Joint, Robot
 from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z, rpy_from_rotation
 from symkin.symbols import joint_symbols
@@ -151,6 +151,12 @@ class Kinematics:
             return sp.ImmutableMatrix(matrix)
         return contract_matrix(matrix, self.angle_sums)
 
+    def contract_product(self, left: sp.MatrixBase, right: sp.MatrixBase) -> sp.ImmutableMatrix:
+        """``contract(left * right)``, the product formed in SymEngine when simplified."""
+        if not self.simplified:
+            return sp.ImmutableMatrix(left * right)
+        return contract_product(left, right, self.angle_sums)
+
     @property
     def tool_position(self) -> sp.ImmutableMatrix:
         """Tool position ``p`` (3x1), the translation of ``T``."""
@@ -217,13 +223,13 @@ def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
     policy = Kinematics(q, links, (), (), robot.tool, has_parallel_revolute_axes(robot), simplified)
     frames = [numeric_trig_constants(robot.base)]
     for link in links:
-        frames.append(policy.contract(frames[-1] * link))
+        frames.append(policy.contract_product(frames[-1], link))
     axis_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
     joint_frames = [
         _half_turn_about_x(frame) if joint.flip else frame
         for joint, frame in zip(robot.joints, axis_frames, strict=True)
     ]
-    tool = policy.contract(frames[-1] * numeric_trig_constants(robot.tool))
+    tool = policy.contract_product(frames[-1], numeric_trig_constants(robot.tool))
     return dataclasses.replace(
         policy,
         frame_transforms=tuple(frames),

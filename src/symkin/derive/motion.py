@@ -1,4 +1,5 @@
-"""Position, velocity and acceleration of a point fixed in a link (U-matrix method).
+"""Position, velocity and acceleration of a point fixed in a link: closed forms by the
+U-matrix method, and the link-by-link recursion that code generation uses.
 
 With ``W_i = base A_1 ... A_i`` and a point ``r`` given in frame i (homogeneous
 coordinates)::
@@ -15,6 +16,13 @@ the twist matrix ``D_j = Z_j Q_j Z_j^-1``, and (Paul, "Robot Manipulators", ch. 
 
     U_ij  = D_j W_i
     U_ijk = D_min(j,k) D_max(j,k) W_i
+
+These single expressions suit reading and evaluation, but their double sum makes code grow
+with the square of the link index (the PUMA's tool point cost about 2,800 operations after
+CSE).  :attr:`PointMotion.assignments` and :attr:`PointMotion.outputs` are the same three
+vectors from the outward Newton–Euler pass instead (:func:`~symkin.derive.recursion.
+point_motion_recursion`): ``v = R_0_i (v_i + w_i x r)``, ``a = R_0_i (dv_i + U_i r)`` with
+``w_i``, ``U_i``, ``v_i``, ``dv_i`` in frame i, every step named, so the code grows linearly.
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ from functools import cached_property
 import sympy as sp
 
 from symkin.derive.kinematics import Kinematics
+from symkin.derive.recursion import Recorder, point_motion_recursion
 from symkin.errors import SymkinError
 from symkin.robot import Robot
 from symkin.spatial import transform_inverse
@@ -47,7 +56,8 @@ class PointMotion:
     """Base-frame position, velocity and acceleration (3x1 each) of a point on a link.
 
     Each is derived on first use: a velocity costs more than a position and an acceleration
-    more than both, and callers often want only the first.
+    more than both, and callers often want only the first.  ``assignments`` and ``outputs``
+    are the recursive form of all three (named intermediates; the input of code generation).
     """
 
     robot: Robot
@@ -62,6 +72,24 @@ class PointMotion:
             raise SymkinError(f"link must be between 0 and {self.robot.dof}, got {self.link}")
         if len(self.point) != 3:
             raise SymkinError(f"a point needs 3 coordinates, got {len(self.point)}")
+
+    @cached_property
+    def _recursion(self) -> tuple[Recorder, tuple[sp.Matrix, sp.Matrix, sp.Matrix]]:
+        recorder = Recorder("m")
+        outputs = point_motion_recursion(
+            self.robot, self.kinematics, self.link, self.point, recorder, self.dq, self.ddq
+        )
+        return recorder, outputs
+
+    @property
+    def assignments(self) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The recursion's named intermediates, in evaluation order."""
+        return tuple(self._recursion[0].assignments)
+
+    @property
+    def outputs(self) -> tuple[sp.ImmutableMatrix, ...]:
+        """Position, velocity and acceleration (3x1 each) in the named intermediates."""
+        return tuple(sp.ImmutableMatrix(m) for m in self._recursion[1])
 
     @cached_property
     def _world(self) -> sp.Matrix:

@@ -350,3 +350,66 @@ def joint_torques(
         axis = joint.axis
         torques[i] = recorder.name(axis.dot(about_joint if joint.revolute else force))
     return torques
+
+
+def _origin_velocities(
+    geometry: Sequence[_JointGeometry],
+    states: Sequence[tuple[_LinkMotion, sp.Matrix]],
+    recorder: Recorder,
+    dq: Sequence[sp.Expr],
+) -> list[sp.Matrix]:
+    """Velocity ``v_i`` of each frame origin in its own frame, from a base at rest::
+
+      revolute:   v_i = R_i^T (v_{i-1} + w_{i-1} x j_i) + w_i x e_i
+      prismatic:  v_i = R_i^T (v_{i-1} + w_{i-1} x p_i) + s_i dq_i
+
+    (the axis point moves with link i-1; link i turns about it or slides along ``s_i``).
+    """
+    velocity = sp.zeros(3, 1)
+    w = sp.zeros(3, 1)
+    velocities = []
+    for i, (joint, (motion, _)) in enumerate(zip(geometry, states, strict=True)):
+        back = joint.rotation.T
+        if joint.revolute:
+            moved = back * (velocity + w.cross(joint.point)) + motion.w.cross(joint.offset)
+        else:
+            moved = back * (velocity + w.cross(joint.translation)) + joint.axis * dq[i]
+        velocity, w = recorder.vector(moved), motion.w
+        velocities.append(velocity)
+    return velocities
+
+
+def point_motion_recursion(
+    robot: Robot,
+    kinematics: Kinematics,
+    link: int,
+    point: Sequence[sp.Expr],
+    recorder: Recorder,
+    dq: Sequence[sp.Expr],
+    ddq: Sequence[sp.Expr],
+) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """Base-frame position, velocity and acceleration of ``point`` (frame ``link``), link by link.
+
+    The outward pass of :func:`joint_torques` without gravity gives ``w``, ``U`` and the
+    origin's ``dv`` in the link's frame, :func:`_origin_velocities` its ``v``; then
+    ``v_r = v + w x r``, ``a_r = dv + U r`` (Khalil & Dombre eq. 9.97), and the three vectors
+    are carried to the base one link transform at a time, ``x <- R_k x (+ p_k)``, k = link..1.
+    """
+    r = sp.Matrix(point)
+    geometry = _joint_geometry(robot, kinematics)[:link]
+    position = r
+    velocity = acceleration = sp.zeros(3, 1)
+    if link:
+        states = _outward(geometry, recorder, dq, ddq, sp.zeros(3, 1))
+        motion, dv = states[-1]
+        v = _origin_velocities(geometry, states, recorder, dq)[-1]
+        velocity = recorder.vector(v + motion.w.cross(r))
+        acceleration = recorder.vector(dv + motion.u * r)
+    base = sp.Matrix(kinematics.frame_transforms[0])  # base, trig constants evaluated
+    steps = [(g.rotation, g.translation) for g in reversed(geometry)]
+    for rotation, translation in [*steps, (base[:3, :3], base[:3, 3])]:
+        position = recorder.vector(rotation * position + translation)
+        if link:
+            velocity = recorder.vector(rotation * velocity)
+            acceleration = recorder.vector(rotation * acceleration)
+    return position, velocity, acceleration

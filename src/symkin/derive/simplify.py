@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import symengine as se
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 from sympy.simplify.fu import TR10i
@@ -29,20 +30,90 @@ def contract_trig(expr: sp.Expr, angle_sums: bool = True) -> sp.Expr:
 
     With ``angle_sums=False`` (a chain without parallel joint axes, where no sum of joint
     angles can arise) only expand: TR10i's pairwise search costs seconds on a 7-DOF arm
-    and would find nothing.
+    and would find nothing.  An expansion longer than :data:`MAX_CONTRACTED_TERMS` terms is
+    not read anyway: ``expr`` comes back as it was (its product form).
     """
-    expanded = sp.expand(expr)
-    if len(sp.Add.make_args(expanded)) > MAX_CONTRACTED_TERMS:
-        # Too long to read either way; TR10i is quadratic in terms, so keep the product form.
+    expanded = expand(expr, MAX_CONTRACTED_TERMS)
+    if expanded is None:
         return expr
     if not angle_sums or not expanded.has(sp.sin, sp.cos):
         return expanded
     return TR10i(expanded)
 
 
+def expand(expr: sp.Expr, max_terms: int | None = None) -> sp.Expr | None:
+    """``sympy.expand(expr)``, computed by SymEngine (ten to a hundred times faster on the
+    products of a long chain); ``None`` when it has more than ``max_terms`` terms.
+
+    The length is tested before the result comes back to SymPy: converting a long sum costs
+    more than expanding it.
+    """
+    if not isinstance(expr, sp.Expr) or expr.is_Atom:
+        return expr
+    expanded = se.expand(se.sympify(expr))
+    if max_terms is not None and isinstance(expanded, se.Add) and len(expanded.args) > max_terms:
+        return None
+    symbols = {s.name: s for s in expr.free_symbols}
+    return sympy_from_symengine(expanded, symbols)
+
+
+_REBUILT = (
+    (se.Add, sp.Add),
+    (se.Mul, sp.Mul),
+    (se.Pow, sp.Pow),
+    (se.sin, sp.sin),
+    (se.cos, sp.cos),
+)
+
+
+def sympy_from_symengine(expr: se.Basic, symbols: dict[str, sp.Symbol]) -> sp.Expr:
+    """``expr`` back in SymPy, in one pass, with ``symbols`` (by name) for its symbols.
+
+    SymEngine drops SymPy's assumptions (``q1`` is real); rebuilding sums and products with
+    our symbols in place costs half of converting and then substituting them.
+    """
+    if isinstance(expr, se.Symbol):
+        return symbols.get(expr.name) or sp.sympify(expr)
+    for symengine_type, sympy_type in _REBUILT:
+        if isinstance(expr, symengine_type):
+            return sympy_type(*(sympy_from_symengine(a, symbols) for a in expr.args))
+    converted = sp.sympify(expr)
+    if converted.free_symbols:
+        return converted.xreplace({sp.Symbol(k): v for k, v in symbols.items()})
+    return converted
+
+
 def contract_matrix(matrix: sp.MatrixBase, angle_sums: bool = True) -> sp.ImmutableMatrix:
     """:func:`contract_trig` applied to every entry."""
     return sp.ImmutableMatrix(matrix.applyfunc(lambda e: contract_trig(e, angle_sums)))
+
+
+def contract_product(
+    left: sp.MatrixBase, right: sp.MatrixBase, angle_sums: bool = True
+) -> sp.ImmutableMatrix:
+    """:func:`contract_matrix` of ``left * right``, the product formed in SymEngine.
+
+    SymPy distributes every floating-point factor over the long sums of a chain's transform
+    as it multiplies; SymEngine's product and expansion are the cheap part.  An entry longer
+    than :data:`MAX_CONTRACTED_TERMS` keeps its SymPy product form.
+    """
+    product = _symengine_matrix(left) * _symengine_matrix(right)
+    symbols = {s.name: s for s in left.free_symbols | right.free_symbols}
+    entries = []
+    for i in range(left.rows):
+        for j in range(right.cols):
+            expanded = se.expand(product[i, j])
+            if isinstance(expanded, se.Add) and len(expanded.args) > MAX_CONTRACTED_TERMS:
+                entries.append(sum(left[i, k] * right[k, j] for k in range(left.cols)))
+                continue
+            entry = sympy_from_symengine(expanded, symbols)
+            contracted = angle_sums and entry.has(sp.sin, sp.cos)
+            entries.append(TR10i(entry) if contracted else entry)
+    return sp.ImmutableMatrix(left.rows, right.cols, entries)
+
+
+def _symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
+    return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
 
 
 # Expanded sums longer than this stay in product form (readability is lost anyway).

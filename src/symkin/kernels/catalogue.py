@@ -139,22 +139,25 @@ def point_kernels(
     model: Model, points: Sequence[tuple[int, Sequence[float]]]
 ) -> tuple[Kernel, ...]:
     """``point1, point2, ...``: position, velocity and acceleration of points fixed in links
-    (U-matrix method), each point given as ``(link, (x, y, z))`` in the link's frame."""
+    (the link-by-link recursion of :class:`~symkin.derive.PointMotion`), each point given as
+    ``(link, (x, y, z))`` in the link's frame."""
     kernels = []
     for k, (link, point) in enumerate(points, start=1):
         motion = model.point_motion(link, point)
+        position, velocity, acceleration = motion.outputs
         where = f"({', '.join(f'{c:g}' for c in point)}) in frame {link}"
         kernels.append(
-            kernel_from_outputs(
+            kernel_from_assignments(
                 f"point{k}",
                 f"motion of the point {where}",
                 state_inputs(model, "dq", "ddq"),
+                motion.assignments,
                 [
-                    ("p_point", motion.position, "position, base frame", "vector", units.POSITION),
-                    ("v_point", motion.velocity, "velocity, base frame", "vector", units.VELOCITY),
+                    ("p_point", position, "position, base frame", "vector", units.POSITION),
+                    ("v_point", velocity, "velocity, base frame", "vector", units.VELOCITY),
                     (
                         "a_point",
-                        motion.acceleration,
+                        acceleration,
                         "acceleration, base frame",
                         "vector",
                         units.ACCELERATION,
