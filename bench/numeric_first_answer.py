@@ -5,12 +5,15 @@ Each command runs in a fresh interpreter (no derivation cache of any kind carrie
 ``--no-cache`` when the CLI has it, so the figure is what a new user waits for.  Run from the
 repository root::
 
-    python bench/numeric_first_answer.py [--src DIR] [--timeout S] [--skip-cli] [ROBOT ...]
+    python bench/numeric_first_answer.py [--src DIR] [--timeout S] [--calls N] [--skip-cli]
+        [--skip-api] [ROBOT ...]
 
 ``--src`` points at another checkout's ``src`` to measure it (a before/after comparison);
 robots are catalogue names or the benchmark arms ``jaco_like``, ``random6`` (seeded right-angle
-6R with inertial data) and ``random5``.  Prints one line per measurement; wall times depend on
-the machine's load, which is printed with them.
+6R with inertial data) and ``random5``.  Prints one line per measurement: CPU time (user +
+system), which hardly depends on the load of a shared machine, and for commands the wall time
+too, which does (the load average is printed with it).  Results: docs/benchmarks.md, "Numeric
+commands: time to the first answer".
 """
 
 from __future__ import annotations
@@ -36,9 +39,25 @@ BENCH_ARMS = {
 # is Q + 0.2 (the IK target and the trajectory's goal); the first n values.
 Q = (0.3, -0.5, 0.5, -1.2, -0.6, 0.8, 0.2)
 
-PROBE = """
+# Two fresh processes per robot: the first solve_ik (nothing built before it; the target is the
+# independent numeric DH product of tests/numeric_dh.py), then kinematic_state's first call and
+# its mean per-call CPU time over repeated calls.  Each prints CPU seconds.
+IK_PROBE = """
 import sys, time
+sys.path.insert(0, {tests!r})
 import numpy as np
+import symkin
+from numeric_dh import NumericRobot
+robot = symkin.load_robot(sys.argv[1])
+model = symkin.derive(robot)
+q = np.array({q}[: robot.dof])
+target = NumericRobot.from_robot(robot).fk(q + 0.2)
+start = time.process_time()
+result = symkin.solve_ik(model, target, q0=q)
+print(time.process_time() - start, result.success)
+"""
+STATE_PROBE = """
+import sys, time
 import symkin
 from symkin.solve.evaluate import kinematic_state
 model = symkin.derive(symkin.load_robot(sys.argv[1]))
@@ -46,18 +65,38 @@ q = {q}[: model.robot.dof]
 start = time.process_time()
 kinematic_state(model, q)
 first = time.process_time() - start
-times = []
-for _ in range({calls}):
-    start = time.perf_counter()
-    kinematic_state(model, q)
-    times.append(time.perf_counter() - start)
-times.sort()
-pose = kinematic_state(model, [v + 0.2 for v in q]).transform
 start = time.process_time()
-result = symkin.solve_ik(model, pose, q0=q)
-ik = time.process_time() - start
-print(first, times[len(times) // 2], ik, result.success)
+for _ in range({calls}):
+    kinematic_state(model, q)
+print(first, (time.process_time() - start) / {calls})
 """
+TESTS = str(Path(__file__).resolve().parents[1] / "tests")
+
+
+def api_probes(python: str, environment: dict[str, str], robot: str, calls: int, timeout: float):
+    """``(first solve_ik, first kinematic_state, kinematic_state per call)`` CPU seconds as
+    text, each "> T s wall (stopped)" when its process ran out of time."""
+
+    def probe(script: str) -> list[str] | None:
+        try:
+            done = subprocess.run(
+                [python, "-c", script, robot],
+                env=environment,
+                capture_output=True,
+                text=True,
+                timeout=timeout,
+            )
+        except subprocess.TimeoutExpired:
+            return None
+        return done.stdout.split() or [f"failed: {done.stderr[-200:]!r}"] * 2
+
+    stopped = f"> {timeout:.0f} s wall (stopped)"
+    ik = probe(IK_PROBE.format(tests=TESTS, q=Q))
+    state = probe(STATE_PROBE.format(q=Q, calls=calls))
+    first_ik = stopped if ik is None else f"{float(ik[0]):.2f} s CPU (success {ik[1]})"
+    if state is None:
+        return first_ik, stopped, stopped
+    return first_ik, f"{float(state[0]):.3f} s CPU", f"{float(state[1]) * 1e6:.0f} us CPU"
 
 
 def robot_path(name: str, folder: Path) -> str:
@@ -114,7 +153,7 @@ def main() -> None:
     parser.add_argument("robots", nargs="*", default=["puma560", "panda", "jaco_like", "random6"])
     parser.add_argument("--src", default=str(Path(__file__).resolve().parents[1] / "src"))
     parser.add_argument("--timeout", type=float, default=600.0)
-    parser.add_argument("--calls", type=int, default=20)
+    parser.add_argument("--calls", type=int, default=1000)
     parser.add_argument("--skip-cli", action="store_true")
     parser.add_argument("--skip-api", action="store_true")
     args = parser.parse_args()
@@ -134,26 +173,14 @@ def main() -> None:
                 ).stdout
             )
             if not args.skip_api:
-                probe = PROBE.format(q=Q, calls=args.calls)
-                start = time.perf_counter()
-                try:
-                    out = subprocess.run(
-                        [python, "-c", probe, robot],
-                        env=environment,
-                        capture_output=True,
-                        text=True,
-                        timeout=args.timeout,
-                    ).stdout.split()
-                    first, median, ik, success = out
-                    print(
-                        f"{name}: kinematic_state first {float(first):.3f} s CPU, then median "
-                        f"{float(median) * 1e6:.0f} us/call; first solve_ik {float(ik):.2f} s CPU "
-                        f"(success {success}); process {time.perf_counter() - start:.1f} s"
-                    )
-                except subprocess.TimeoutExpired:
-                    print(f"{name}: API probe > {args.timeout:.0f} s (stopped)")
-                except ValueError:
-                    print(f"{name}: API probe failed")
+                first_ik, first, per_call = api_probes(
+                    python, environment, robot, args.calls, args.timeout
+                )
+                print(
+                    f"{name}: first solve_ik {first_ik}; kinematic_state first call {first}, "
+                    f"then {per_call} per call (mean of {args.calls})",
+                    flush=True,
+                )
             if args.skip_cli:
                 continue
             target = target_text(python, environment, robot, dof)
