@@ -43,9 +43,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import resource
-import shutil
 import signal
 import subprocess
 import sys
@@ -56,7 +56,7 @@ from pathlib import Path
 
 from codegen_speed import write_docs
 from random_arms import LENGTH_CHOICES, TWIST_CHOICES, jaco_like_toml, random_arm_toml
-from scaling_children import PEER_KINDS
+from scaling_children import PEER_KINDS, RUSAGE_TAG
 from scaling_report import KINDS, Arm, Results, Sample, key_of, render
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -141,9 +141,9 @@ def run_process(command: list[str], limit: float, env: dict[str, str]) -> Sample
 
 
 def symkin_command() -> list[str]:
-    """The ``symkin`` console script next to this interpreter (else on PATH)."""
-    script = Path(sys.executable).with_name("symkin")
-    return [str(script if script.exists() else shutil.which("symkin") or "symkin")]
+    """The ``symkin`` command as its console script runs it, through :func:`scaling_children.cli`
+    (which also reports symkin's own CPU time apart from the compiler's)."""
+    return [sys.executable, str(CHILDREN), "cli"]
 
 
 def cli_options() -> set[str]:
@@ -174,14 +174,19 @@ def _env(cache: Path) -> dict[str, str]:
     return dict(os.environ, XDG_CACHE_HOME=str(cache))
 
 
-def _derive(arm: Arm, settings: Settings, cache: Path, out: Path, verbose: bool) -> Sample:
+def _derive(arm: Arm, settings: Settings, cache: Path, out: Path) -> Sample:
     command = symkin_command()
     if "--time-limit" in settings.options:
         command += ["--time-limit", "0"]  # this script's limit governs
     command += ["derive", arm.source, "--out", str(out)]
-    if verbose and "--verbose" in settings.options:
+    if "--verbose" in settings.options:  # phase times, and whether the cache was read
         command.append("--verbose")
-    return run_process(command, settings.timeout, _env(cache))
+    sample = run_process(command, settings.timeout, _env(cache))
+    for line in reversed(sample.stderr.splitlines()):
+        if line.startswith(RUSAGE_TAG):
+            sample.result = json.loads(line.removeprefix(RUSAGE_TAG))
+            break
+    return sample
 
 
 def _child_sample(arm: Arm, kind: str, settings: Settings, extra: str) -> Sample:
@@ -215,7 +220,7 @@ def measure_arm(arm: Arm, settings: Settings, results: Results) -> None:
             continue
         if kind in ("cold", "warm"):
             target = out if kind == "cold" else folder / "warm"
-            sample = _derive(arm, settings, cache, target, verbose=kind == "cold")
+            sample = _derive(arm, settings, cache, target)
         elif kind in PEER_KINDS:
             sample = _child_sample(arm, kind, settings, str(settings.sympybotics))
         else:
@@ -230,7 +235,10 @@ def _sample_text(kind: str, sample: Sample) -> str:
     if sample.error is not None:
         return sample.error
     if kind in ("cold", "warm"):
-        return f"wall {sample.wall:.2f} s, CPU {sample.cpu:.2f} s, {sample.rss_mb:.0f} MB"
+        own = sample.result.get("own_cpu", math.nan)
+        return f"wall {sample.wall:.2f} s, CPU {sample.cpu:.2f} s (symkin {own:.2f} s), " + (
+            f"{sample.rss_mb:.0f} MB"
+        )
     if kind == "pin":
         return f"{sample.result['seconds'] * 1e6:.2f} us/call"
     return f"{sample.result['seconds']:.3f} s"
@@ -300,6 +308,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     if args.sympybotics is not None and not (args.sympybotics / "sympybotics").is_dir():
         raise SystemExit(f"--sympybotics {args.sympybotics}: no sympybotics package there")
+    # A terminated run raises SystemExit, so run_process kills the child it is waiting for.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(128 + signal.SIGTERM))
     start, load_start = time.perf_counter(), os.getloadavg()[0]
     options = cli_options()
     _progress(f"symkin derive options found: {sorted(options) or 'none'}")

@@ -1,5 +1,6 @@
 """What each measured process of ``bench/derivation_scaling.py`` does (one fresh process each).
 
+``python bench/scaling_children.py cli ARGS...`` runs ``symkin ARGS...`` (see :func:`cli`).
 ``python bench/scaling_children.py KIND SOURCE EXTRA`` prints one JSON object on its last line:
 ``{"seconds": ...}`` (CPU seconds of the timed section; imports, loading the robot and the
 same-arm checks are not timed) and, for the peers, ``"checked"``, the largest difference of
@@ -171,7 +172,38 @@ def _child_pinocchio(source: str, out: str) -> dict:
     return {"seconds": statistics.median(passes), "checked": worst}
 
 
+RUSAGE_TAG = "scaling-rusage "  # the last stderr line of a ``cli`` child
+
+
+def cli(argv: list[str]) -> None:
+    """Run the ``symkin`` command with ``argv`` exactly as its console script does, and at exit
+    write the CPU seconds and peak RSS (MB) of symkin's own process and of the processes it
+    waited for (the C compiler) as one JSON line on stderr: ``os.wait4`` in the parent sees
+    only their sum and the larger peak."""
+    import atexit
+    import resource
+
+    def report() -> None:
+        own, tools = (resource.getrusage(who) for who in
+                      (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))  # fmt: skip
+        figures = {
+            "own_cpu": own.ru_utime + own.ru_stime,
+            "own_rss_mb": own.ru_maxrss / 1024,
+            "compiler_cpu": tools.ru_utime + tools.ru_stime,
+            "compiler_rss_mb": tools.ru_maxrss / 1024,
+        }
+        sys.stderr.write("\n" + RUSAGE_TAG + json.dumps(figures) + "\n")
+
+    atexit.register(report)
+    from symkin.cli import main
+
+    sys.argv = ["symkin", *argv]
+    sys.exit(main())
+
+
 def child(argv: list[str]) -> None:
+    if argv[0] == "cli":
+        cli(argv[1:])
     kind, source, extra = argv[0], argv[1], argv[2]
     if kind == "fkj":
         result = _child_fkj(source)

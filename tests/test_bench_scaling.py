@@ -7,6 +7,7 @@ known power law.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import sys
@@ -18,7 +19,8 @@ BENCH = Path(__file__).resolve().parent.parent / "bench"
 sys.path.insert(0, str(BENCH))
 
 import scaling_report as report  # noqa: E402 - the bench folder is not a package
-from derivation_scaling import run_process  # noqa: E402
+from derivation_scaling import run_process, symkin_command  # noqa: E402
+from scaling_children import RUSAGE_TAG  # noqa: E402
 
 
 def test_growth_fit_recovers_a_power_law():
@@ -72,14 +74,36 @@ def test_a_finished_process_gives_its_json_cpu_time_and_peak_memory():
     assert sample.rss_mb is not None and sample.rss_mb > 50
 
 
-@pytest.mark.parametrize(
-    ("line", "expected"),
-    [
-        ("the geometric Jacobian: 1.25 s", {"the geometric Jacobian": 1.25}),
-        ("  code generation ... 12 s", {"code generation": 12.0}),
-        ("done (the determinant, 0.5 s)", {"done (the determinant": 0.5}),
-        ("wrote 14 files", {}),
-    ],
-)
-def test_verbose_phase_lines_are_read(line, expected):
-    assert report.phases_of(line) == expected
+@pytest.mark.slow  # imports symkin in a fresh process: seconds on a loaded machine
+def test_the_symkin_wrapper_runs_the_command_and_reports_its_own_cpu_time():
+    sample = run_process([*symkin_command(), "list"], 60, dict(os.environ))
+    assert sample.error is None and sample.timeout is None
+    (line,) = [x for x in sample.stderr.splitlines() if x.startswith(RUSAGE_TAG)]
+    figures = json.loads(line.removeprefix(RUSAGE_TAG))
+    # Importing symkin alone costs CPU; `symkin list` compiles nothing.
+    assert figures["own_cpu"] > 0 and figures["compiler_cpu"] == 0
+    assert sample.cpu is not None and sample.cpu >= figures["own_cpu"] - 0.05
+
+
+# The shape of ``symkin derive --verbose`` (nested phases end, and print, before their parent).
+VERBOSE = """symkin: deriving planar_3r and emitting numpy, c ...
+symkin:         0.22 s  the link transforms and forward kinematics
+symkin:         0.03 s  the link transforms and forward kinematics
+symkin:         1.00 s  the Newton-Euler equations of motion
+symkin:       1.99 s  the kernels (CSE and rewrite passes)
+symkin:     2.12 s  the numpy files
+symkin:     0.36 s  the c files
+symkin: cache: stored /tmp/x/symkin/derive-ef09.json
+wrote 11 files to /tmp/sc/:
+"""
+
+
+def test_verbose_phases_split_into_outermost_and_nested():
+    outer, nested = report.phases_of(VERBOSE)
+    assert outer == {"the numpy files": 2.12, "the c files": 0.36}
+    assert nested == {
+        "the link transforms and forward kinematics": pytest.approx(0.25),
+        "the Newton-Euler equations of motion": 1.0,
+        "the kernels (CSE and rewrite passes)": 1.99,
+    }
+    assert report.phases_of("wrote 11 files\n") == ({}, {})

@@ -7,6 +7,7 @@ lists every derivation phase that ran.
 
 from __future__ import annotations
 
+import io
 import json
 import multiprocessing
 import os
@@ -21,8 +22,10 @@ import pytest
 import symkin.cli.commands as commands
 from symkin.cache import FORMAT, cache_directory, entry_key, remembered, user_cache
 from symkin.cli import main
+from symkin.cli.reporter import CommandReporter
 from symkin.derive import derive
 from symkin.io import load_robot
+from symkin.progress import note, phase, reporting
 
 ROBOT = """\
 name = "two_link"
@@ -136,9 +139,13 @@ def test_derive_files_come_from_the_cache(
 ) -> None:
     path = str(robot_file(tmp_path))
     calls = counted(monkeypatch, "files_for_robot")
-    for out in ("cold", "warm"):
-        run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / out))
+    errors = [
+        run(capsys, "derive", path, "--emit", "numpy", "--out", str(tmp_path / out), "--verbose")[1]
+        for out in ("cold", "warm")
+    ]
     assert len(calls) == 1
+    assert re.search(r"^symkin: +\d+\.\d\d s  the dynamics kernels", errors[0], re.MULTILINE)
+    assert "s  the " not in errors[1]
     cold, warm = tmp_path / "cold", tmp_path / "warm"
     written = sorted(p.relative_to(cold) for p in cold.rglob("*") if p.is_file())
     assert written == sorted(p.relative_to(warm) for p in warm.rglob("*") if p.is_file())
@@ -292,3 +299,19 @@ def test_verbose_prints_phases_and_json_stays_pure(
     # Not a terminal and not --verbose: no phase lines at all.
     _, err = run(capsys, "show", path, "--no-cache")
     assert err == ""
+
+
+def test_live_reporter_nests_phases_and_ends_clean() -> None:
+    """The terminal reporter (rich) shows nested phases, prints notes and timings through its
+    console, and stops its live display when the outermost phase ends."""
+    stream = io.StringIO()
+    reporter = CommandReporter(verbose=True, live=True, stream=stream)
+    with reporting(reporter), phase("outer"):
+        with phase("inner"):
+            note("halfway")
+        assert reporter.display is not None and len(reporter.running) == 1
+    assert reporter.display is None and reporter.running == []
+    lines = [line for line in stream.getvalue().splitlines() if line.startswith("symkin:")]
+    assert lines[0] == "symkin: halfway"
+    assert re.fullmatch(r"symkin: +\d+\.\d\d s  inner", lines[1])
+    assert re.fullmatch(r"symkin: +\d+\.\d\d s  outer", lines[2])

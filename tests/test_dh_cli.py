@@ -71,6 +71,17 @@ def test_bad_input_is_one_message_and_exit_2(capsys, argv, words):
     assert err.count("\n") == 1
 
 
+def test_dh_uses_set_values_and_names_a_missing_one(capsys, tmp_path):
+    robot_file = tmp_path / "free.toml"
+    robot_file.write_text(
+        'name = "free"\n[parameters]\nl1 = "symbol"\n[[joints]]\ntype = "revolute"\na = "l1"\n'
+    )
+    code, _, err = run(capsys, "dh", str(robot_file))
+    assert code == 2 and "l1 have no value" in err and "--set" in err
+    code, out, _ = run(capsys, "dh", str(robot_file), "--set", "l1=0.5", "--json")
+    assert code == 0 and json.loads(out)["rows"][0]["a"] == "0.500000000000000"
+
+
 def test_urdf_command_writes_the_file(capsys, tmp_path):
     target = tmp_path / "ur5.urdf"
     code, out, _ = run(capsys, "urdf", "ur5", "-o", str(target))

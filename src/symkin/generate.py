@@ -54,8 +54,11 @@ def check_backends(backends: Iterable[str]) -> tuple[str, ...]:
 
 
 def robot_kernels(model: Model) -> tuple[Kernel, ...]:
-    """Every kernel generated for a robot: kinematics, then dynamics."""
-    return kinematics_kernels(model) + dynamics_kernels(model)
+    """Every kernel generated for a robot: kinematics, then dynamics (two progress phases)."""
+    with phase("the kinematics kernels (CSE and rewrite passes)"):
+        kinematics = kinematics_kernels(model)
+    with phase("the dynamics kernels (CSE and rewrite passes)"):
+        return kinematics + dynamics_kernels(model)
 
 
 def files_for_robot(
@@ -76,10 +79,9 @@ def files_for_robot(
         )
 
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
-    @functools.cache
-    def kernels() -> tuple[Kernel, ...]:
-        with phase("the kernels (CSE and rewrite passes)"):
-            return robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
+    kernels = functools.cache(
+        lambda: robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
+    )
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),

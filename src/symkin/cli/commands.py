@@ -29,6 +29,7 @@ from symkin.cli.values import (
     limit_values,
     parameter_overrides,
     point_from_text,
+    robot_from_args,
     seconds_from_text,
     target_from_text,
     task_rows_from_text,
@@ -78,7 +79,7 @@ def command_list(_: argparse.Namespace) -> None:
 
 
 def command_show(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     rows = task_rows_from_text(args.task)
 
     def report() -> str:
@@ -92,7 +93,7 @@ def command_show(args: argparse.Namespace) -> None:
 
 
 def command_eval(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
     if not args.dynamics:
@@ -130,7 +131,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
 
 def command_derive(args: argparse.Namespace) -> None:
     backends = check_backends(args.emit.split(","))
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     if args.numeric_parameters:
         robot = robot.with_parameter_values(parameter_overrides(args.set))
     elif args.set:
@@ -179,7 +180,7 @@ def command_generate(args: argparse.Namespace) -> None:
 
 
 def command_latex(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
     overrides = parameter_overrides(args.set)
@@ -209,7 +210,7 @@ def command_latex(args: argparse.Namespace) -> None:
 
 
 def command_trajopt(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     if args.to is None and args.cartesian_goal is None:
         raise SymkinError("give the goal: --to V1,V2,... or --cartesian-goal X,Y,Z")
     if args.plot and args.out is None:

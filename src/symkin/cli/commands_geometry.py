@@ -9,6 +9,7 @@ from pathlib import Path
 import sympy as sp
 
 from symkin.cli.report import json_text, text_matrix
+from symkin.cli.values import parameter_overrides, robot_from_args
 from symkin.derive.dh_extraction import DhExtraction, extract_dh
 from symkin.derive.dh_lines import SNAP_TOLERANCE
 from symkin.derive.dh_proof import FkProof, prove_forward_kinematics
@@ -16,7 +17,6 @@ from symkin.emit.latex.dh_derivation import dh_derivation_tex
 from symkin.emit.robot_toml import robot_toml
 from symkin.emit.urdf import urdf_text
 from symkin.errors import SymkinError
-from symkin.io import load_robot
 from symkin.output_folder import replace_file
 from symkin.robot import Robot
 
@@ -123,8 +123,15 @@ def dh_json(extraction: DhExtraction, proof: FkProof) -> dict:
     }
 
 
+def numeric_source(args: argparse.Namespace) -> Robot:
+    """The robot with its parameters replaced by their values (``--set`` first): extraction
+    and export work on numbers."""
+    robot = robot_from_args(args)
+    return robot.with_parameter_values(parameter_overrides(args.set)) if robot.parameters else robot
+
+
 def command_dh(args: argparse.Namespace) -> None:
-    source = load_robot(args.robot)
+    source = numeric_source(args)
     extraction = extract_dh(source, args.convention)
     proof = prove_forward_kinematics(extraction)
     print(json_text(dh_json(extraction, proof)) if args.json else dh_text(extraction, proof))
@@ -139,6 +146,6 @@ def command_dh(args: argparse.Namespace) -> None:
 
 
 def command_urdf(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = numeric_source(args)
     header = f"URDF of {source_label(robot)}, written by: symkin urdf {source_label(robot)} -o FILE"
     print(f"wrote {write_text_file(args.output, urdf_text(robot, header))}")

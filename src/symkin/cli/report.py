@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 
 import numpy as np
 import sympy as sp
@@ -62,8 +61,9 @@ def progress(message: str) -> None:
 
 
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:
-    """One ``symkin: warning: ...`` line instead of Python's file-and-line format."""
-    print(f"symkin: warning: {printable(str(message))}", file=sys.stderr)
+    """One ``symkin: warning: ...`` line instead of Python's file-and-line format, through the
+    command's reporter (so it lands above a live progress line, not inside it)."""
+    note(f"warning: {printable(str(message))}")
 
 
 def _first_non_finite(value: object, where: str = "") -> str | None:

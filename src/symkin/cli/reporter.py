@@ -53,14 +53,13 @@ class CommandReporter:
 
     def finished(self, name: str, seconds: float) -> None:
         task = self.running.pop() if self.running else None
+        if self.display is not None and task is not None:
+            self.display.remove_task(task)
         if self.verbose:
             self._line(f"{'  ' * len(self.running)}{seconds:8.2f} s  {name}")
-        if self.display is not None:
-            if task is not None:
-                self.display.remove_task(task)
-            if not self.running:
-                self.display.stop()
-                self.display = None
+        if self.display is not None and not self.running:
+            self.display.stop()
+            self.display = None
 
     def said(self, message: str, verbose: bool) -> None:
         if self.verbose or not verbose:

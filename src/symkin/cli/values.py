@@ -13,6 +13,7 @@ import re
 from collections.abc import Sequence
 
 from symkin.errors import SymkinError
+from symkin.io import load_robot
 from symkin.robot import Robot
 
 # Every command stops with an error past this (no hang); the largest catalogue derivation
@@ -182,3 +183,8 @@ def join_negative_values(argv: Sequence[str]) -> list[str]:
             joined.append(arg)
             i += 1
     return joined
+
+
+def robot_from_args(args: argparse.Namespace) -> Robot:
+    """The robot named by ``ROBOT`` (``--tip``/``--base`` choose a URDF's chain)."""
+    return load_robot(args.robot, tip=getattr(args, "tip", None), base=getattr(args, "base", None))

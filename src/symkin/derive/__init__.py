@@ -44,7 +44,7 @@ def derivation_step(quantity: str) -> Callable[[Method], Method]:
         @functools.wraps(method)
         def derive_quantity(self: Model, *args: Any, **kwargs: Any) -> Any:
             try:
-                with phase(quantity):
+                with phase(quantity if self.simplified else f"{quantity} (product form)"):
                     return method(self, *args, **kwargs)
             except SymkinError:
                 raise

@@ -20,7 +20,7 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
-from symkin.derive.dh_extraction import DhExtraction, dh_matrix, numeric_robot, product_kinematics
+from symkin.derive.dh_extraction import DhExtraction, dh_matrix, numeric_robot
 from symkin.derive.kinematics import link_transform
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
@@ -105,14 +105,7 @@ def symbolic_difference(source: Robot, model: Robot) -> float | str:
         )
     deadline = time.monotonic() + SYMBOLIC_SECONDS
     robot = numeric_robot(source)
-    q = joint_symbols(model.dof)
-    model_links = tuple(
-        link_transform(j, qi, model.convention) for j, qi in zip(model.joints, q, strict=True)
-    )
-    tensors = [
-        _chain_tensor(robot, product_kinematics(robot).link_transforms, deadline),
-        _chain_tensor(model, model_links, deadline),
-    ]
+    tensors = [_chain_tensor(r, link_transforms(r), deadline) for r in (robot, model)]
     for tensor in tensors:
         if isinstance(tensor, str):
             return tensor
@@ -142,13 +135,32 @@ def dh_forward_kinematics(model: Robot, q: np.ndarray) -> np.ndarray:
     return pose @ np.array(model.tool.evalf(), dtype=float)
 
 
+def link_transforms(robot: Robot) -> tuple[sp.ImmutableMatrix, ...]:
+    """``A_1(q_1) .. A_n(q_n)`` of any robot (DH or placed), each in its own variable."""
+    q = joint_symbols(robot.dof)
+    return tuple(
+        link_transform(j, qi, robot.convention) for j, qi in zip(robot.joints, q, strict=True)
+    )
+
+
 def numeric_difference(source: Robot, model: Robot, count: int = CONFIGURATIONS) -> float:
-    """Largest entry difference of the two FKs over ``count`` random configurations."""
+    """Largest entry difference of the two FKs over ``count`` random configurations; the
+    source's FK is the product of its link transforms, each a small NumPy function."""
     robot = numeric_robot(source)
-    kinematics = product_kinematics(robot)
-    fk = sp.lambdify([kinematics.q], kinematics.forward_kinematics, modules="numpy")
+    functions = [
+        sp.lambdify([qi], link, modules="numpy")
+        for qi, link in zip(joint_symbols(robot.dof), link_transforms(robot), strict=True)
+    ]
+    base, tool = (np.array(m.evalf(), dtype=float) for m in (robot.base, robot.tool))
+
+    def source_fk(q: np.ndarray) -> np.ndarray:
+        pose = base
+        for function, value in zip(functions, q, strict=True):
+            pose = pose @ np.asarray(function(value), dtype=float)
+        return pose @ tool
+
     return max(
-        float(np.max(np.abs(np.asarray(fk(q), dtype=float) - dh_forward_kinematics(model, q))))
+        float(np.max(np.abs(source_fk(q) - dh_forward_kinematics(model, q))))
         for q in random_configurations(robot, count)
     )
 

@@ -19,10 +19,8 @@ import math
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
-import sympy as sp
 
-from symkin.derive.dh_extraction import numeric_robot
-from symkin.derive.kinematics import kinematics_from_robot
+from symkin.derive.dh_extraction import numeric_robot, zero_pose_frames
 from symkin.robot import Joint, Link, Robot
 from symkin.spatial import rpy_from_rotation
 
@@ -38,21 +36,6 @@ def origin_element(pose: np.ndarray) -> str:
     xyz = " ".join(_number(v) for v in pose[:3, 3])
     rpy = " ".join(_number(float(v)) for v in rpy_from_rotation(pose[:3, :3])[:3])
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
-
-
-def axis_frames_at_zero(robot: Robot) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
-    """Joint axis frames with ``q_i = 0``, link frames (0: base) and tool, all at ``q = 0``."""
-    kinematics = kinematics_from_robot(robot, simplified=False)
-    zero = dict.fromkeys(kinematics.q, 0)
-
-    def numbers(matrix: sp.MatrixBase) -> np.ndarray:
-        return np.array(matrix.xreplace(zero).evalf(), dtype=float)
-
-    return (
-        [numbers(f) for f in kinematics.joint_frames],
-        [numbers(f) for f in kinematics.frame_transforms],
-        numbers(kinematics.forward_kinematics),
-    )
 
 
 def joint_element(joint: Joint, index: int, parent: str, child: str, origin: np.ndarray) -> str:
@@ -146,7 +129,7 @@ def link_element(name: str, inertial: str, visual: str) -> str:
 def urdf_text(source: Robot, header: str) -> str:
     """The URDF document of ``source`` (numeric parameters; module docstring for frames)."""
     robot = numeric_robot(source)
-    axes, link_frames, tool = axis_frames_at_zero(robot)
+    axes, link_frames, tool = zero_pose_frames(robot)
     frames = [np.eye(4), *axes, tool]  # URDF link frames at q = 0; base_link is the world
     names = ["base_link", *(f"link{i + 1}" for i in range(robot.dof)), "tool"]
     parts = [f"<!-- {line} -->" for line in header.splitlines()]

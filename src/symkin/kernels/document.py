@@ -16,10 +16,16 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
+from symkin.derive.kinematics import (
+    joint_dh_values,
+    modified_dh_matrix,
+    placement_xyz_rpy,
+    standard_dh_matrix,
+)
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.derive.numeric import numeric_function
 from symkin.errors import ParameterError, literal
+from symkin.robot import Joint
 
 SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
 # The equations of motion are asked for by name: they need inertial data and, by Lagrange,
@@ -74,6 +80,8 @@ class DHRow:
 
     joint_type: str
     values: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]
+    #: placed joints: ``(x, y, z, roll, pitch, yaw)`` of the placement ``P_i``; else None
+    placement: tuple[sp.Expr, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -193,17 +201,26 @@ def _is_identity(matrix: sp.MatrixBase) -> bool:
     return sp.ImmutableMatrix(matrix) == sp.ImmutableMatrix(sp.eye(matrix.rows))
 
 
+def _placement_row(joint: Joint) -> tuple[sp.Expr, ...] | None:
+    if joint.placement is None:
+        return None
+    xyz, rpy = placement_xyz_rpy(joint.placement)
+    return (*xyz, *rpy)
+
+
 def _dh(e: _Evaluator) -> DHContent:
     robot = e.model.robot
     theta, d = sp.Symbol("theta_i", real=True), sp.Symbol("d_i", real=True)
     if robot.convention == "standard":
         a, alpha = sp.Symbol("a_i", real=True), sp.Symbol("alpha_i", real=True)
         general = standard_dh_matrix(theta, d, a, alpha)
-    else:
+    elif robot.convention == "modified":
         a, alpha = sp.Symbol("a_{i-1}", real=True), sp.Symbol("alpha_{i-1}", real=True)
         general = modified_dh_matrix(theta, d, a, alpha)
+    else:  # placed joints: the variable part Rz(theta_i) Tz(d_i) after the placement P_i
+        general = modified_dh_matrix(theta, d, sp.S.Zero, sp.S.Zero)
     rows = tuple(
-        DHRow(joint.type, joint_dh_values(joint, qi))
+        DHRow(joint.type, joint_dh_values(joint, qi), _placement_row(joint))
         for joint, qi in zip(robot.joints, e.model.q, strict=True)
     )
     overrides = dict(e.overrides or {})

@@ -190,9 +190,12 @@ def dynamics_arguments(
     inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
     missing = [name for name in inertial_names if name not in inertial]
     if missing:
+        robot = model.robot
+        where = f"{robot.file}: " if robot.file else ""
         raise ParameterError(
-            f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
-            "the robot file ([joints.link]) or with {overrides}"
+            f"{where}{robot.name} has no inertial data for {', '.join(missing)}; give them in "
+            "the robot file ([joints.link], or each link's <inertial> in a URDF) or with "
+            "{overrides}"
         )
     values = model.robot.parameter_values(overrides)
     arguments = {"p": np.array([values[name] for name, _ in model.robot.parameters])}
