@@ -35,9 +35,18 @@ def _forbidden(*_: object, **__: object) -> None:
 
 @pytest.fixture
 def no_symbolic_extras(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Any call of the determinant, the singular set or Lagrange's equations fails the test."""
-    monkeypatch.setattr(Model, "determinant", _forbidden)
-    monkeypatch.setattr(Model, "singular_configurations", _forbidden)
+    """Any call of a closed form (determinant, singular set, adjugate inverse, symbolic
+    manipulability) or of Lagrange's equations fails the test."""
+    for method in (
+        "determinant_form",
+        "determinant",
+        "singular_form",
+        "singular_configurations",
+        "inverse_form",
+        "manipulability_form",
+        "manipulability",
+    ):
+        monkeypatch.setattr(Model, method, _forbidden)
     monkeypatch.setattr(Model, "lagrange", property(_forbidden))
 
 

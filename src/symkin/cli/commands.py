@@ -35,6 +35,7 @@ from symkin.cli.values import (
     task_rows_from_text,
 )
 from symkin.derive import derive
+from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
 from symkin.errors import SymkinError
@@ -78,16 +79,25 @@ def command_list(_: argparse.Namespace) -> None:
         print(f"{name:<24} {robot.dof} DOF  {robot.convention:<8}  {robot.title}")
 
 
+def derivation_options(args: argparse.Namespace) -> tuple[float | None, bool, bool]:
+    """``(budget, closed_forms, dynamics)`` from ``--budget``, ``--skip`` and
+    ``--kinematics-only`` (a budget of 0 is no limit)."""
+    skip = set(args.skip) | ({"determinant", "dynamics"} if args.kinematics_only else set())
+    return args.budget or None, "determinant" not in skip, "dynamics" not in skip
+
+
 def command_show(args: argparse.Namespace) -> None:
+    budget, closed_forms, dynamics = derivation_options(args)
     robot = robot_from_args(args)
     rows = task_rows_from_text(args.task)
+    dynamics = dynamics and args.dynamics
 
     def report() -> str:
-        model = derive(robot)
+        model = derive(robot, budget, closed_forms)
         if args.json:
-            dynamics = dynamics_show_json(model) if args.dynamics else {}
-            return json_text(show_json(model, rows) | dynamics)
-        return show_text(model, rows) + (dynamics_show_text(model) if args.dynamics else "")
+            extra = dynamics_show_json(model) if dynamics else {}
+            return json_text(show_json(model, rows) | extra)
+        return show_text(model, rows) + (dynamics_show_text(model) if dynamics else "")
 
     print(remembered(command_cache(args), "show", robot, cache_options(args), report))
 
@@ -126,7 +136,10 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags = ["--precision", args.precision] if args.precision != "double" else []
     flags += ["--numeric-parameters"] if args.numeric_parameters else []
     flags += [word for item in args.set for word in ("--set", item)]
-    return flags + [word for item in args.point for word in ("--point", item)]
+    flags += [word for item in args.point for word in ("--point", item)]
+    flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
+    flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
 def command_derive(args: argparse.Namespace) -> None:
@@ -140,12 +153,22 @@ def command_derive(args: argparse.Namespace) -> None:
         )
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
+    budget, closed_forms, dynamics = derivation_options(args)
     files = remembered(
         command_cache(args),
         "derive",
         robot,
         cache_options(args),
-        lambda: files_for_robot(robot, backends, args.precision, points, derive_flags(args)),
+        lambda: files_for_robot(
+            robot,
+            backends,
+            args.precision,
+            points,
+            derive_flags(args),
+            budget=budget,
+            closed_forms=closed_forms,
+            dynamics=dynamics,
+        ),
     )
     out = Path(args.out)
     build = "python" in backends and not args.no_build
@@ -184,6 +207,7 @@ def command_latex(args: argparse.Namespace) -> None:
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
     overrides = parameter_overrides(args.set)
+    budget, closed_forms, _ = derivation_options(args)
     files = dict(
         remembered(
             command_cache(args),
@@ -191,7 +215,7 @@ def command_latex(args: argparse.Namespace) -> None:
             robot,
             cache_options(args),
             lambda: latex_files(
-                derive(robot),
+                derive(robot, budget, closed_forms),
                 sections=sections,
                 shorthand=args.shorthand,
                 lang=args.lang,

@@ -20,7 +20,14 @@ from symkin.cli.commands import (
 )
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
-from symkin.cli.values import DEFAULT_TIME_LIMIT, seed_from_text, time_limit_from_text
+from symkin.cli.values import (
+    DEFAULT_TIME_LIMIT,
+    budget_from_text,
+    seed_from_text,
+    skip_from_text,
+    time_limit_from_text,
+)
+from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
 from symkin.generate import BACKENDS
@@ -37,6 +44,31 @@ TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x 
 def add_set_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE", help="override a parameter"
+    )
+
+
+def add_derivation_options(parser: argparse.ArgumentParser) -> None:
+    """``--budget``, ``--skip`` and ``--kinematics-only``: what to derive and for how long."""
+    parser.add_argument(
+        "--budget",
+        type=budget_from_text,
+        default=DEFAULT_BUDGET_SECONDS,
+        metavar="SECONDS",
+        help="time for each optional closed form (factored determinant, singular set, "
+        "adjugate inverse, symbolic manipulability); past it symkin says so and the code "
+        f"computes det and manipulability numerically (default {DEFAULT_BUDGET_SECONDS:g}; "
+        "0: no limit)",
+    )
+    parser.add_argument(
+        "--skip",
+        type=skip_from_text,
+        default=(),
+        metavar="LIST",
+        help="parts not to derive, comma-separated: determinant (the closed forms above; "
+        "numeric det in the code), dynamics",
+    )
+    parser.add_argument(
+        "--kinematics-only", action="store_true", help="same as --skip determinant,dynamics"
     )
 
 
@@ -141,6 +173,7 @@ def add_show(commands: Commands) -> None:
     show.add_argument(
         "--dynamics", action="store_true", help="also print the equations of motion (M, C, G)"
     )
+    add_derivation_options(show)
     show.set_defaults(run=command_show)
 
 
@@ -210,6 +243,7 @@ def add_derive(commands: Commands) -> None:
         "parameters (fewer operations)",
     )
     add_set_option(derive_parser)
+    add_derivation_options(derive_parser)
     derive_parser.set_defaults(run=command_derive)
 
 
@@ -242,6 +276,7 @@ def add_latex(commands: Commands) -> None:
         metavar="CM",
         help=f"text width that decides where matrices split (default {TEXT_WIDTH_CM})",
     )
+    add_derivation_options(latex)
     latex.set_defaults(run=command_latex)
 
 

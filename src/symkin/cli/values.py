@@ -69,6 +69,25 @@ def time_limit_from_text(text: str) -> float:
     return seconds
 
 
+SKIPPABLE = ("determinant", "dynamics")
+
+
+def budget_from_text(text: str) -> float:
+    """Seconds for ``--budget``: a finite number from 0 (no limit) to about four months."""
+    return time_limit_from_text(text)
+
+
+def skip_from_text(text: str) -> tuple[str, ...]:
+    """``--skip determinant,dynamics``: the parts not to derive, each named once."""
+    items = tuple(dict.fromkeys(item.strip() for item in text.split(",") if item.strip()))
+    unknown = [item for item in items if item not in SKIPPABLE]
+    if unknown or not items:
+        raise argparse.ArgumentTypeError(
+            f"expected a comma-separated list of {', '.join(SKIPPABLE)}, got {text!r}"
+        )
+    return items
+
+
 def seed_from_text(text: str) -> int:
     """A random seed: a whole number >= 0 (what NumPy's generators accept)."""
     try:

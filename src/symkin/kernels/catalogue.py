@@ -11,8 +11,11 @@ from collections.abc import Collection, Sequence
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
 from symkin.derive.dynamics import link_inertial_data
+from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
+from symkin.kernels.numeric_determinant import numeric_determinant_kernels
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
 
@@ -50,7 +53,9 @@ def _shortest_kernel(
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
     """The kinematics kernels of one robot, in a fixed order: :func:`pose_kernels` and, when
     the task Jacobian is square, ``det`` and ``manipulability``."""
-    return pose_kernels(model) + _determinant_kernels(model, state_inputs(model))
+    kernels = pose_kernels(model)
+    jacobian = next(k for k in kernels if k.name == "jacobian")
+    return kernels + _determinant_kernels(model, state_inputs(model), jacobian)
 
 
 def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Kernel, ...]:
@@ -112,13 +117,25 @@ def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Ke
     )
 
 
-def _determinant_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel, ...]:
-    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none)."""
-    determinant = model.determinant()
-    if determinant is None:
+def _determinant_kernels(
+    model: Model, inputs: Sequence[KernelInput], jacobian: Kernel
+) -> tuple[Kernel, ...]:
+    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none):
+    the closed form, or without one (over budget, switched off) the numeric fallback."""
+    form = model.determinant_form()
+    if form.status == NOT_SQUARE:
         return ()
     rows = ", ".join(model.task_rows)
     unit = units.determinant(model.robot, model.task_rows)
+    if not form.found:
+        reason = (
+            "no closed form within the budget"
+            if form.status == OVER_BUDGET
+            else ("closed forms switched off")
+        )
+        indices = rows_from_names(model.task_rows)
+        return numeric_determinant_kernels(jacobian, indices, rows, unit, reason)
+    determinant = form.value
     return (
         kernel_from_outputs(
             "det",

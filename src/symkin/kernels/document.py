@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.budget import NOT_SQUARE
 from symkin.derive.kinematics import (
     joint_dh_values,
     modified_dh_matrix,
@@ -132,9 +133,10 @@ class JacobianContent:
 
 @dataclass(frozen=True)
 class DeterminantContent:
-    """The factored determinant of the task Jacobian and the conditions that make it zero."""
+    """The factored determinant of the task Jacobian and the conditions that make it zero
+    (``determinant`` is None when no closed form was found within the budget or attempted)."""
 
-    determinant: Shown
+    determinant: Shown | None
     singular: tuple[sp.Eq, ...]
 
 
@@ -257,10 +259,12 @@ def _jacobian(e: _Evaluator) -> JacobianContent:
 
 
 def _determinant(e: _Evaluator) -> DeterminantContent | None:
-    determinant = e.model.determinant()
-    if determinant is None:
+    form = e.model.determinant_form()
+    if form.status == NOT_SQUARE:
         return None
-    return DeterminantContent(e.scalar(determinant), tuple(e.model.singular_configurations()))
+    if not form.found:
+        return DeterminantContent(None, ())
+    return DeterminantContent(e.scalar(form.value), tuple(e.model.singular_configurations()))
 
 
 def _inverse(e: _Evaluator) -> InverseContent | None:
@@ -273,9 +277,9 @@ def _inverse(e: _Evaluator) -> InverseContent | None:
         task = e.numbers(model.task_jacobian())
         numbers = None if abs(np.linalg.det(task)) < 1e-12 else np.linalg.inv(task)
     adjugate = None
-    if model.robot.dof <= INVERSE_MAX_DOF:
-        inverse = model.inverse_task_jacobian()
-        adjugate = inverse.applyfunc(lambda x: _distribute_sign(sp.cancel(x * determinant)))
+    inverse = model.inverse_form() if model.robot.dof <= INVERSE_MAX_DOF else None
+    if inverse is not None and inverse.found:
+        adjugate = inverse.value.applyfunc(lambda x: _distribute_sign(sp.cancel(x * determinant)))
     return InverseContent(adjugate, numbers)
 
 

@@ -367,6 +367,8 @@ class SectionWriter:
         layout, t = self.layout, self.t
         if det is None:
             return Section("det", t["det"], t["det_none"], ())
+        if det.determinant is None:
+            return Section("det", t["det"], t["det_missing"], ())
         determinant = det.determinant
         body = align(
             layout.equation_rows(
