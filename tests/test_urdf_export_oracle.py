@@ -34,11 +34,16 @@ def pinocchio_q(model, q):
     return np.array(values)
 
 
-@pytest.mark.parametrize("name", [*catalogue_names(), str(DATA / "placed_arm.toml")])
+def robot_named(name: str):
+    """A catalogue robot, or a file of tests/data (short test ids, no machine paths)."""
+    return load_robot(DATA / name if name.endswith(".toml") else name)
+
+
+@pytest.mark.parametrize("name", [*catalogue_names(), "placed_arm.toml"])
 def test_pinocchio_reads_the_exported_urdf_with_the_same_kinematics_and_dynamics(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        robot = load_robot(name)
+        robot = robot_named(name)
     model = pin.buildModelFromXML(urdf_text(robot, "oracle test"))
     # URDF has no rotor inertia; Pinocchio's armature is the same term.
     model.armature = np.array(
@@ -88,14 +93,12 @@ def test_dh_model_of_a_placed_arm_matches_pinocchio_on_its_hand_written_urdf(con
         assert np.abs(pin.rnea(model, data, qp, dq, ddq) - torque).max() < 1e-9
 
 
-@pytest.mark.parametrize(
-    "name", ["panda", str(DATA / "placed_arm.toml"), str(DATA / "dh_tilted_arm.toml")]
-)
+@pytest.mark.parametrize("name", ["panda", "placed_arm.toml", "dh_tilted_arm.toml"])
 def test_mujoco_reads_the_exported_urdf_with_the_same_pose_and_inverse_dynamics(name):
     """MuJoCo needs mass on every moving body (robots with inertial data) and a tensor that
     obeys the triangle inequality (not the PUMA's published link 3)."""
     mujoco = pytest.importorskip("mujoco")
-    robot = load_robot(name)
+    robot = robot_named(name)
     text = urdf_text(robot, "oracle test")
     opening = text.index(">", text.index("<robot")) + 1
     # MuJoCo's own URDF extension: keep the fixed tool body instead of fusing it into link n.

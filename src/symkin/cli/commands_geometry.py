@@ -119,6 +119,7 @@ def dh_json(extraction: DhExtraction, proof: FkProof) -> dict:
             "numeric_error": proof.numeric_error,
             "configurations": proof.configurations,
             "reason": proof.reason,
+            "snapping": proof.snapping,
         },
     }
 

@@ -293,6 +293,8 @@ def dh_joints(
                 alpha=alpha,
                 name=joint.name,
                 limits=joint.limits,
+                max_velocity=joint.max_velocity,
+                max_effort=joint.max_effort,
                 link=link_in_frame(joint.link, np.linalg.solve(frame, link_frames[k + 1])),
             )
         )

@@ -8,7 +8,8 @@ is the frame the robot's ``base`` transform is given in; a fixed joint carries t
 (link ``tool``).  Inertials keep their tensor in the robot's link frame (axes of frame i) and
 put that frame's pose into the inertial ``<origin>`` (URDF: the tensor is expressed in the
 inertial frame).  URDF needs ``effort`` and ``velocity`` on revolute and prismatic limits;
-symkin robot files have neither, so they are written as 0 ("unknown", see docs/cli.md).  A
+they come from the joint's ``max_effort`` and ``max_velocity``, 0 ("unknown", docs/cli.md) when
+the robot has none.  A
 revolute joint without limits is ``continuous``; a prismatic joint without limits gets
 ``[-1, 1]`` m.  Each link gets a cylinder visual from its origin to the next joint's origin.
 """
@@ -55,7 +56,10 @@ def joint_element(joint: Joint, index: int, parent: str, child: str, origin: np.
     ]
     if limits is not None:
         low, high = (_number(v) for v in limits)
-        lines.append(f'    <limit lower="{low}" upper="{high}" effort="0" velocity="0"/>')
+        effort, velocity = (_number(v or 0.0) for v in (joint.max_effort, joint.max_velocity))
+        lines.append(
+            f'    <limit lower="{low}" upper="{high}" effort="{effort}" velocity="{velocity}"/>'
+        )
     return "\n".join([*lines, "  </joint>"])
 
 

@@ -44,10 +44,32 @@ def _shortest_kernel(
 
     The contracted form wins on short chains (``cos(q1 + q2)``), the raw product form on long
     ones (a 7-DOF Jacobian expanded is ten times longer than its product form after CSE).
-    Ties go to the first form.
+    Ties go to the first form.  The last form (the product form, cheapest to build) is built
+    first, and a form whose :func:`_products_lower_bound` already exceeds the best count so far
+    is not built: on a generic arm the expanded form's CSE costs seconds and cannot win.
     """
-    candidates = [kernel_from_outputs(name, description, inputs, o) for o in outputs_by_form]
-    return min(candidates, key=lambda k: k.operation_counts["total"])
+    candidates: dict[int, Kernel] = {}
+    for index in reversed(range(len(outputs_by_form))):
+        outputs = outputs_by_form[index]
+        best = min((k.operation_counts["total"] for k in candidates.values()), default=None)
+        if best is not None and _products_lower_bound(outputs) > best:
+            continue
+        candidates[index] = kernel_from_outputs(name, description, inputs, outputs)
+    return candidates[min(candidates, key=lambda i: (candidates[i].operation_counts["total"], i))]
+
+
+def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> int:
+    """Fewest operations any CSE of ``outputs`` can take: one multiplication per distinct
+    product among the terms of the entries (coefficients aside).  ``sympy.cse`` shares equal
+    subexpressions but never factors, so each distinct product is formed at least once.
+    """
+    products = {
+        term.as_coeff_Mul()[1]
+        for _, matrix, *_ in outputs
+        for entry in matrix
+        for term in sp.Add.make_args(entry)
+    }
+    return sum(1 for product in products if product.is_Mul)
 
 
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
