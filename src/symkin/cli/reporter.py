@@ -65,6 +65,14 @@ class CommandReporter:
         if self.verbose or not verbose:
             self._line(message)
 
+    def close(self) -> None:
+        """Stop a live display still running (an interrupt between a phase's start and its
+        bookkeeping), so the terminal gets its cursor back whatever happened."""
+        if self.display is not None:
+            self.display.stop()
+            self.display = None
+        self.running.clear()
+
     def _line(self, text: str) -> None:
         line = f"symkin: {printable(text)}"
         if self.display is not None:

@@ -183,8 +183,14 @@ class Model:
 
     @cached_property
     def task_rows(self) -> tuple[str, ...]:
-        """Default rows of the task Jacobian (see :func:`jacobians.default_task_rows`)."""
-        return jacobians.default_task_rows(self.geometric_jacobian)
+        """Default rows of the task Jacobian (see :func:`jacobians.default_task_rows`).
+
+        Read off the product form: its identically zero rows are zero entry by entry (a zero
+        axis or offset component multiplies through), so no contraction is derived for it,
+        and a 6-joint arm needs no Jacobian at all."""
+        if self.robot.dof == len(jacobians.ROW_NAMES):
+            return jacobians.ROW_NAMES
+        return jacobians.default_task_rows(self.product_form.geometric_jacobian)
 
     def task_jacobian(self, rows: Sequence[str] | None = None) -> sp.ImmutableMatrix:
         """The chosen rows (names ``x y z wx wy wz``) of the geometric Jacobian."""

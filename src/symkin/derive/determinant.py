@@ -149,7 +149,12 @@ def _readable_factors(circle: _CircleVariables, determinant: sp.Expr, inexact: b
         readable[sums[0]], value = (sp.expand(value * factor), 1), sp.Integer(1)
     result = value
     for factor, multiplicity in readable:
-        result *= contract_trig(factor.xreplace(circle.back)) ** multiplicity
+        trigonometric = factor.xreplace(circle.back)
+        if len(sp.Add.make_args(factor)) <= MAX_FACTORED_TERMS:
+            # Angle-sum contraction is quadratic in the terms; a longer factor does not read
+            # as a formula anyway (a generic 6R arm's: 8,000 characters, 30 s of TR10i).
+            trigonometric = contract_trig(trigonometric)
+        result *= trigonometric**multiplicity
     return sp.nfloat(result, 15) if inexact else result
 
 

@@ -6,7 +6,7 @@ all the same way.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import sympy as sp
 
@@ -73,16 +73,24 @@ def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> 
 
 
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
-    """The kinematics kernels of one robot, in a fixed order.
+    """The kinematics kernels of one robot, in a fixed order: :func:`pose_kernels` and, when
+    the task Jacobian is square, ``det`` and ``manipulability``."""
+    kernels = pose_kernels(model)
+    jacobian = next(k for k in kernels if k.name == "jacobian")
+    return kernels + _determinant_kernels(model, state_inputs(model), jacobian)
 
-    ``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
-    ``position_jacobian`` (dp/dq, 3 x n), ``fk_jacobian`` (T and J in one pass, the kernel
-    controllers call) and, when the task Jacobian is square, ``det`` and ``manipulability``.
-    Each comes from the simplified or the raw product form of the model, whichever is shorter.
+
+def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Kernel, ...]:
+    """``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
+    ``position_jacobian`` (dp/dq, 3 x n) and ``fk_jacobian`` (T and J in one pass, the kernel
+    controllers call), or those of them in ``names``; no determinant.
+
+    Each comes from the simplified or the raw product form of the model, whichever is shorter;
+    an unsimplified model gives the product form alone (no readable form is derived).
     """
     inputs = state_inputs(model)
     n = model.robot.dof
-    forms = (model, model.product_form)
+    forms = (model,) if model.product_form is model else (model, model.product_form)
 
     def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
         table = {
@@ -117,16 +125,18 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
         }
         return [[table[key](form) for key in keys] for form in forms]
 
-    kernels = [
-        _shortest_kernel("fk", "forward kinematics", inputs, outputs("T")),
-        _shortest_kernel("position", "tool position", inputs, outputs("p")),
-        _shortest_kernel("jacobian", "geometric Jacobian", inputs, outputs("J")),
-        _shortest_kernel("position_jacobian", "analytic position Jacobian", inputs, outputs("Jp")),
-        _shortest_kernel(
-            "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
-        ),
-    ]
-    return tuple(kernels) + _determinant_kernels(model, inputs, kernels[2])
+    kernels = {
+        "fk": ("forward kinematics", ("T",)),
+        "position": ("tool position", ("p",)),
+        "jacobian": ("geometric Jacobian", ("J",)),
+        "position_jacobian": ("analytic position Jacobian", ("Jp",)),
+        "fk_jacobian": ("forward kinematics and Jacobian", ("T", "J")),
+    }
+    return tuple(
+        _shortest_kernel(name, description, inputs, outputs(*keys))
+        for name, (description, keys) in kernels.items()
+        if names is None or name in names
+    )
 
 
 def _determinant_kernels(
@@ -218,9 +228,10 @@ def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     return tuple(inputs)
 
 
-def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
+def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel, ...]:
     """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
-    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler."""
+    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler;
+    ``coriolis_matrix=False`` leaves out ``C``, the longest kernel, which the solvers never use."""
     n = model.robot.dof
     dynamics = model.newton_euler
     torque_assignments, torque = model.inverse_dynamics_recursion
@@ -264,6 +275,7 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             ],
         )
         for name, description, rates, output, matrix, output_description in steps
+        if coriolis_matrix or name != "coriolis_matrix"
     ]
     kernels.append(
         kernel_from_assignments(
