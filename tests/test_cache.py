@@ -424,3 +424,26 @@ def test_closing_the_reporter_stops_a_display_left_running(monkeypatch: pytest.M
     with pytest.raises(KeyboardInterrupt), closing(reporter), reporting(reporter), phase("x"):
         pass
     assert reporter.display is None
+
+
+@pytest.mark.parametrize("package", ["numpy", "jinja2"])
+def test_key_follows_the_packages_that_shape_the_text(
+    package: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """NumPy prints the emitters' number literals and Jinja2 renders the templates: a new
+    version may change the text, so it must change the key (no stale entry after upgrading)."""
+    import symkin.cache as cache_module
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    cache_module._software.cache_clear()
+    before = entry_key("derive", robot, {})
+    real = cache_module.metadata.version
+    monkeypatch.setattr(
+        cache_module.metadata, "version", lambda name: "0.0" if name == package else real(name)
+    )
+    cache_module._software.cache_clear()
+    try:
+        assert entry_key("derive", robot, {}) != before
+    finally:
+        monkeypatch.undo()
+        cache_module._software.cache_clear()
