@@ -447,3 +447,28 @@ def test_key_follows_the_packages_that_shape_the_text(
     finally:
         monkeypatch.undo()
         cache_module._software.cache_clear()
+
+
+def test_a_cold_run_shows_its_warnings_as_they_come(
+    cache_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A budget warning early in a long cold derivation is shown then (above the live lines),
+    not held back until the derivation ends; it is still stored for the warm runs."""
+    import warnings
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    shown: list[str] = []
+    monkeypatch.setattr(
+        warnings, "showwarning", lambda message, *_, **__: shown.append(str(message))
+    )
+
+    def compute() -> str:
+        warnings.warn(RobotWarning("joint 2: odd inertia"), stacklevel=1)
+        assert shown == ["joint 2: odd inertia"]  # already shown, mid-derivation
+        return "text"
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+    assert shown == ["joint 2: odd inertia"] * 2

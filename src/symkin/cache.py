@@ -279,12 +279,16 @@ def remembered(
         for record in said:
             warnings.warn(warning_from_record(record), stacklevel=2)
         return value
-    with warnings.catch_warnings(record=True) as caught:
+    said: list[Warning] = []
+    show = warnings.showwarning
+
+    def keep_and_show(message: Warning, *where: object, **more: object) -> None:
+        # Shown as it comes (a long derivation's early warning is not held back to its end).
+        said.append(message)
+        show(message, *where, **more)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = keep_and_show
         value = compute()
-    for caught_warning in caught:
-        warnings.showwarning(
-            caught_warning.message, caught_warning.category, caught_warning.filename,
-            caught_warning.lineno, caught_warning.file, caught_warning.line,
-        )  # fmt: skip
-    cache.store(kind, key, value, [warning_record(w.message) for w in caught])
+    cache.store(kind, key, value, [warning_record(message) for message in said])
     return value
