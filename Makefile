@@ -52,6 +52,7 @@ bench: $(TEST_STAMP)
 	$(BIN)/python bench/codegen_speed.py
 	$(BIN)/python bench/dynamics_speed.py
 	$(BIN)/python bench/inertial_parameters.py
+	$(BIN)/python bench/urdf_time.py
 	$(BIN)/python bench/derivation_scaling.py $(SCALING) $(if $(SYMPYBOTICS),--sympybotics $(SYMPYBOTICS))
 
 clean:

@@ -8,7 +8,7 @@ bench/random_arms.py's Jaco-like 6R (60-degree wrist twists, wrist offsets).
 
     python bench/cache_warm.py                      # cold into a fresh cache, then warm
     python bench/cache_warm.py --cache DIR --warm   # only warm runs on a filled cache DIR
-    python bench/cache_warm.py --robots puma560     # a subset
+    python bench/cache_warm.py --robots puma560 --commands show   # a subset
 """
 
 from __future__ import annotations
@@ -65,6 +65,7 @@ def timed_run(argv: list[str], cache: Path, out: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--robots", default="puma560,panda,jaco_like")
+    parser.add_argument("--commands", default=",".join(COMMANDS), help="show,derive,latex")
     parser.add_argument("--cache", type=Path, help="cache folder (default: a fresh one)")
     parser.add_argument("--warm", action="store_true", help="only warm runs (a filled --cache)")
     args = parser.parse_args()
@@ -77,11 +78,11 @@ def main() -> None:
     print("|---|---|---|---:|---:|---:|")
     for name in args.robots.split(","):
         robot = str(work / "jaco_like.toml") if name == "jaco_like" else name
-        for command, argv in COMMANDS.items():
+        for command in args.commands.split(","):
             for run in passes:
                 out = work / f"{name}-{command}-{run}"
                 out.mkdir()
-                result = timed_run(argv(robot, out), cache, out)
+                result = timed_run(COMMANDS[command](robot, out), cache, out)
                 print(
                     f"| {name} | {command} | {run} | {result['wall']:.2f} | "
                     f"{result['import_cpu']:.2f} | {result['run_cpu']:.2f} |",

@@ -3,6 +3,7 @@ a KeyboardInterrupt traceback during ``derive``, a 20-joint chain that hangs ``s
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -39,11 +40,7 @@ def test_ctrl_c_during_derive_is_one_line_exit_130_and_leaves_the_folder(tmp_pat
 
 
 def test_time_limit_stops_a_derivation_too_large_for_it(tmp_path: Path):
-    lines = ['name = "chain20"', "[parameters]", *(f"L{i} = 0.1" for i in range(1, 21))]
-    for i in range(1, 21):
-        lines += ["[[joints]]", 'type = "revolute"', f'a = "L{i}"', f"alpha = {90 * (i % 2)}"]
-    robot = tmp_path / "chain20.toml"
-    robot.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    robot = _chain_file(tmp_path, 20)
     started = time.monotonic()
     done = subprocess.run(
         [*SYMKIN, "--time-limit", "3", "show", str(robot)],
@@ -58,3 +55,56 @@ def test_time_limit_stops_a_derivation_too_large_for_it(tmp_path: Path):
         f"symkin: error: show {robot}: stopped at the time limit of 3 s (--time-limit SECONDS, "
         "0 for none); the closed form is too large for this budget"
     ]
+
+
+def _chain_file(folder: Path, joints: int) -> Path:
+    """A chain of alternating right-angle twists: far too large to derive in seconds."""
+    lines = [
+        f'name = "chain{joints}"',
+        "[parameters]",
+        *(f"L{i} = 0.1" for i in range(1, joints + 1)),
+    ]
+    for i in range(1, joints + 1):
+        lines += ["[[joints]]", 'type = "revolute"', f'a = "L{i}"', f"alpha = {90 * (i % 2)}"]
+    robot = folder / f"chain{joints}.toml"
+    robot.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return robot
+
+
+def _read_terminal(descriptor: int, seconds: float) -> bytes:
+    """What the command wrote to its terminal, until it closes or ``seconds`` pass."""
+    import select
+
+    out, end = b"", time.monotonic() + seconds
+    while time.monotonic() < end:
+        if select.select([descriptor], [], [], 0.2)[0]:
+            try:
+                data = os.read(descriptor, 65536)
+            except OSError:  # the child closed the terminal
+                break
+            if not data:
+                break
+            out += data
+    return out
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs a pseudo-terminal")
+def test_ctrl_c_during_the_live_display_restores_the_terminal(tmp_path: Path):
+    """On a terminal the phases are live lines (rich hides the cursor meanwhile); Ctrl-C in the
+    middle exits 130 and shows the cursor again, after the last time it was hidden."""
+    import pty
+
+    robot = _chain_file(tmp_path, 20)
+    pid, descriptor = pty.fork()
+    if pid == 0:  # the child: the command on the pseudo-terminal
+        os.environ["SYMKIN_NO_CACHE"] = "1"
+        os.execv(sys.executable, [*SYMKIN, "show", str(robot)])
+    head = _read_terminal(descriptor, 4)
+    os.kill(pid, signal.SIGINT)
+    out = head + _read_terminal(descriptor, 60)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 130, out
+    hide, show = b"\x1b[?25l", b"\x1b[?25h"
+    assert hide in head, head  # the live display was running when Ctrl-C came
+    assert out.rfind(show) > out.rfind(hide), out
+    assert b"interrupted" in out and b"Traceback" not in out

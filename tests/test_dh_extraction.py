@@ -159,3 +159,80 @@ def test_written_robot_file_has_the_sources_dynamics(convention):
         got = dynamic_state(derive(written), q, dq, ddq)
         assert np.allclose(got.mass_matrix, expected.mass_matrix, atol=1e-12)
         assert np.allclose(got.torque, expected.torque, atol=1e-11)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["panda", "puma560", "stanford", "scara"])
+def test_round_trip_dh_urdf_dh_keeps_table_fk_and_dynamics(name, tmp_path):
+    """DH -> symkin urdf -> load_robot(.urdf) -> symkin dh: the same table, FK and dynamics
+    (rigid-body dynamics: URDF has no rotor inertia, so the PUMA's motor_inertia stays out)."""
+    from symkin.emit.urdf import urdf_text
+    from symkin.solve.evaluate import dynamic_state
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        source = load_robot(name)
+        path = tmp_path / f"{name}.urdf"
+        path.write_text(urdf_text(source, "round trip"))
+        loaded = load_robot(path)
+    direct = extract_dh(source, source.convention).robot
+    again = extract_dh(loaded, source.convention).robot
+    assert np.allclose(rows_of(again), rows_of(direct), atol=1e-9)
+    assert fk_difference(source, again) < 1e-12
+    if all(j.link is not None for j in source.joints):
+        rigid = tuple(replace(j, link=replace(j.link, motor_inertia=0)) for j in source.joints)
+        source = replace(source, joints=rigid)
+        rng = np.random.default_rng(2)
+        for q in random_configurations(source, 3, seed=9):
+            dq, ddq = rng.uniform(-1, 1, source.dof), rng.uniform(-1, 1, source.dof)
+            expected = dynamic_state(derive(source), q, dq, ddq).torque
+            got = dynamic_state(derive(again), q, dq, ddq).torque
+            assert np.allclose(got, expected, atol=1e-9)
+
+
+def test_nearly_round_source_values_are_snapped_and_the_proof_says_so():
+    """A URDF-style 1.57079632679 for pi/2 (UR's files): the table gets exact right angles,
+    the FK moves by ~1e-11, and the proof explains the difference instead of failing."""
+    text = (
+        'name = "near_right"\nconvention = "placement"\nangles = "rad"\n'
+        '[[joints]]\ntype = "revolute"\norigin = { xyz = [0, 0, 0.089159] }\naxis = [0, 0, 1]\n'
+        '[[joints]]\ntype = "revolute"\n'
+        "origin = { xyz = [0, 0.13585, 0], rpy = [0, 1.57079632679, 0] }\naxis = [0, 1, 0]\n"
+        '[[joints]]\ntype = "revolute"\norigin = { xyz = [0, -0.1197, 0.425] }\naxis = [0, 1, 0]\n'
+    )
+    extraction = extract_dh(robot_from_toml(text, "near_right.toml"))
+    assert all(j.alpha.is_zero or j.alpha.has(sp.pi) for j in extraction.robot.joints)
+    proof = prove_forward_kinematics(extraction)
+    assert 1e-13 < proof.numeric_error < 1e-9 and "not exactly round" in proof.snapping
+
+
+def example_robot_data_file(relative: str) -> Path:
+    from importlib.metadata import distribution
+
+    robots = "cmeel.prefix/share/example-robot-data/robots"
+    return Path(str(distribution("example-robot-data").locate_file(robots))) / relative
+
+
+@pytest.mark.slow
+def test_panda_urdf_of_example_robot_data_gives_the_published_table():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the fingers are lumped into the hand, said as a warning
+        urdf = load_robot(
+            example_robot_data_file("panda_description/urdf/panda.urdf"), tip="panda_link8"
+        )
+    extraction = extract_dh(urdf, "modified")
+    assert np.allclose(rows_of(extraction.robot), PANDA_PUBLISHED, atol=1e-12)
+    assert extraction.robot.base == sp.eye(4)
+    assert np.allclose(np.array(extraction.robot.tool, dtype=float)[:3, 3], [0, 0, 0.107])
+
+
+@pytest.mark.slow
+def test_ur5_urdf_of_example_robot_data_gives_the_published_table_up_to_half_turns():
+    """UR's base_link has its x axis opposite to the DH base frame's: every x axis turns half a
+    turn about its z, which negates a and alpha; the tool frame adds theta_6 = pi
+    (docs/dh-extraction.md)."""
+    urdf = load_robot(example_robot_data_file("ur_description/urdf/ur5_robot.urdf"), tip="tool0")
+    rows = rows_of(extract_dh(urdf, "standard").robot)
+    turned = [(theta, d, -a, -alpha) for theta, d, a, alpha in UR5_PUBLISHED]
+    turned[5] = (math.pi, *turned[5][1:])
+    assert np.allclose(rows, turned, atol=1e-9)

@@ -107,7 +107,7 @@ def test_an_exception_inside_a_derivation_names_the_robot_and_the_quantity(monke
     def broken(*_args, **_kwargs):
         raise TypeError("cannot determine truth value of Relational")
 
-    monkeypatch.setattr(jacobians, "task_jacobian_determinant", broken)
+    monkeypatch.setattr(jacobians, "determinant_matrix", broken)
     robot = robot_from_toml(two_link("L1", "L2"), "arm.toml")
     with pytest.raises(symkin.DerivationError, match=r"two_link: cannot derive the Jacobian "
                        r"determinant: TypeError: cannot determine truth value"):  # fmt: skip

@@ -151,3 +151,34 @@ def test_non_unit_axis_is_normalised_and_said_once():
         "bad.toml: joint 1: 'axis' [0.0, 0.0, 2.0] is not a unit vector; normalised"
     ]
     assert robot.joints[0].placement == sp.ImmutableMatrix(sp.eye(4))
+
+
+def test_latex_prints_the_placement_table_instead_of_the_dh_table(tmp_path, capsys):
+    from symkin.cli import main
+
+    assert main(["latex", str(ARM), "-o", str(tmp_path / "arm.tex"), "--sections", "dh"]) == 0
+    capsys.readouterr()
+    text = (tmp_path / "arm.tex").read_text(encoding="utf-8")
+    assert r"A_{i} = {}^{i-1}T_{i} &= P_{i}\, \mathrm{Rot}_{z}(\theta_{i})" in text
+    assert r"\alpha_{i" not in text
+    # Joint 2: xyz as written; roll 0.2 - pi/2 (the turn that puts its y axis on z).
+    assert r"$2$ & revolute & $0.05$ & $0$ & $0.2$ & $-1.3708$ & $0$ & $0$ & $q_{2}$ & $0$" in text
+
+
+@pytest.mark.slow  # show derives the determinant: ~50 s for this float-valued arm
+def test_show_prints_the_placement_table(capsys):
+    from symkin.cli import main
+
+    assert main(["show", str(ARM)]) == 0
+    out = capsys.readouterr().out
+    assert "4 joints, placed joints" in out
+    assert "Placed joints (A_i = P_i Rz(theta_i) Tz(d_i); angles in rad):" in out
+    assert "DH table" not in out
+
+
+def test_velocity_and_effort_limits_are_read_and_checked():
+    text = HEADER + "[[joints]]\ntype = 'revolute'\naxis = [0, 0, 1]\nmax_velocity = 2.5\n"
+    joint = symkin.robot_from_toml(text + "max_effort = 40\n", "arm.toml").joints[0]
+    assert (joint.max_velocity, joint.max_effort) == (2.5, 40.0)
+    with pytest.raises(RobotError, match=r"joint 1: 'max_effort' must be > 0, got -1"):
+        symkin.robot_from_toml(text + "max_effort = -1\n", "arm.toml")

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 from symkin.errors import RobotError, RobotWarning
 from symkin.io import catalogue_names, load_robot, robot_file, robot_from_toml, robot_tables
+from symkin.names import robot_name_reason
 from symkin.robot import Robot
 
 FILE = "robots/arm.toml"
@@ -808,7 +809,11 @@ def robot_document(draw: st.DrawFn) -> tuple[dict[str, Any], dict[str, Any]]:
     unit = draw(st.sampled_from(["deg", "rad"]))
     names = draw(st.lists(st.sampled_from(PARAMETER_POOL), unique=True, max_size=3))
     parameters = {n: draw(st.one_of(st.just("symbol"), small_floats)) for n in names}
-    doc: dict[str, Any] = {"name": draw(st.from_regex(r"[a-z][a-z0-9_]{0,8}", fullmatch=True))}
+    # Reserved names (C and Python keywords, symkin_*) are rejected by design: not well formed.
+    name = st.from_regex(r"[a-z][a-z0-9_]{0,8}", fullmatch=True).filter(
+        lambda n: not robot_name_reason(n)
+    )
+    doc: dict[str, Any] = {"name": draw(name)}
     if draw(st.booleans()) or unit == "rad":
         doc["angles"] = unit
     convention = draw(st.sampled_from(["standard", "modified"]))

@@ -7,9 +7,10 @@ simplification, CSE, printing), so a warm command skips all of it; and text come
 executed (no pickle, no ``sympify``), so a tampered entry can at worst be wrong text.
 
 The key (:func:`entry_key`) is a SHA-256 of the robot's content (every compared field of
-:class:`~symkin.robot.Robot`, in ``srepr`` form; not its file path or time), the command's
-options that shape the text, the symkin, SymPy and SymEngine versions, and a digest of
-symkin's own source files (a development checkout changes code without changing its version).
+:class:`~symkin.robot.Robot`, in ``srepr`` form; not its file path or time: a caller whose
+text names the path puts it in ``options``), the command's options that shape the text, the
+symkin, SymPy, SymEngine, NumPy and Jinja2 versions, and a digest of symkin's own source
+files (a development checkout changes code without changing its version).
 
 Safety (see docs/security.md): the directory is ``$XDG_CACHE_HOME/symkin`` (an absolute
 ``XDG_CACHE_HOME``), else ``~/.cache/symkin``, created with mode 0700; a directory or entry
@@ -37,17 +38,24 @@ from pathlib import Path
 
 import sympy as sp
 
+from symkin.errors import BudgetWarning, RobotWarning, SymkinError
+from symkin.output_folder import check_relative
 from symkin.progress import detail
 from symkin.robot import Robot
 
 __all__ = ["DISABLE_VARIABLE", "DiskCache", "entry_key", "remembered", "user_cache"]
 
 # Bump when the entry layout or the key's recipe changes: older entries are then ignored.
-FORMAT = 1
+FORMAT = 2
 # Set (to anything but "" or "0") to turn the cache off, e.g. for a test suite.
 DISABLE_VARIABLE = "SYMKIN_NO_CACHE"
 
 Text = str | dict[str, str]
+
+# The warning classes an entry may name (by name, looked up here: never imported from the
+# entry); a templated one keeps its template, so the front end spells its parameters as on
+# the cold run.  Any other class is given again as a UserWarning.
+PLAIN_WARNINGS = {"RobotWarning": RobotWarning, "RuntimeWarning": RuntimeWarning}
 
 
 def cache_directory(environ: Mapping[str, str] = os.environ) -> Path:
@@ -79,7 +87,8 @@ def _canonical(value: object) -> str:
 def _software() -> dict[str, str]:
     """Versions and the source digest that shape every result."""
     versions = {}
-    for package in ("symkin", "sympy", "symengine"):
+    # NumPy prints number literals, Jinja2 renders the templates: both shape the text.
+    for package in ("symkin", "sympy", "symengine", "numpy", "jinja2"):
         try:
             versions[package] = metadata.version(package)
         except metadata.PackageNotFoundError:
@@ -125,10 +134,39 @@ def _is_text(value: object) -> bool:
     )
 
 
-def _warnings_of(entry: dict) -> list[str] | None:
+def _is_file_map(value: object) -> bool:
+    """Text, or ``{path: text}`` whose every path is a plain relative one (no ``..``, not
+    absolute): an entry naming a file outside the output folder is not an entry of ours."""
+    if isinstance(value, str):
+        return True
+    try:
+        return _is_text(value) and all(check_relative(path) for path in value)
+    except SymkinError:
+        return False
+
+
+def _warnings_of(entry: dict) -> list[dict[str, str]] | None:
+    """The entry's ``[{"category": name, "text": message or template}]``, or None if malformed."""
     said = entry.get("warnings")
-    ok = isinstance(said, list) and all(isinstance(w, str) for w in said)
+    ok = isinstance(said, list) and all(
+        isinstance(w, dict) and set(w) == {"category", "text"} and _is_text(w) for w in said
+    )
     return said if ok else None
+
+
+def warning_record(message: Warning) -> dict[str, str]:
+    """What an entry keeps of a warning: its class name and its text (a template if it has one)."""
+    if isinstance(message, BudgetWarning):
+        return {"category": "BudgetWarning", "text": message.template}
+    return {"category": type(message).__name__, "text": str(message)}
+
+
+def warning_from_record(record: Mapping[str, str]) -> Warning:
+    """The warning :func:`warning_record` kept, rebuilt from the allow-listed classes only."""
+    name, text = record["category"], record["text"]
+    if name == "BudgetWarning":
+        return BudgetWarning(text)
+    return PLAIN_WARNINGS.get(name, UserWarning)(text)
 
 
 @dataclass(frozen=True)
@@ -140,7 +178,7 @@ class DiskCache:
     def path(self, kind: str, key: str) -> Path:
         return self.directory / f"{kind}-{key}.json"
 
-    def load(self, kind: str, key: str) -> tuple[Text, list[str]] | None:
+    def load(self, kind: str, key: str) -> tuple[Text, list[dict[str, str]]] | None:
         """The stored text and the warnings its derivation gave, or None: missing, unsafe or
         not a valid entry of this format and key (never an exception)."""
         path = self.path(kind, key)
@@ -167,14 +205,15 @@ class DiskCache:
             FORMAT,
             key,
         )
-        if not valid or not _is_text(entry.get("value")) or _warnings_of(entry) is None:
+        if not valid or not _is_file_map(entry.get("value")) or _warnings_of(entry) is None:
             detail(f"cache: ignoring {path}: not a valid entry of this symkin; rebuilding it")
             return None
         return entry["value"], _warnings_of(entry)
 
-    def store(self, kind: str, key: str, value: Text, said: list[str]) -> None:
+    def store(self, kind: str, key: str, value: Text, said: list[dict[str, str]]) -> None:
         """Write atomically: a temporary file in the same directory, then ``os.replace``
-        (readers see the old entry or the new one, never half of one)."""
+        (readers see the old entry or the new one, never half of one; an interrupted write
+        leaves neither an entry nor its temporary file)."""
         entry = {"format": FORMAT, "kind": kind, "key": key, "warnings": said, "value": value}
         try:
             descriptor, temporary = tempfile.mkstemp(
@@ -188,9 +227,11 @@ class DiskCache:
                 json.dump(entry, file)
             os.replace(temporary, self.path(kind, key))
             detail(f"cache: stored {self.path(kind, key)}")
-        except OSError as error:
-            detail(f"cache: cannot write {self.path(kind, key)} ({error.strerror})")
+        except BaseException as error:  # also Ctrl-C and the --time-limit alarm
             Path(temporary).unlink(missing_ok=True)
+            if not isinstance(error, OSError):
+                raise
+            detail(f"cache: cannot write {self.path(kind, key)} ({error.strerror})")
 
 
 def user_cache(environ: Mapping[str, str] = os.environ) -> DiskCache | None:
@@ -202,11 +243,14 @@ def user_cache(environ: Mapping[str, str] = os.environ) -> DiskCache | None:
     try:
         directory.parent.mkdir(parents=True, exist_ok=True)
         directory.mkdir(mode=0o700, exist_ok=True)
-        status = directory.stat()
+        # lstat: a symbolic link is refused, not followed (its owner could repoint it after
+        # this check); set XDG_CACHE_HOME to keep the cache elsewhere.
+        status = directory.lstat()
     except OSError as error:
         detail(f"cache: not used: cannot create {directory} ({error.strerror})")
         return None
     why = "is not a directory" if not stat.S_ISDIR(status.st_mode) else _unsafe(status)
+    why = "is a symbolic link" if stat.S_ISLNK(status.st_mode) else why
     if why:
         detail(f"cache: not used: {directory} {why}")
         return None
@@ -223,7 +267,7 @@ def remembered(
     """``compute()``, or its stored text when ``cache`` holds an entry for this key.
 
     The warnings ``compute`` gave are stored with the text and given again on a hit, so a
-    warm run says what the cold one said (as :class:`UserWarning`: only the text is kept).
+    warm run says what the cold one said (see :func:`warning_record` for what is kept).
     """
     if cache is None:
         return compute()
@@ -232,15 +276,19 @@ def remembered(
     if found is not None:
         detail(f"cache: {kind} of {robot.name} from {cache.path(kind, key)}")
         value, said = found
-        for message in said:
-            warnings.warn(message, UserWarning, stacklevel=2)
+        for record in said:
+            warnings.warn(warning_from_record(record), stacklevel=2)
         return value
-    with warnings.catch_warnings(record=True) as caught:
+    said: list[Warning] = []
+    show = warnings.showwarning
+
+    def keep_and_show(message: Warning, *where: object, **more: object) -> None:
+        # Shown as it comes (a long derivation's early warning is not held back to its end).
+        said.append(message)
+        show(message, *where, **more)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = keep_and_show
         value = compute()
-    for caught_warning in caught:
-        warnings.showwarning(
-            caught_warning.message, caught_warning.category, caught_warning.filename,
-            caught_warning.lineno, caught_warning.file, caught_warning.line,
-        )  # fmt: skip
-    cache.store(kind, key, value, [str(w.message) for w in caught])
+    cache.store(kind, key, value, [warning_record(message) for message in said])
     return value

@@ -21,15 +21,8 @@ class RobotWarning(UserWarning):
     body can have but that published models use, such as lumped link inertias)."""
 
 
-class ParameterError(SymkinError):
-    """A bad argument of a library function, named as the function names it.
-
-    ``template`` marks each argument name as a ``str.format`` field; build the rest with an
-    f-string and doubled braces: ``ParameterError(f"{{q}} needs {n} values")``.  The library's
-    message names the Python parameter (``q needs 6 values``); a front end spells it its own
-    way through :meth:`message_for` (the CLI: ``--q needs 6 values``), so the library never
-    speaks of flags.
-    """
+class _Templated:
+    """A message whose parameter names are ``str.format`` fields, spelled by the front end."""
 
     def __init__(self, template: str) -> None:
         self.template = template
@@ -41,6 +34,23 @@ class ParameterError(SymkinError):
     def message_for(self, spellings: Mapping[str, str]) -> str:
         """The message with each parameter spelled as ``spellings`` says (else its name)."""
         return self.template.format(**{name: spellings.get(name, name) for name in self.parameters})
+
+
+class ParameterError(_Templated, SymkinError):
+    """A bad argument of a library function, named as the function names it.
+
+    ``template`` marks each argument name as a ``str.format`` field; build the rest with an
+    f-string and doubled braces: ``ParameterError(f"{{q}} needs {n} values")``.  The library's
+    message names the Python parameter (``q needs 6 values``); a front end spells it its own
+    way through :meth:`message_for` (the CLI: ``--q needs 6 values``), so the library never
+    speaks of flags.
+    """
+
+
+class BudgetWarning(_Templated, UserWarning):
+    """An optional closed form (factored determinant, singular set, adjugate inverse, symbolic
+    manipulability) not found within its time budget; the message names the parameter that
+    changes the budget as a template field, like :class:`ParameterError`."""
 
 
 def literal(value: object) -> str:

@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path, PurePosixPath
 
 from symkin.derive import Model, derive
+from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.c import PRECISIONS, emit_c
 from symkin.emit.casadi import emit_casadi
 from symkin.emit.ik_c import emit_ik_c
@@ -53,9 +54,15 @@ def check_backends(backends: Iterable[str]) -> tuple[str, ...]:
     return chosen
 
 
-def robot_kernels(model: Model) -> tuple[Kernel, ...]:
-    """Every kernel generated for a robot: kinematics, then dynamics."""
-    return kinematics_kernels(model) + dynamics_kernels(model)
+def robot_kernels(model: Model, dynamics: bool = True) -> tuple[Kernel, ...]:
+    """Every kernel generated for a robot: kinematics, then dynamics unless ``dynamics`` is
+    false (two progress phases)."""
+    with phase("the kinematics kernels (CSE and rewrite passes)"):
+        kinematics = kinematics_kernels(model)
+    if not dynamics:
+        return kinematics
+    with phase("the dynamics kernels (CSE and rewrite passes)"):
+        return kinematics + dynamics_kernels(model)
 
 
 def files_for_robot(
@@ -64,11 +71,18 @@ def files_for_robot(
     precision: str = "double",
     points: Sequence[tuple[int, Sequence[float]]] = (),
     flags: Sequence[str] = (),
+    *,
+    budget: float | None = DEFAULT_BUDGET_SECONDS,
+    closed_forms: bool = True,
+    dynamics: bool = True,
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot.
 
     ``flags``: the front end's options that made the files, as it spells them; every file's
     "Regenerate with" line ends with them (``--precision float --numeric-parameters``).
+    ``budget`` and ``closed_forms`` as for :func:`~symkin.derive.derive` (without a closed
+    form, ``det`` and ``manipulability`` are computed numerically from the Jacobian);
+    ``dynamics=False`` leaves the dynamics kernels out.
     """
     if precision not in PRECISIONS:
         raise ParameterError(
@@ -76,10 +90,8 @@ def files_for_robot(
         )
 
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
-    @functools.cache
-    def kernels() -> tuple[Kernel, ...]:
-        with phase("the kernels (CSE and rewrite passes)"):
-            return robot_kernels(derive(robot)) + point_kernels(derive(robot), points)
+    model = derive(robot, budget, closed_forms)
+    kernels = functools.cache(lambda: robot_kernels(model, dynamics) + point_kernels(model, points))
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),
@@ -93,7 +105,7 @@ def files_for_robot(
             **emit_python_extension(robot, kernels(), precision, flags),
         },
         "casadi": lambda: emit_casadi(robot, kernels(), flags),
-        "latex": lambda: {f"latex/{p}": t for p, t in latex_files(derive(robot)).items()},
+        "latex": lambda: {f"latex/{p}": t for p, t in latex_files(model).items()},
     }
     files: dict[str, str] = {}
     for backend in check_backends(backends):

@@ -85,6 +85,9 @@ class Joint:
     from frame i-1 to joint frame i at ``q_i = 0``; the joint then turns about (slides along)
     that frame's z axis: ``A_i = placement * Rz(theta_i) Tz(d_i)``.  None in a DH robot.
 
+    ``max_velocity`` and ``max_effort``: the speed (rad/s or m/s) and torque or force (N m or N)
+    limits of the joint, as URDF's ``<limit velocity effort>``; None when not given.
+
     ``flip``: the joint variable enters with a minus sign (``theta_i = -q_i + theta`` or
     ``d_i = -q_i + d``), as in DH tables whose joint axis points against ``z``.
     """
@@ -99,6 +102,8 @@ class Joint:
     link: Link | None = None
     flip: bool = False
     placement: sp.ImmutableMatrix | None = None
+    max_velocity: float | None = None
+    max_effort: float | None = None
 
     def __post_init__(self) -> None:
         if self.type not in ("revolute", "prismatic"):

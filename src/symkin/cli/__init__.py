@@ -12,6 +12,7 @@ import sys
 import threading
 import warnings
 from collections.abc import Sequence
+from contextlib import closing
 
 from symkin.cli.parser import build_parser
 from symkin.cli.report import error_text, show_warning
@@ -45,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         _stop_at_time_limit(args.time_limit)
         reporter = command_reporter(getattr(args, "verbose", False), getattr(args, "json", False))
-        with warnings.catch_warnings(), reporting(reporter):
+        with warnings.catch_warnings(), reporting(reporter), closing(reporter):
             warnings.showwarning = show_warning
             status = args.run(args) or 0  # ik: 1 when the target is not reached
     except SymkinError as error:

@@ -9,6 +9,7 @@ from pathlib import Path
 import sympy as sp
 
 from symkin.cli.report import json_text, text_matrix
+from symkin.cli.values import parameter_overrides, robot_from_args
 from symkin.derive.dh_extraction import DhExtraction, extract_dh
 from symkin.derive.dh_lines import SNAP_TOLERANCE
 from symkin.derive.dh_proof import FkProof, prove_forward_kinematics
@@ -16,7 +17,6 @@ from symkin.emit.latex.dh_derivation import dh_derivation_tex
 from symkin.emit.robot_toml import robot_toml
 from symkin.emit.urdf import urdf_text
 from symkin.errors import SymkinError
-from symkin.io import load_robot
 from symkin.output_folder import replace_file
 from symkin.robot import Robot
 
@@ -31,6 +31,26 @@ def write_text_file(path_text: str, text: str) -> Path:
     except OSError as error:
         raise SymkinError(f"cannot write {path}: {error.strerror or error}") from None
     return replace_file(path.parent, path.name, text)
+
+
+def check_output_paths(source: Robot, paths: list[str]) -> None:
+    """Refuse, before anything is written, an output file that is the robot's own file (``symkin
+    urdf arm.urdf -o arm.urdf`` would replace the user's URDF by the export, without its meshes;
+    ``dh arm.toml --toml arm.toml`` the robot file by its DH model) or that two outputs share."""
+    taken = [(Path(source.file), "the robot file")] if source.file else []
+    for text in paths:
+        path = Path(text)
+        for other, what in taken:
+            if _same_file(path, other):
+                raise SymkinError(f"{path} is {what}; give another file name")
+        taken.append((path, "also another output"))
+
+
+def _same_file(path: Path, other: Path) -> bool:
+    """One file under two names (links and ``..`` included), existing or not yet."""
+    if path.exists() and other.exists():
+        return path.samefile(other)
+    return path.resolve() == other.resolve()
 
 
 def source_label(robot: Robot) -> str:
@@ -119,14 +139,23 @@ def dh_json(extraction: DhExtraction, proof: FkProof) -> dict:
             "numeric_error": proof.numeric_error,
             "configurations": proof.configurations,
             "reason": proof.reason,
+            "snapping": proof.snapping,
         },
     }
 
 
+def numeric_source(args: argparse.Namespace) -> Robot:
+    """The robot with its parameters replaced by their values (``--set`` first): extraction
+    and export work on numbers."""
+    robot = robot_from_args(args)
+    return robot.with_parameter_values(parameter_overrides(args.set)) if robot.parameters else robot
+
+
 def command_dh(args: argparse.Namespace) -> None:
-    source = load_robot(args.robot)
+    source = numeric_source(args)
     extraction = extract_dh(source, args.convention)
     proof = prove_forward_kinematics(extraction)
+    check_output_paths(source, [path for path in (args.toml, args.latex) if path])
     print(json_text(dh_json(extraction, proof)) if args.json else dh_text(extraction, proof))
     command = f"symkin dh {source_label(source)} --convention {args.convention}"
     if args.toml:
@@ -139,6 +168,7 @@ def command_dh(args: argparse.Namespace) -> None:
 
 
 def command_urdf(args: argparse.Namespace) -> None:
-    robot = load_robot(args.robot)
+    robot = numeric_source(args)
+    check_output_paths(robot, [args.output])
     header = f"URDF of {source_label(robot)}, written by: symkin urdf {source_label(robot)} -o FILE"
     print(f"wrote {write_text_file(args.output, urdf_text(robot, header))}")

@@ -23,12 +23,12 @@ from symkin.cli.report import (
 from symkin.cli.values import (
     joint_values,
     parameter_overrides,
+    robot_from_args,
     target_from_text,
     task_rows_from_text,
 )
 from symkin.derive import Model, derive
 from symkin.errors import SymkinError
-from symkin.io import load_robot
 from symkin.solve.ik.numeric import DEFAULT_RESTARTS, solve_ik
 from symkin.solve.ik.path import follow_path, newton_path_table, path_table_json
 from symkin.solve.ik.plot import plot_path, plot_solutions
@@ -162,7 +162,7 @@ def ik_table(
 
 def command_ik(args: argparse.Namespace) -> int:
     """Exit status 0 when the target (or every waypoint) is reached, else 1."""
-    robot = load_robot(args.robot)
+    robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
     robot.parameter_values(overrides)  # reject unknown names and missing values first

@@ -20,7 +20,14 @@ from symkin.cli.commands import (
 )
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
-from symkin.cli.values import DEFAULT_TIME_LIMIT, seed_from_text, time_limit_from_text
+from symkin.cli.values import (
+    DEFAULT_TIME_LIMIT,
+    budget_from_text,
+    seed_from_text,
+    skip_from_text,
+    time_limit_from_text,
+)
+from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
 from symkin.generate import BACKENDS
@@ -40,11 +47,48 @@ def add_set_option(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_derivation_options(parser: argparse.ArgumentParser) -> None:
+    """``--budget``, ``--skip`` and ``--kinematics-only``: what to derive and for how long."""
+    parser.add_argument(
+        "--budget",
+        type=budget_from_text,
+        default=DEFAULT_BUDGET_SECONDS,
+        metavar="SECONDS",
+        help="time for each optional closed form (factored determinant, singular set, "
+        "adjugate inverse, symbolic manipulability); past it symkin says so and the code "
+        f"computes det and manipulability numerically (default {DEFAULT_BUDGET_SECONDS:g}; "
+        "0: no limit)",
+    )
+    parser.add_argument(
+        "--skip",
+        type=skip_from_text,
+        default=(),
+        metavar="LIST",
+        help="parts not to derive, comma-separated: determinant (the closed forms above; "
+        "numeric det in the code), dynamics",
+    )
+    parser.add_argument(
+        "--kinematics-only", action="store_true", help="same as --skip determinant,dynamics"
+    )
+
+
+def add_robot_argument(parser: argparse.ArgumentParser) -> None:
+    """``ROBOT`` and, for a URDF, the links its chain runs between (``--base``, ``--tip``)."""
+    parser.add_argument("robot", metavar="ROBOT")
+    parser.add_argument(
+        "--tip", metavar="LINK", help="URDF: the chain's last link (needed with several leaves)"
+    )
+    parser.add_argument("--base", metavar="LINK", help="URDF: the chain's first link (its root)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="symkin",
         description="Closed-form kinematics from Denavit-Hartenberg tables.",
-        epilog="ROBOT is a built-in name (see 'symkin list') or a path to a .toml robot file.",
+        epilog=(
+            "ROBOT is a built-in name (see 'symkin list'), a path to a .toml robot file "
+            "or a path to a .urdf file."
+        ),
     )
     parser.add_argument(
         "--time-limit",
@@ -94,19 +138,21 @@ def add_dh(commands: Commands) -> None:
         "intersecting and coincident axes), print the table with the base and tool transforms "
         "that make it exact, and prove that its FK equals the robot's.",
     )
-    dh.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(dh)
     dh.add_argument("--convention", choices=("standard", "modified"), default="standard")
     dh.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
     dh.add_argument("--toml", metavar="FILE", help="write the DH model as a robot file")
     dh.add_argument("--latex", metavar="FILE", help="write the derivation as a LaTeX document")
+    add_set_option(dh)
     dh.set_defaults(run=command_dh)
 
 
 def add_urdf(commands: Commands) -> None:
     """``symkin urdf ROBOT -o FILE``."""
     urdf = commands.add_parser("urdf", help="write the robot as a URDF file")
-    urdf.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(urdf)
     urdf.add_argument("-o", "--output", required=True, metavar="FILE", help="the .urdf file")
+    add_set_option(urdf)
     urdf.set_defaults(run=command_urdf)
 
 
@@ -121,12 +167,13 @@ def add_show(commands: Commands) -> None:
     show = commands.add_parser(
         "show", help="DH table, transforms, Jacobian determinant and singularities"
     )
-    show.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(show)
     show.add_argument("--json", action="store_true", help="print a JSON object (SymPy syntax)")
     show.add_argument("--task", metavar="ROWS", help=TASK_HELP)
     show.add_argument(
         "--dynamics", action="store_true", help="also print the equations of motion (M, C, G)"
     )
+    add_derivation_options(show)
     show.set_defaults(run=command_show)
 
 
@@ -138,7 +185,7 @@ def add_eval(commands: Commands) -> None:
         description="Evaluate pose, Jacobian, determinant and point motion at one state. "
         "Values are radians (or metres for prismatic joints); append 'deg' for degrees.",
     )
-    evaluate.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(evaluate)
     evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
     evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
     evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
@@ -166,7 +213,7 @@ def add_derive(commands: Commands) -> None:
     derive_parser = commands.add_parser(
         "derive", help="write generated code (NumPy, C, CasADi) for one robot"
     )
-    derive_parser.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(derive_parser)
     derive_parser.add_argument("--out", required=True, metavar="DIR", help="output folder")
     derive_parser.add_argument(
         "--emit",
@@ -196,6 +243,7 @@ def add_derive(commands: Commands) -> None:
         "parameters (fewer operations)",
     )
     add_set_option(derive_parser)
+    add_derivation_options(derive_parser)
     derive_parser.set_defaults(run=command_derive)
 
 
@@ -207,7 +255,7 @@ def add_latex(commands: Commands) -> None:
         description="Write the DH table, transforms, Jacobian, determinant and singularities "
         "as LaTeX: a standalone document plus snippets and macros to \\input into notes.",
     )
-    latex.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(latex)
     latex.add_argument("-o", "--output", metavar="FILE", help="document path (default ROBOT.tex)")
     latex.add_argument("--pdf", action="store_true", help="compile with pdflatex as well")
     latex.add_argument("--shorthand", action="store_true", help="c_1, s_12, ... with a legend")
@@ -228,6 +276,7 @@ def add_latex(commands: Commands) -> None:
         metavar="CM",
         help=f"text width that decides where matrices split (default {TEXT_WIDTH_CM})",
     )
+    add_derivation_options(latex)
     latex.set_defaults(run=command_latex)
 
 
@@ -253,7 +302,7 @@ def add_ik(commands: Commands) -> None:
         "Euler angles, R = Rz(rz) Ry(ry) Rx(rx), in rad or with 'deg'; x,y matches only the "
         "x and y rows. Exit status 1 when the target is not reached.",
     )
-    ik.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(ik)
     ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
     ik.add_argument(
         "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
@@ -310,7 +359,7 @@ def add_trajopt(commands: Commands) -> None:
         "and the velocity and torque limits given here (default: none). Joint values are "
         "radians (or metres); append 'deg' for degrees.",
     )
-    trajopt.add_argument("robot", metavar="ROBOT")
+    add_robot_argument(trajopt)
     trajopt.add_argument(
         "--from", dest="from_", required=True, metavar="V1,V2,...", help="start configuration"
     )

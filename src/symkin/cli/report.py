@@ -9,15 +9,15 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 
 import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET, ClosedForm
 from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
-from symkin.errors import ParameterError, SymkinError
+from symkin.errors import BudgetWarning, ParameterError, SymkinError
 from symkin.progress import note
 from symkin.robot import Robot
 from symkin.solve.evaluate import DynamicState, KinematicState
@@ -62,8 +62,15 @@ def progress(message: str) -> None:
 
 
 def show_warning(message: Warning | str, *_: object, **__: object) -> None:
-    """One ``symkin: warning: ...`` line instead of Python's file-and-line format."""
-    print(f"symkin: warning: {printable(str(message))}", file=sys.stderr)
+    """One ``symkin: warning: ...`` line instead of Python's file-and-line format, through the
+    command's reporter (so it lands above a live progress line, not inside it); a budget
+    warning names the ``--budget`` flag."""
+    text = (
+        message.message_for({"budget": "--budget SECONDS"})
+        if isinstance(message, BudgetWarning)
+        else str(message)
+    )
+    note(f"warning: {printable(text)}")
 
 
 def _first_non_finite(value: object, where: str = "") -> str | None:
@@ -171,16 +178,24 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     ]
     task = rows or model.task_rows
     out += ["", f"Task Jacobian rows: {', '.join(task)}"]
-    determinant = model.determinant(task)
-    if determinant is None:
+    form = model.determinant_form(task)
+    determinant = form.value
+    if form.status == NOT_SQUARE:
         out.append("  not square: no determinant (manipulability sqrt(det(J J^T)) applies)")
+    elif not form.found:
+        out.append(f"  det J: closed form {_not_found_text(form)}; generated code computes it")
+        out.append("  numerically from the Jacobian, and so do 'symkin eval' and kinematic_state")
     else:
         out.append(f"  det J = {sp.sstr(determinant)}")
         if determinant == 0:
             out.append("  singular in every configuration: these rows are linearly dependent")
         else:
-            conditions = model.singular_configurations(task)
-            out.append("  singular when:" if conditions else "  no singular configurations")
+            singular = model.singular_form(task)
+            conditions = singular.value or ()
+            if not singular.found:
+                out.append(f"  singular configurations: {_not_found_text(singular)}")
+            else:
+                out.append("  singular when:" if conditions else "  no singular configurations")
             out += [f"    {condition_text(c)}" for c in conditions]
     return "\n".join(out)
 
@@ -222,16 +237,29 @@ def dynamics_show_json(model: Model) -> dict:
     }
 
 
+def _not_found_text(form: ClosedForm) -> str:
+    """``not found within the budget`` or ``not attempted``: how a missing closed form reads."""
+    return "not found within the budget" if form.status == OVER_BUDGET else "not attempted"
+
+
 def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
-    determinant = model.determinant(rows)
+    """The ``show --json`` object; ``det`` and ``singular`` are null when their closed form is
+    missing, and ``det_status``/``singular_status`` say why (``found``, ``not square``,
+    ``over budget``, ``not attempted``)."""
+    determinant = model.determinant_form(rows)
+    singular = model.singular_form(rows)
     return {
         "robot": model.robot.name,
         "q": [s.name for s in model.q],
         "task_rows": list(rows or model.task_rows),
         "T": [[sp.sstr(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
         "jacobian": [[sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
-        "det": None if determinant is None else sp.sstr(determinant),
-        "singular": [sp.sstr(c) for c in model.singular_configurations(rows)],
+        "det": sp.sstr(determinant.value) if determinant.found else None,
+        "det_status": determinant.status,
+        "singular": [sp.sstr(c) for c in singular.value]
+        if singular.found
+        else ([] if singular.status == NOT_SQUARE else None),
+        "singular_status": singular.status,
     }
 
 

@@ -53,18 +53,25 @@ class CommandReporter:
 
     def finished(self, name: str, seconds: float) -> None:
         task = self.running.pop() if self.running else None
+        if self.display is not None and task is not None:
+            self.display.remove_task(task)
         if self.verbose:
             self._line(f"{'  ' * len(self.running)}{seconds:8.2f} s  {name}")
-        if self.display is not None:
-            if task is not None:
-                self.display.remove_task(task)
-            if not self.running:
-                self.display.stop()
-                self.display = None
+        if self.display is not None and not self.running:
+            self.display.stop()
+            self.display = None
 
     def said(self, message: str, verbose: bool) -> None:
         if self.verbose or not verbose:
             self._line(message)
+
+    def close(self) -> None:
+        """Stop a live display still running (an interrupt between a phase's start and its
+        bookkeeping), so the terminal gets its cursor back whatever happened."""
+        if self.display is not None:
+            self.display.stop()
+            self.display = None
+        self.running.clear()
 
     def _line(self, text: str) -> None:
         line = f"symkin: {printable(text)}"

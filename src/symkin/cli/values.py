@@ -13,6 +13,7 @@ import re
 from collections.abc import Sequence
 
 from symkin.errors import SymkinError
+from symkin.io import load_robot
 from symkin.robot import Robot
 
 # Every command stops with an error past this (no hang); the largest catalogue derivation
@@ -66,6 +67,25 @@ def time_limit_from_text(text: str) -> float:
             f"expected seconds from 0 (no limit) to {MAX_TIME_LIMIT:g}, got {text!r}"
         )
     return seconds
+
+
+SKIPPABLE = ("determinant", "dynamics")
+
+
+def budget_from_text(text: str) -> float:
+    """Seconds for ``--budget``: a finite number from 0 (no limit) to about four months."""
+    return time_limit_from_text(text)
+
+
+def skip_from_text(text: str) -> tuple[str, ...]:
+    """``--skip determinant,dynamics``: the parts not to derive, each named once."""
+    items = tuple(dict.fromkeys(item.strip() for item in text.split(",") if item.strip()))
+    unknown = [item for item in items if item not in SKIPPABLE]
+    if unknown or not items:
+        raise argparse.ArgumentTypeError(
+            f"expected a comma-separated list of {', '.join(SKIPPABLE)}, got {text!r}"
+        )
+    return items
 
 
 def seed_from_text(text: str) -> int:
@@ -182,3 +202,8 @@ def join_negative_values(argv: Sequence[str]) -> list[str]:
             joined.append(arg)
             i += 1
     return joined
+
+
+def robot_from_args(args: argparse.Namespace) -> Robot:
+    """The robot named by ``ROBOT`` (``--tip``/``--base`` choose a URDF's chain)."""
+    return load_robot(args.robot, tip=getattr(args, "tip", None), base=getattr(args, "base", None))

@@ -6,7 +6,9 @@ use and cached on the model; :func:`derive` caches models per robot.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
@@ -15,17 +17,25 @@ from typing import Any, TypeVar
 import sympy as sp
 
 from symkin.derive import jacobians
+from symkin.derive.budget import (
+    DEFAULT_BUDGET_SECONDS,
+    NOT_SQUARE,
+    ClosedForm,
+    closed_form_within,
+    not_attempted,
+)
+from symkin.derive.determinant import factored_determinant, factored_gram_determinant
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, SymkinError
 from symkin.progress import phase
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
 
-__all__ = ["DerivationError", "Dynamics", "Model", "PointMotion", "derive"]
+__all__ = ["ClosedForm", "DerivationError", "Dynamics", "Model", "PointMotion", "derive"]
 
 Method = TypeVar("Method", bound=Callable[..., Any])
 
@@ -44,7 +54,7 @@ def derivation_step(quantity: str) -> Callable[[Method], Method]:
         @functools.wraps(method)
         def derive_quantity(self: Model, *args: Any, **kwargs: Any) -> Any:
             try:
-                with phase(quantity):
+                with phase(quantity if self.simplified else f"{quantity} (product form)"):
                     return method(self, *args, **kwargs)
             except SymkinError:
                 raise
@@ -70,6 +80,16 @@ class Model:
 
     robot: Robot
     simplified: bool = True
+    # Seconds per optional closed form (determinant, singular set, inverse, manipulability);
+    # None: no limit.  closed_forms=False skips them (generated code computes numerically).
+    budget: float | None = DEFAULT_BUDGET_SECONDS
+    closed_forms: bool = True
+
+    def __post_init__(self) -> None:
+        if self.budget is not None and not 0 < self.budget < math.inf:
+            raise ParameterError(
+                f"{{budget}} must be a positive number of seconds or None, got {self.budget!r}"
+            )
 
     @cached_property
     @derivation_step("the link transforms and forward kinematics")
@@ -79,7 +99,7 @@ class Model:
     @cached_property
     def product_form(self) -> Model:
         """The same model unsimplified (shortest generated code after CSE)."""
-        return self if not self.simplified else Model(self.robot, simplified=False)
+        return self if not self.simplified else dataclasses.replace(self, simplified=False)
 
     @property
     def q(self) -> tuple[sp.Symbol, ...]:
@@ -163,51 +183,109 @@ class Model:
 
     @cached_property
     def task_rows(self) -> tuple[str, ...]:
-        """Default rows of the task Jacobian (see :func:`jacobians.default_task_rows`)."""
-        return jacobians.default_task_rows(self.geometric_jacobian)
+        """Default rows of the task Jacobian (see :func:`jacobians.default_task_rows`).
+
+        Read off the product form: its identically zero rows are zero entry by entry (a zero
+        axis or offset component multiplies through), so no contraction is derived for it,
+        and a 6-joint arm needs no Jacobian at all."""
+        if self.robot.dof == len(jacobians.ROW_NAMES):
+            return jacobians.ROW_NAMES
+        return jacobians.default_task_rows(self.product_form.geometric_jacobian)
 
     def task_jacobian(self, rows: Sequence[str] | None = None) -> sp.ImmutableMatrix:
         """The chosen rows (names ``x y z wx wy wz``) of the geometric Jacobian."""
         return jacobians.task_jacobian(self.geometric_jacobian, rows or self.task_rows)
 
-    def determinant(self, rows: Sequence[str] | None = None) -> sp.Expr | None:
-        """Factored determinant of the task Jacobian; ``None`` when it is not square."""
-        return self._determinant(tuple(rows or self.task_rows))
+    def determinant_form(self, rows: Sequence[str] | None = None) -> ClosedForm:
+        """The factored determinant of the task Jacobian as a :class:`ClosedForm`: found,
+        ``"not square"``, ``"over budget"`` or ``"not attempted"``."""
+        return self._determinant_form(tuple(rows or self.task_rows))
 
     @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
     @derivation_step("the Jacobian determinant")
-    def _determinant(self, rows: tuple[str, ...]) -> sp.Expr | None:
+    def _determinant_form(self, rows: tuple[str, ...]) -> ClosedForm:
         jacobians.rows_from_names(rows)
-        return jacobians.task_jacobian_determinant(
+        quantity = "factored determinant"
+        if len(rows) != self.robot.dof:
+            return ClosedForm(quantity, NOT_SQUARE, None, "the task Jacobian is not square")
+        if not self.closed_forms:
+            return not_attempted(quantity, self.robot.name)
+        matrix = jacobians.determinant_matrix(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
+        return self._within(quantity, lambda: factored_determinant(matrix, self.q))
 
+    def _within(self, quantity: str, compute: Callable[[], Any]) -> ClosedForm:
+        return closed_form_within(quantity, self.robot.name, self.budget, compute)
+
+    def determinant(self, rows: Sequence[str] | None = None) -> sp.Expr | None:
+        """Factored determinant of the task Jacobian; ``None`` when it is not square or has
+        no closed form within the budget (:meth:`determinant_form` says which)."""
+        return self.determinant_form(rows).value
+
+    def singular_form(self, rows: Sequence[str] | None = None) -> ClosedForm:
+        """:meth:`singular_configurations` as a :class:`ClosedForm` (value: the conditions)."""
+        return self._singular_form(tuple(rows or self.task_rows))
+
+    @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
     @derivation_step("the singular configurations")
+    def _singular_form(self, rows: tuple[str, ...]) -> ClosedForm:
+        determinant = self.determinant_form(rows)
+        if not determinant.found:
+            return dataclasses.replace(determinant, quantity="singular configurations")
+        return self._within(
+            "singular configurations",
+            lambda: jacobians.singular_configurations(determinant.value, self.q),
+        )
+
     def singular_configurations(self, rows: Sequence[str] | None = None) -> tuple[sp.Eq, ...]:
-        """Where the task Jacobian's determinant vanishes (empty when it is not square)."""
-        determinant = self.determinant(rows)
-        if determinant is None:
-            return ()
-        return jacobians.singular_configurations(determinant, self.q)
+        """Where the task Jacobian's determinant vanishes (empty when it is not square or
+        the closed form is not available: see :meth:`singular_form`)."""
+        return self.singular_form(rows).value or ()
+
+    @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
+    @derivation_step("the adjugate inverse")
+    def inverse_form(self, rows: tuple[str, ...] | None = None) -> ClosedForm:
+        """:meth:`inverse_task_jacobian` as a :class:`ClosedForm`."""
+        determinant = self.determinant_form(rows)
+        if not determinant.found:
+            return dataclasses.replace(determinant, quantity="adjugate inverse")
+        matrix = self.task_jacobian(rows)
+        return self._within(
+            "adjugate inverse",
+            lambda: jacobians.inverse_from_adjugate(self.kinematics, matrix, determinant.value),
+        )
 
     def inverse_task_jacobian(self, rows: Sequence[str] | None = None) -> sp.ImmutableMatrix:
         """``adj(J) / det(J)`` of the square task Jacobian."""
-        determinant = self.determinant(rows)
-        if determinant is None:
+        inverse = self.inverse_form(tuple(rows) if rows else None)
+        if inverse.status == NOT_SQUARE:
             raise ValueError("the task Jacobian is not square; choose n rows")
-        return jacobians.inverse_from_adjugate(
-            self.kinematics, self.task_jacobian(rows), determinant
-        )
+        if not inverse.found:
+            raise SymkinError(inverse.note)
+        return inverse.value
 
+    @lru_cache(maxsize=8)  # noqa: B019 - models are few, long-lived and hashable
     @derivation_step("the manipulability")
-    def manipulability(self, rows: Sequence[str] | None = None) -> sp.Expr:
-        """Yoshikawa's ``sqrt(det(J J^T))`` of the task Jacobian (``|det J|`` when square)."""
-        determinant = self.determinant(rows)
-        if determinant is not None:
-            return sp.Abs(determinant)
-        jacobian = self.task_jacobian(rows)
-        gram = self.kinematics.contract(jacobian * jacobian.T)
-        return sp.sqrt(gram.det(method="berkowitz"))
+    def manipulability_form(self, rows: tuple[str, ...] | None = None) -> ClosedForm:
+        """:meth:`manipulability` as a :class:`ClosedForm`."""
+        rows = rows or self.task_rows
+        determinant = self.determinant_form(rows)
+        quantity = "symbolic manipulability"
+        if determinant.status != NOT_SQUARE:
+            value = sp.Abs(determinant.value) if determinant.found else None
+            return dataclasses.replace(determinant, quantity=quantity, value=value)
+        if not self.closed_forms:
+            return not_attempted(quantity, self.robot.name)
+        matrix = jacobians.determinant_matrix(
+            self.robot, self.kinematics, self.geometric_jacobian, rows
+        )
+        return self._within(quantity, lambda: sp.sqrt(factored_gram_determinant(matrix, self.q)))
+
+    def manipulability(self, rows: Sequence[str] | None = None) -> sp.Expr | None:
+        """Yoshikawa's ``sqrt(det(J J^T))`` of the task Jacobian (``|det J|`` when square);
+        ``None`` without a closed form within the budget (see :meth:`manipulability_form`)."""
+        return self.manipulability_form(tuple(rows) if rows else None).value
 
     @cached_property
     @derivation_step("Lagrange's equations of motion")
@@ -243,6 +321,14 @@ class Model:
 
 
 @lru_cache(maxsize=32)
-def derive(robot: Robot) -> Model:
-    """The symbolic model of ``robot`` (cached: the same robot gives the same model)."""
-    return Model(robot)
+def derive(
+    robot: Robot, budget: float | None = DEFAULT_BUDGET_SECONDS, closed_forms: bool = True
+) -> Model:
+    """The symbolic model of ``robot`` (cached: the same arguments give the same model).
+
+    ``budget``: seconds for each optional closed form (factored determinant, singular
+    configurations, adjugate inverse, symbolic manipulability; ``None``: no limit); past it
+    a :class:`~symkin.errors.BudgetWarning` says so and generated code computes the
+    determinant and manipulability numerically.  ``closed_forms=False`` does not attempt them.
+    """
+    return Model(robot, budget=budget, closed_forms=closed_forms)

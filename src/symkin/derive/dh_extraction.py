@@ -21,7 +21,6 @@ the source's world frame) and ``tool`` (the source's tool in frame n) make the t
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 from dataclasses import dataclass, replace
@@ -40,9 +39,10 @@ from symkin.derive.dh_lines import (
     perpendicular_part,
     unit,
 )
-from symkin.derive.kinematics import Kinematics, kinematics_from_robot
+from symkin.derive.kinematics import joint_axis_frames, link_transform
 from symkin.errors import RobotError
 from symkin.robot import Convention, Joint, Link, Robot
+from symkin.symbols import joint_symbols
 
 
 @dataclass(frozen=True)
@@ -76,19 +76,18 @@ def _numbers(matrix: sp.MatrixBase, q: tuple[sp.Symbol, ...]) -> np.ndarray:
     return np.array(matrix.xreplace(dict.fromkeys(q, 0)).evalf(), dtype=float)
 
 
-@functools.lru_cache(maxsize=8)
-def product_kinematics(robot: Robot) -> Kinematics:
-    """The unsimplified kinematics of a numeric robot, once per robot (extraction, proof and
-    URDF export all read it; its products are the costly part)."""
-    return kinematics_from_robot(robot, simplified=False)
-
-
-def source_frames(robot: Robot) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
-    """Joint frames, link frames (index 0: base) and tool pose of ``robot`` at ``q = 0``."""
-    kinematics = product_kinematics(robot)
-    joint_frames = [_numbers(frame, kinematics.q) for frame in kinematics.joint_frames]
-    link_frames = [_numbers(frame, kinematics.q) for frame in kinematics.frame_transforms]
-    return joint_frames, link_frames, _numbers(kinematics.forward_kinematics, kinematics.q)
+def zero_pose_frames(robot: Robot) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
+    """Joint axis frames, link frames (index 0: base) and tool pose of a numeric robot at
+    ``q = 0``, multiplied as numbers (the symbolic chain of a long generic arm is large)."""
+    q = joint_symbols(robot.dof)
+    zero = dict.fromkeys(q, 0)
+    frames = [np.array(robot.base.evalf(), dtype=float)]
+    for joint, qi in zip(robot.joints, q, strict=True):
+        link = link_transform(joint, qi, robot.convention).xreplace(zero).evalf()
+        frames.append(frames[-1] @ np.array(link, dtype=float))
+    axes = joint_axis_frames(robot, [sp.ImmutableMatrix(f) for f in frames])
+    tool = frames[-1] @ np.array(robot.tool.evalf(), dtype=float)
+    return [np.array(a, dtype=float) for a in axes], frames, tool
 
 
 def snap_angle(value: float) -> sp.Expr:
@@ -279,7 +278,7 @@ def dh_joints(
 ) -> tuple[tuple[Joint, ...], np.ndarray]:
     """The DH joints (offsets, limits, inertial data in the DH frames) and the pose of frame
     n at ``q = 0``, both from the snapped rows; ``source`` has numeric parameters."""
-    link_frames = source_frames(source)[1]
+    link_frames = zero_pose_frames(source)[1]
     frame = frame0
     joints = []
     for k, (joint, row) in enumerate(zip(source.joints, rows, strict=True)):
@@ -294,6 +293,8 @@ def dh_joints(
                 alpha=alpha,
                 name=joint.name,
                 limits=joint.limits,
+                max_velocity=joint.max_velocity,
+                max_effort=joint.max_effort,
                 link=link_in_frame(joint.link, np.linalg.solve(frame, link_frames[k + 1])),
             )
         )
@@ -307,7 +308,7 @@ def extract_dh(source: Robot, convention: Convention = "standard") -> DhExtracti
     prismatic joints along one direction) and when a parameter has no value.
     """
     robot = numeric_robot(source)
-    joint_frames, link_frames, tool = source_frames(robot)
+    joint_frames, link_frames, tool = zero_pose_frames(robot)
     lines = axis_lines(joint_frames, tool)
     z0 = lines[0].direction
     base = link_frames[0]

@@ -16,12 +16,11 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool
+from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, joint_axis_sign
 from symkin.derive.orientation_rates import orientation_rates
-from symkin.derive.simplify import factored_determinant
 from symkin.errors import SymkinError
 from symkin.robot import Robot
-from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation
+from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation, transform_inverse
 
 ROW_NAMES = ("x", "y", "z", "wx", "wy", "wz")
 # Rows a task Jacobian draws from, in order of preference (planar arms: x, y, then wz).
@@ -170,26 +169,52 @@ def task_jacobian(jacobian: sp.MatrixBase, rows: Sequence[str]) -> sp.ImmutableM
     return sp.ImmutableMatrix(sp.Matrix.vstack(*(jacobian.row(i) for i in rows_from_names(rows))))
 
 
-def flange_jacobian(robot: Robot, kinematics: Kinematics) -> sp.Matrix:
-    """The geometric Jacobian of the origin of frame n (the flange, before the tool).
+def _frames_seen_from(kinematics: Kinematics, k: int) -> list[sp.ImmutableMatrix]:
+    """``T_k_j`` for ``j = 0..n``: every DH frame as seen from frame k (base and tool left
+    out), built outward from k by link transforms and their closed-form inverses, contracted
+    at each step like the forward kinematics."""
+    links = kinematics.link_transforms
+    frames: list[sp.ImmutableMatrix] = [sp.ImmutableMatrix(sp.eye(4))] * (len(links) + 1)
+    for j in range(k + 1, len(links) + 1):
+        frames[j] = kinematics.contract(frames[j - 1] * links[j - 1])
+    for j in range(k - 1, -1, -1):
+        frames[j] = kinematics.contract(frames[j + 1] * transform_inverse(links[j]))
+    return frames
 
-    It has the same determinant as the tool-point Jacobian: moving the velocity reference
-    point by ``r`` multiplies ``J`` by ``[[I, -[r]x], [0, I]]``, whose determinant is 1.  Its
-    entries are shorter because the tool offset drops out.
+
+def middle_frame_jacobian(robot: Robot, kinematics: Kinematics) -> sp.Matrix:
+    """The geometric Jacobian in frame ``k = n // 2``, about that frame's origin.
+
+    It has the same determinant as the base-frame tool-point Jacobian: changing the frame
+    multiplies ``J`` by ``diag(R, R)`` and moving the reference point by ``r`` by
+    ``[[I, -[r]x], [0, I]]``, both of determinant 1 (Spong sec. 4.7; the base and tool
+    transforms drop out the same way).  Seen from the middle of the chain every column is a
+    product of at most about n/2 link transforms instead of n, so the entries are several
+    times shorter (UR5: 53 terms in sines and cosines instead of 216).
     """
-    flange = kinematics.frame_transforms[-1][:3, 3]
-    return sp.Matrix.hstack(*_geometric_columns(robot, kinematics, flange))
+    k = robot.dof // 2
+    frames = _frames_seen_from(kinematics, k)
+    axis_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
+    columns = []
+    for joint, frame in zip(robot.joints, axis_frames, strict=True):
+        sign = joint_axis_sign(joint)
+        axis, origin = sign * frame[:3, 2], frame[:3, 3]
+        if joint.type == "revolute":
+            columns.append(sp.Matrix.vstack(axis.cross(-origin), axis))
+        else:
+            columns.append(sp.Matrix.vstack(axis, sp.zeros(3, 1)))
+    return sp.Matrix.hstack(*columns)
 
 
-def task_jacobian_determinant(
+def determinant_matrix(
     robot: Robot, kinematics: Kinematics, jacobian: sp.MatrixBase, rows: Sequence[str]
-) -> sp.Expr | None:
-    """Factored determinant of the task Jacobian, or ``None`` when it is not square."""
-    if len(rows) != robot.dof:
-        return None
+) -> sp.Matrix:
+    """A matrix with the task Jacobian's determinant (square) or Gram determinant
+    ``det(J J^T)`` (wide): the middle-frame Jacobian when all six rows are taken (same
+    determinants, shorter entries; see :func:`middle_frame_jacobian`), else the rows."""
     if tuple(rows) == ROW_NAMES:
-        return factored_determinant(flange_jacobian(robot, kinematics), kinematics.q)
-    return factored_determinant(task_jacobian(jacobian, rows), kinematics.q)
+        return middle_frame_jacobian(robot, kinematics)
+    return sp.Matrix(task_jacobian(jacobian, rows))
 
 
 def _solve_simple_factor(factor: sp.Expr, variable: sp.Symbol) -> list[sp.Expr] | None:

@@ -210,6 +210,16 @@ def _half_turn_about_x(frame: sp.ImmutableMatrix) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(frame * sp.diag(1, -1, -1, 1))
 
 
+def joint_axis_frames(robot: Robot, frames: list[sp.ImmutableMatrix]) -> list[sp.ImmutableMatrix]:
+    """Joint i's axis frame (z where ``q_i`` grows) from the frames ``T_0_0 .. T_0_n``:
+    frame i-1 in standard DH, frame i otherwise, half a turn about x for a flipped joint."""
+    axis_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
+    return [
+        _half_turn_about_x(frame) if joint.flip else frame
+        for joint, frame in zip(robot.joints, axis_frames, strict=True)
+    ]
+
+
 def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
     """Per-joint and cumulative transforms and ``T`` of ``robot`` (symbolic).
 
@@ -224,11 +234,7 @@ def kinematics_from_robot(robot: Robot, simplified: bool = True) -> Kinematics:
     frames = [numeric_trig_constants(robot.base)]
     for link in links:
         frames.append(policy.contract_product(frames[-1], link))
-    axis_frames = frames[:-1] if robot.convention == "standard" else frames[1:]
-    joint_frames = [
-        _half_turn_about_x(frame) if joint.flip else frame
-        for joint, frame in zip(robot.joints, axis_frames, strict=True)
-    ]
+    joint_frames = joint_axis_frames(robot, frames)
     tool = policy.contract_product(frames[-1], numeric_trig_constants(robot.tool))
     return dataclasses.replace(
         policy,

@@ -7,11 +7,9 @@ symkin uses two targeted steps instead:
   cosines of sums of angles (Fu et al.'s rule TR10i), e.g.
   ``cos(q1)cos(q2) - sin(q1)sin(q2) -> cos(q1 + q2)``.  Applied after every matrix product
   it keeps forward kinematics readable and small.
-* :func:`factor_trig`: factor an expression that is polynomial in the sines and cosines of
-  the joint angles (a Jacobian determinant).  Sines and cosines become polynomial variables
-  ``s_i``, ``c_i``, the polynomial is factored exactly, factors equal to ``s_i^2 + c_i^2``
-  (identically one) are dropped, and each remaining factor is contracted back to trigonometric
-  form.  A SCARA's determinant comes out as ``L1*L2*sin(q2)``.
+* :func:`reduce_trig`: apply ``sin^2 + cos^2 = 1`` exactly, with sines and cosines as
+  polynomial variables ``s_i``, ``c_i`` (:class:`_CircleVariables`); the factored
+  determinants of :mod:`symkin.derive.determinant` use the same variables.
 """
 
 from __future__ import annotations
@@ -21,7 +19,6 @@ from dataclasses import dataclass
 
 import symengine as se
 import sympy as sp
-from sympy.polys.matrices import DomainMatrix
 from sympy.simplify.fu import TR10i
 
 
@@ -140,17 +137,6 @@ class _CircleVariables:
         # expand_trig first: sin(q1 + q2) must become products of s_i, c_i.
         return sp.expand(sp.expand_trig(expr)).xreplace(self.forward)
 
-    def constant_value(self, factor: sp.Expr) -> sp.Expr | None:
-        """The value of ``factor`` if it is constant on ``c_i^2 + s_i^2 = 1``, else ``None``.
-
-        Catches ``c_1^2 + s_1^2`` and compound forms such as ``s_1^2 s_2^2 + c_1^2 s_2^2 +
-        c_2^2`` (a Stanford arm's determinant has one).
-        """
-        if not any(factor.has(c) or factor.has(s) for c, s in self.pairs):
-            return None
-        remainder = self.reduce(factor)
-        return remainder if remainder.is_number else None
-
     def reduce(self, polynomial: sp.Expr) -> sp.Expr:
         """The remainder of ``polynomial`` modulo ``c_i^2 + s_i^2 - 1`` (c_i^2 eliminated)."""
         pairs = [(c, s) for c, s in self.pairs if polynomial.has(c) or polynomial.has(s)]
@@ -160,72 +146,8 @@ class _CircleVariables:
         _, remainder = sp.reduced(polynomial, ideal, *[v for pair in pairs for v in pair])
         return remainder
 
-    def factor(self, polynomial: sp.Expr, inexact: bool = False) -> sp.Expr:
-        """Exact factorisation; constant factors on the circle folded into the coefficient.
-
-        ``inexact``: the rational coefficients stand for rounded decimals.  Factors such as
-        ``sin(q3)`` still split off exactly; what remains is reduced on the circle, rounding
-        noise dropped, and printed with floating-point coefficients.
-        """
-        if polynomial.has(sp.Float):
-            # Factoring over floating-point coefficients is not exact; contract instead.
-            return contract_trig(polynomial.xreplace(self.back))
-        coefficient, factors = sp.factor_list(polynomial)
-        result = coefficient
-        for factor, multiplicity in factors:
-            constant = self.constant_value(factor)
-            if constant is not None:
-                result *= constant**multiplicity
-                continue
-            if inexact:
-                factor = _chop(sp.nfloat(self.reduce(factor), 15))
-            result *= contract_trig(factor.xreplace(self.back)) ** multiplicity
-        # One conversion at the end: a float coefficient merges into the sum it multiplies.
-        result = sp.nfloat(result, 15) if inexact else result
-        return result
-
 
 def reduce_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
     """``expr`` with ``sin^2 + cos^2 = 1`` applied (as a remainder), then contracted."""
     circle = _CircleVariables.of(angles)
     return contract_trig(circle.reduce(circle.polynomial(expr)).xreplace(circle.back))
-
-
-def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
-    """Factor ``expr``, polynomial in ``sin``/``cos`` of ``angles``, into readable factors."""
-    circle = _CircleVariables.of(angles)
-    return circle.factor(circle.polynomial(expr))
-
-
-def _chop(expr: sp.Expr, relative: float = 1e-12) -> sp.Expr:
-    """Drop terms whose coefficient is rounding noise next to the largest one."""
-    terms = sp.Add.make_args(sp.expand(expr))
-    sizes = [abs(float(t.as_coeff_Mul()[0])) for t in terms]
-    largest = max(sizes, default=0.0)
-    return sp.Add(*(t for t, size in zip(terms, sizes, strict=True) if size > relative * largest))
-
-
-def _rational_coefficients(expr: sp.Expr) -> sp.Expr:
-    """Every numeric constant (``0.3``, ``sqrt(3)/2``) as the exact rational of its double."""
-    numeric = sp.nfloat(expr, 17)
-    return numeric.xreplace({f: sp.Rational(f) for f in numeric.atoms(sp.Float)})
-
-
-def factored_determinant(matrix: sp.MatrixBase, angles: Sequence[sp.Symbol]) -> sp.Expr:
-    """Determinant of a square matrix polynomial in ``sin``/``cos`` of ``angles``, factored.
-
-    The determinant is computed exactly on the polynomial ring (SymPy's ``DomainMatrix``),
-    which is orders of magnitude faster than expanding trigonometric cofactors.
-    """
-    if not matrix.is_square:
-        raise ValueError("determinant of a non-square matrix")
-    circle = _CircleVariables.of(angles)
-    polynomial_matrix = sp.Matrix(matrix).applyfunc(circle.polynomial)
-    inexact = polynomial_matrix.has(sp.Float)
-    if inexact:
-        # Exact rationals keep the ring exact (fast determinant, factoring possible);
-        # the factors get their floating-point coefficients back at the end.
-        polynomial_matrix = polynomial_matrix.applyfunc(_rational_coefficients)
-    domain_matrix = DomainMatrix.from_Matrix(polynomial_matrix)
-    determinant = domain_matrix.domain.to_sympy(domain_matrix.det())
-    return circle.factor(determinant, inexact)

@@ -96,6 +96,9 @@ def joint_lines(joint: Joint) -> list[str]:
             lines.append(f"{key} = {text}")
     if joint.limits is not None:
         lines.append(f"limits = {vector_text([repr(float(v)) for v in joint.limits])}")
+    for key in ("max_velocity", "max_effort"):
+        if getattr(joint, key) is not None:
+            lines.append(f"{key} = {float(getattr(joint, key))!r}")
     return lines + (link_lines(joint.link) if joint.link is not None else [])
 
 

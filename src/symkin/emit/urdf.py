@@ -8,7 +8,8 @@ is the frame the robot's ``base`` transform is given in; a fixed joint carries t
 (link ``tool``).  Inertials keep their tensor in the robot's link frame (axes of frame i) and
 put that frame's pose into the inertial ``<origin>`` (URDF: the tensor is expressed in the
 inertial frame).  URDF needs ``effort`` and ``velocity`` on revolute and prismatic limits;
-symkin robot files have neither, so they are written as 0 ("unknown", see docs/cli.md).  A
+they come from the joint's ``max_effort`` and ``max_velocity``, 0 ("unknown", docs/cli.md) when
+the robot has none.  A
 revolute joint without limits is ``continuous``; a prismatic joint without limits gets
 ``[-1, 1]`` m.  Each link gets a cylinder visual from its origin to the next joint's origin.
 """
@@ -19,10 +20,8 @@ import math
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
-import sympy as sp
 
-from symkin.derive.dh_extraction import numeric_robot
-from symkin.derive.kinematics import kinematics_from_robot
+from symkin.derive.dh_extraction import numeric_robot, zero_pose_frames
 from symkin.robot import Joint, Link, Robot
 from symkin.spatial import rpy_from_rotation
 
@@ -38,21 +37,6 @@ def origin_element(pose: np.ndarray) -> str:
     xyz = " ".join(_number(v) for v in pose[:3, 3])
     rpy = " ".join(_number(float(v)) for v in rpy_from_rotation(pose[:3, :3])[:3])
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
-
-
-def axis_frames_at_zero(robot: Robot) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
-    """Joint axis frames with ``q_i = 0``, link frames (0: base) and tool, all at ``q = 0``."""
-    kinematics = kinematics_from_robot(robot, simplified=False)
-    zero = dict.fromkeys(kinematics.q, 0)
-
-    def numbers(matrix: sp.MatrixBase) -> np.ndarray:
-        return np.array(matrix.xreplace(zero).evalf(), dtype=float)
-
-    return (
-        [numbers(f) for f in kinematics.joint_frames],
-        [numbers(f) for f in kinematics.frame_transforms],
-        numbers(kinematics.forward_kinematics),
-    )
 
 
 def joint_element(joint: Joint, index: int, parent: str, child: str, origin: np.ndarray) -> str:
@@ -72,7 +56,10 @@ def joint_element(joint: Joint, index: int, parent: str, child: str, origin: np.
     ]
     if limits is not None:
         low, high = (_number(v) for v in limits)
-        lines.append(f'    <limit lower="{low}" upper="{high}" effort="0" velocity="0"/>')
+        effort, velocity = (_number(v or 0.0) for v in (joint.max_effort, joint.max_velocity))
+        lines.append(
+            f'    <limit lower="{low}" upper="{high}" effort="{effort}" velocity="{velocity}"/>'
+        )
     return "\n".join([*lines, "  </joint>"])
 
 
@@ -146,7 +133,7 @@ def link_element(name: str, inertial: str, visual: str) -> str:
 def urdf_text(source: Robot, header: str) -> str:
     """The URDF document of ``source`` (numeric parameters; module docstring for frames)."""
     robot = numeric_robot(source)
-    axes, link_frames, tool = axis_frames_at_zero(robot)
+    axes, link_frames, tool = zero_pose_frames(robot)
     frames = [np.eye(4), *axes, tool]  # URDF link frames at q = 0; base_link is the world
     names = ["base_link", *(f"link{i + 1}" for i in range(robot.dof)), "tool"]
     parts = [f"<!-- {line} -->" for line in header.splitlines()]

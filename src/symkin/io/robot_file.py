@@ -35,6 +35,7 @@ from symkin.io.robot_tables import (
     read_placed_joints,
     read_vector,
 )
+from symkin.io.urdf import robot_from_urdf
 from symkin.names import robot_name_reason
 from symkin.robot import NAME_PATTERN, Robot
 from symkin.symbols import parameter_symbol
@@ -56,6 +57,8 @@ ANGLE_UNITS = ("deg", "rad")
 CATALOGUE_DIR = "robots"
 # A 100-joint robot with full inertial data is about 60 KiB.
 MAX_FILE_BYTES = 1024 * 1024
+# URDFs carry visuals, collisions and simulator tags besides the chain (a humanoid: ~1 MiB).
+MAX_URDF_BYTES = 16 * 1024 * 1024
 
 
 # ---------------------------------------------------------------------------------------------
@@ -75,15 +78,22 @@ def catalogue_names() -> list[str]:
     )
 
 
-def load_robot(name_or_path: str | Path) -> Robot:
-    """Load a robot by catalogue name (``"scara"``) or from a ``.toml`` file path.
+def load_robot(
+    name_or_path: str | Path, *, tip: str | None = None, base: str | None = None
+) -> Robot:
+    """Load a robot by catalogue name (``"scara"``), from a ``.toml`` robot file or from a
+    ``.urdf`` file (:mod:`symkin.io.urdf`).
 
-    A :class:`~pathlib.Path`, or a string ending in ``.toml`` or containing a path separator,
-    is a file; any other string is a catalogue name.  Raises :class:`RobotError` for unknown
-    names, unreadable files and invalid content.
+    A :class:`~pathlib.Path`, or a string ending in ``.toml`` or ``.urdf`` or containing a path
+    separator, is a file; any other string is a catalogue name.  ``tip`` and ``base`` name the
+    links a URDF's chain runs between (needed when its tree has several leaves).  Raises
+    :class:`RobotError` for unknown names, unreadable files and invalid content.
     """
+    is_urdf = _looks_like_path(name_or_path) and _is_urdf(Path(name_or_path))
+    if (tip is not None or base is not None) and not is_urdf:
+        raise RobotError(f"{name_or_path}: a tip or base link is chosen in URDF files only")
     if _looks_like_path(name_or_path):
-        return _load_path(Path(name_or_path), str(name_or_path))
+        return _load_path(Path(name_or_path), str(name_or_path), tip, base)
     return _load_catalogue(str(name_or_path))
 
 
@@ -101,17 +111,25 @@ def robot_from_toml(text: str, file: str) -> Robot:
 def _looks_like_path(name_or_path: str | Path) -> bool:
     if isinstance(name_or_path, Path):
         return True
-    return name_or_path.lower().endswith(".toml") or "/" in name_or_path or "\\" in name_or_path
+    lower = name_or_path.lower()
+    return lower.endswith((".toml", ".urdf")) or "/" in name_or_path or "\\" in name_or_path
 
 
-def _load_path(path: Path, shown: str) -> Robot:
+def _is_urdf(path: Path) -> bool:
+    return path.suffix.lower() == ".urdf"
+
+
+def _load_path(path: Path, shown: str, tip: str | None = None, base: str | None = None) -> Robot:
+    limit = MAX_URDF_BYTES if _is_urdf(path) else MAX_FILE_BYTES
     try:
-        data = _read_limited(path, shown)
+        data = _read_limited(path, shown, limit)
     except OSError as exc:
         hint = ""
         if path.stem in catalogue_names() and not path.exists():
             hint = f" (to load the built-in robot give just its name: {path.stem!r})"
         raise RobotError(f"{shown}: cannot read the file: {exc.strerror or exc}{hint}") from None
+    if _is_urdf(path):
+        return robot_from_urdf(data, shown, tip=tip, base=base)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
@@ -119,18 +137,17 @@ def _load_path(path: Path, shown: str) -> Robot:
     return robot_from_toml(text, shown)
 
 
-def _read_limited(path: Path, shown: str) -> bytes:
-    """The bytes of a regular file of at most :data:`MAX_FILE_BYTES` (``/dev/zero``, a pipe or
-    a folder would otherwise be read until memory runs out, or block)."""
+def _read_limited(path: Path, shown: str, limit: int = MAX_FILE_BYTES) -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes (``/dev/zero``, a pipe or a
+    folder would otherwise be read until memory runs out, or block)."""
     info = path.stat()
     if not stat.S_ISREG(info.st_mode):
-        raise RobotError(f"{shown}: not a regular file (a robot file is a .toml text file)")
+        raise RobotError(f"{shown}: not a regular file (a robot file is a .toml or .urdf file)")
     with path.open("rb") as handle:
-        data = handle.read(MAX_FILE_BYTES + 1)
-    if len(data) > MAX_FILE_BYTES:
+        data = handle.read(limit + 1)
+    if len(data) > limit:
         raise RobotError(
-            f"{shown}: the file is larger than {MAX_FILE_BYTES // 1024} KiB; "
-            "a robot file is a short text"
+            f"{shown}: the file is larger than {limit // 1024} KiB; a robot file is a short text"
         )
     return data
 
@@ -147,7 +164,7 @@ def _unknown_robot_message(name: str, names: list[str]) -> str:
     listing = ", ".join(names) if names else "(the catalogue is empty)"
     return (
         f"unknown robot {name!r}{did_you_mean(name, names)}; catalogue robots: {listing}; "
-        "to load a file give a path ending in .toml"
+        "to load a file give a path ending in .toml or .urdf"
     )
 
 

@@ -33,9 +33,14 @@ from symkin.robot import NAME_PATTERN, Joint, Link
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
 
 # Allowed keys per table.  Anything else is an error with a "did you mean" hint.
-JOINT_KEYS = ("type", "name", "theta", "d", "a", "alpha", "flip", "limits", "link")
+JOINT_KEYS = (
+    "type", "name", "theta", "d", "a", "alpha", "flip", "limits",
+    "max_velocity", "max_effort", "link",
+)  # fmt: skip
 # A joint of the placement form (convention = "placement"): URDF's origin and axis.
-PLACED_JOINT_KEYS = ("type", "name", "origin", "axis", "limits", "link")
+PLACED_JOINT_KEYS = (
+    "type", "name", "origin", "axis", "limits", "max_velocity", "max_effort", "link",
+)  # fmt: skip
 FRAME_KEYS = ("xyz", "rpy")
 LINK_KEYS = ("mass", "com", "inertia", "motor_inertia", "friction")
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
@@ -158,6 +163,7 @@ def _placed_joint(table: dict[str, Any], ctx: Context) -> tuple[Joint, tuple[sp.
         limits=_limits(table, kind, ctx),
         link=_link(table["link"], ctx.within("link")) if "link" in table else None,
         placement=read_frame(table.get("origin", {}), "origin", ctx),
+        **_rate_limits(table, ctx),
     )
     return joint, axis
 
@@ -192,6 +198,7 @@ def _joint(table: dict[str, Any], ctx: Context) -> Joint:
         "flip": _flip(table, ctx),
         "limits": _limits(table, kind, ctx),
         "link": _link(table["link"], ctx.within("link")) if "link" in table else None,
+        **_rate_limits(table, ctx),
     }
     try:
         return Joint(type=kind, **fields)  # type: ignore[arg-type]
@@ -236,6 +243,18 @@ def _limits(table: Mapping[str, Any], kind: str, ctx: Context) -> tuple[float, f
     if not low < high:
         raise ctx.error(f"'limits' must be [low, high] with low < high, got {show(raw)}")
     return low, high
+
+
+def _rate_limits(table: Mapping[str, Any], ctx: Context) -> dict[str, float | None]:
+    """``max_velocity`` and ``max_effort`` (URDF's ``<limit velocity effort>``): > 0 or absent.
+    Plain SI numbers (rad/s or m/s, N m or N): the file's angle unit does not apply."""
+    result: dict[str, float | None] = {}
+    for key in ("max_velocity", "max_effort"):
+        value = _constant(table[key], key, ctx, angle=False) if key in table else None
+        if value is not None and value <= 0:
+            raise ctx.error(f"{ctx.key(key)!r} must be > 0, got {value:g}")
+        result[key] = value
+    return result
 
 
 def _constant(value: Any, key: str, ctx: Context, *, angle: bool) -> float:

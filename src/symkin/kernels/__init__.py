@@ -12,6 +12,7 @@ from symkin.kernels.catalogue import (
     inertial_symbols,
     kinematics_kernels,
     point_kernels,
+    pose_kernels,
     state_inputs,
 )
 from symkin.kernels.passes import kernel_from_assignments
@@ -37,5 +38,6 @@ __all__ = [
     "kernel_from_outputs",
     "kinematics_kernels",
     "point_kernels",
+    "pose_kernels",
     "state_inputs",
 ]

@@ -6,13 +6,16 @@ all the same way.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import sympy as sp
 
 from symkin.derive import Model
+from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
 from symkin.derive.dynamics import link_inertial_data
+from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
+from symkin.kernels.numeric_determinant import numeric_determinant_kernels
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
 
@@ -41,23 +44,53 @@ def _shortest_kernel(
 
     The contracted form wins on short chains (``cos(q1 + q2)``), the raw product form on long
     ones (a 7-DOF Jacobian expanded is ten times longer than its product form after CSE).
-    Ties go to the first form.
+    Ties go to the first form.  The last form (the product form, cheapest to build) is built
+    first, and a form whose :func:`_products_lower_bound` already exceeds the best count so far
+    is not built: on a generic arm the expanded form's CSE costs seconds and cannot win.
     """
-    candidates = [kernel_from_outputs(name, description, inputs, o) for o in outputs_by_form]
-    return min(candidates, key=lambda k: k.operation_counts["total"])
+    candidates: dict[int, Kernel] = {}
+    for index in reversed(range(len(outputs_by_form))):
+        outputs = outputs_by_form[index]
+        best = min((k.operation_counts["total"] for k in candidates.values()), default=None)
+        if best is not None and _products_lower_bound(outputs) > best:
+            continue
+        candidates[index] = kernel_from_outputs(name, description, inputs, outputs)
+    return candidates[min(candidates, key=lambda i: (candidates[i].operation_counts["total"], i))]
+
+
+def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> int:
+    """Fewest operations any CSE of ``outputs`` can take: one multiplication per distinct
+    product among the terms of the entries (coefficients aside).  ``sympy.cse`` shares equal
+    subexpressions but never factors, so each distinct product is formed at least once.
+    """
+    products = {
+        term.as_coeff_Mul()[1]
+        for _, matrix, *_ in outputs
+        for entry in matrix
+        for term in sp.Add.make_args(entry)
+    }
+    return sum(1 for product in products if product.is_Mul)
 
 
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
-    """The kinematics kernels of one robot, in a fixed order.
+    """The kinematics kernels of one robot, in a fixed order: :func:`pose_kernels` and, when
+    the task Jacobian is square, ``det`` and ``manipulability``."""
+    kernels = pose_kernels(model)
+    jacobian = next(k for k in kernels if k.name == "jacobian")
+    return kernels + _determinant_kernels(model, state_inputs(model), jacobian)
 
-    ``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
-    ``position_jacobian`` (dp/dq, 3 x n), ``fk_jacobian`` (T and J in one pass, the kernel
-    controllers call) and, when the task Jacobian is square, ``det`` and ``manipulability``.
-    Each comes from the simplified or the raw product form of the model, whichever is shorter.
+
+def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Kernel, ...]:
+    """``fk`` (T), ``position`` (tool position), ``jacobian`` (geometric, 6 x n),
+    ``position_jacobian`` (dp/dq, 3 x n) and ``fk_jacobian`` (T and J in one pass, the kernel
+    controllers call), or those of them in ``names``; no determinant.
+
+    Each comes from the simplified or the raw product form of the model, whichever is shorter;
+    an unsimplified model gives the product form alone (no readable form is derived).
     """
     inputs = state_inputs(model)
     n = model.robot.dof
-    forms = (model, model.product_form)
+    forms = (model,) if model.product_form is model else (model, model.product_form)
 
     def outputs(*keys: str) -> list[list[tuple[str, sp.MatrixBase, str]]]:
         table = {
@@ -92,25 +125,39 @@ def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
         }
         return [[table[key](form) for key in keys] for form in forms]
 
-    kernels = [
-        _shortest_kernel("fk", "forward kinematics", inputs, outputs("T")),
-        _shortest_kernel("position", "tool position", inputs, outputs("p")),
-        _shortest_kernel("jacobian", "geometric Jacobian", inputs, outputs("J")),
-        _shortest_kernel("position_jacobian", "analytic position Jacobian", inputs, outputs("Jp")),
-        _shortest_kernel(
-            "fk_jacobian", "forward kinematics and Jacobian", inputs, outputs("T", "J")
-        ),
-    ]
-    return tuple(kernels) + _determinant_kernels(model, inputs)
+    kernels = {
+        "fk": ("forward kinematics", ("T",)),
+        "position": ("tool position", ("p",)),
+        "jacobian": ("geometric Jacobian", ("J",)),
+        "position_jacobian": ("analytic position Jacobian", ("Jp",)),
+        "fk_jacobian": ("forward kinematics and Jacobian", ("T", "J")),
+    }
+    return tuple(
+        _shortest_kernel(name, description, inputs, outputs(*keys))
+        for name, (description, keys) in kernels.items()
+        if names is None or name in names
+    )
 
 
-def _determinant_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel, ...]:
-    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none)."""
-    determinant = model.determinant()
-    if determinant is None:
+def _determinant_kernels(
+    model: Model, inputs: Sequence[KernelInput], jacobian: Kernel
+) -> tuple[Kernel, ...]:
+    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none):
+    the closed form, or without one (over budget, switched off) the numeric fallback."""
+    form = model.determinant_form()
+    if form.status == NOT_SQUARE:
         return ()
     rows = ", ".join(model.task_rows)
     unit = units.determinant(model.robot, model.task_rows)
+    if not form.found:
+        reason = (
+            "no closed form within the budget"
+            if form.status == OVER_BUDGET
+            else ("closed forms switched off")
+        )
+        indices = rows_from_names(model.task_rows)
+        return numeric_determinant_kernels(jacobian, indices, rows, unit, reason)
+    determinant = form.value
     return (
         kernel_from_outputs(
             "det",
@@ -181,9 +228,10 @@ def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     return tuple(inputs)
 
 
-def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
+def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel, ...]:
     """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
-    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler."""
+    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler;
+    ``coriolis_matrix=False`` leaves out ``C``, the longest kernel, which the solvers never use."""
     n = model.robot.dof
     dynamics = model.newton_euler
     torque_assignments, torque = model.inverse_dynamics_recursion
@@ -227,6 +275,7 @@ def dynamics_kernels(model: Model) -> tuple[Kernel, ...]:
             ],
         )
         for name, description, rates, output, matrix, output_description in steps
+        if coriolis_matrix or name != "coriolis_matrix"
     ]
     kernels.append(
         kernel_from_assignments(

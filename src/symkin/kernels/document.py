@@ -16,10 +16,17 @@ import numpy as np
 import sympy as sp
 
 from symkin.derive import Model
-from symkin.derive.kinematics import joint_dh_values, modified_dh_matrix, standard_dh_matrix
+from symkin.derive.budget import NOT_SQUARE
+from symkin.derive.kinematics import (
+    joint_dh_values,
+    modified_dh_matrix,
+    placement_xyz_rpy,
+    standard_dh_matrix,
+)
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.derive.numeric import numeric_function
 from symkin.errors import ParameterError, literal
+from symkin.robot import Joint
 
 SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
 # The equations of motion are asked for by name: they need inertial data and, by Lagrange,
@@ -74,6 +81,8 @@ class DHRow:
 
     joint_type: str
     values: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr]
+    #: placed joints: ``(x, y, z, roll, pitch, yaw)`` of the placement ``P_i``; else None
+    placement: tuple[sp.Expr, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -124,9 +133,10 @@ class JacobianContent:
 
 @dataclass(frozen=True)
 class DeterminantContent:
-    """The factored determinant of the task Jacobian and the conditions that make it zero."""
+    """The factored determinant of the task Jacobian and the conditions that make it zero
+    (``determinant`` is None when no closed form was found within the budget or attempted)."""
 
-    determinant: Shown
+    determinant: Shown | None
     singular: tuple[sp.Eq, ...]
 
 
@@ -193,17 +203,26 @@ def _is_identity(matrix: sp.MatrixBase) -> bool:
     return sp.ImmutableMatrix(matrix) == sp.ImmutableMatrix(sp.eye(matrix.rows))
 
 
+def _placement_row(joint: Joint) -> tuple[sp.Expr, ...] | None:
+    if joint.placement is None:
+        return None
+    xyz, rpy = placement_xyz_rpy(joint.placement)
+    return (*xyz, *rpy)
+
+
 def _dh(e: _Evaluator) -> DHContent:
     robot = e.model.robot
     theta, d = sp.Symbol("theta_i", real=True), sp.Symbol("d_i", real=True)
     if robot.convention == "standard":
         a, alpha = sp.Symbol("a_i", real=True), sp.Symbol("alpha_i", real=True)
         general = standard_dh_matrix(theta, d, a, alpha)
-    else:
+    elif robot.convention == "modified":
         a, alpha = sp.Symbol("a_{i-1}", real=True), sp.Symbol("alpha_{i-1}", real=True)
         general = modified_dh_matrix(theta, d, a, alpha)
+    else:  # placed joints: the variable part Rz(theta_i) Tz(d_i) after the placement P_i
+        general = modified_dh_matrix(theta, d, sp.S.Zero, sp.S.Zero)
     rows = tuple(
-        DHRow(joint.type, joint_dh_values(joint, qi))
+        DHRow(joint.type, joint_dh_values(joint, qi), _placement_row(joint))
         for joint, qi in zip(robot.joints, e.model.q, strict=True)
     )
     overrides = dict(e.overrides or {})
@@ -240,10 +259,12 @@ def _jacobian(e: _Evaluator) -> JacobianContent:
 
 
 def _determinant(e: _Evaluator) -> DeterminantContent | None:
-    determinant = e.model.determinant()
-    if determinant is None:
+    form = e.model.determinant_form()
+    if form.status == NOT_SQUARE:
         return None
-    return DeterminantContent(e.scalar(determinant), tuple(e.model.singular_configurations()))
+    if not form.found:
+        return DeterminantContent(None, ())
+    return DeterminantContent(e.scalar(form.value), tuple(e.model.singular_configurations()))
 
 
 def _inverse(e: _Evaluator) -> InverseContent | None:
@@ -256,9 +277,9 @@ def _inverse(e: _Evaluator) -> InverseContent | None:
         task = e.numbers(model.task_jacobian())
         numbers = None if abs(np.linalg.det(task)) < 1e-12 else np.linalg.inv(task)
     adjugate = None
-    if model.robot.dof <= INVERSE_MAX_DOF:
-        inverse = model.inverse_task_jacobian()
-        adjugate = inverse.applyfunc(lambda x: _distribute_sign(sp.cancel(x * determinant)))
+    inverse = model.inverse_form() if model.robot.dof <= INVERSE_MAX_DOF else None
+    if inverse is not None and inverse.found:
+        adjugate = inverse.value.applyfunc(lambda x: _distribute_sign(sp.cancel(x * determinant)))
     return InverseContent(adjugate, numbers)
 
 

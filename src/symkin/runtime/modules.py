@@ -13,41 +13,107 @@ import importlib.util
 import os
 import shutil
 import tempfile
+import threading
+from collections.abc import Callable, Hashable
 from functools import lru_cache
 from pathlib import Path
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
 
+if TYPE_CHECKING:
+    from symkin.kernels import Kernel
 
-@lru_cache(maxsize=16)
+
+# What the numeric solvers call, nothing more: the determinant, the singular set, the
+# Christoffel C and every readable (contracted) form are left out, so an arm whose determinant
+# takes minutes still gets its first IK answer in seconds.
+KINDS = ("kinematics", "dynamics")
+POSE_KERNELS = ("fk", "position", "fk_jacobian")
+
+
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
-    """The NumPy backend's ``kind`` kernels ("kinematics" or "dynamics") rendered and imported
-    once per model: the fast numeric path for solvers (IK, simulation, trajectories).
-    The generated code is checked against the symbolic model in the test suite."""
-    return _generated_module(model, "numpy", kind)
+    """The NumPy backend's ``kind`` kernels ("kinematics": ``fk``, ``position`` and
+    ``fk_jacobian``; "dynamics": ``mass_matrix``, ``gravity``,
+    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``) rendered and imported once per
+    robot and process: the fast numeric path for solvers (IK, simulation, trajectories).
+
+    They come from the model's product form (:attr:`Model.product_form`), the form code
+    generation starts from, so a simplified model shares the module of its product form and
+    nothing readable is derived for it.  The generated code is checked against the symbolic
+    model in the test suite."""
+    return _remembered(model, ("numpy", kind), _generated_module, "numpy", kind)
 
 
-@lru_cache(maxsize=16)
 def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The CasADi backend's ``kind`` kernels, loaded the same way: ``fk_function``,
     ``forward_dynamics_function`` and the others build ``casadi.Function`` objects for
     optimisation (trajectories, IK through IPOPT)."""
-    return _generated_module(model, "casadi", kind)
+    return _remembered(model, ("casadi", kind), _generated_module, "casadi", kind)
 
 
+def generated_point_module(
+    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]
+) -> ModuleType:
+    """The NumPy kernels ``point1, point2, ...`` (position, velocity and acceleration of each
+    ``(link, (x, y, z))`` point), from the product form, built once per robot and point set."""
+    return _remembered(model, ("points", points), _point_module, points)
+
+
+# The modules of the models used last, by identity: hashing a model hashes its robot's every
+# SymPy number, which for the PUMA takes three times as long as its fk_jacobian kernel.
+_RECENT: dict[tuple[int, Hashable], tuple[Model, ModuleType]] = {}
+_RECENT_SIZE = 64
+_RECENT_LOCK = threading.Lock()
+
+
+def _remembered(
+    model: Model, key: Hashable, build: Callable[..., ModuleType], *arguments: Hashable
+) -> ModuleType:
+    """``build(model.product_form, *arguments)``, looked up by the model's identity first and
+    by its content (``build``'s own cache, shared by equal robots) after that."""
+    entry = _RECENT.get((id(model), key))
+    if entry is not None and entry[0] is model:
+        return entry[1]
+    module = build(model.product_form, *arguments)
+    with _RECENT_LOCK:  # threads may share a model; the oldest entry goes first
+        if len(_RECENT) >= _RECENT_SIZE:
+            del _RECENT[next(iter(_RECENT))]
+        _RECENT[(id(model), key)] = (model, module)  # the model is kept: its id is not reused
+    return module
+
+
+@lru_cache(maxsize=32)
 def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
     # Imported here, not at the top: ``import symkin`` should not load the code generators.
+    from symkin.kernels import dynamics_kernels, pose_kernels
+
+    if kind not in KINDS:
+        raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(KINDS)}")
+    if kind == "kinematics":
+        kernels = pose_kernels(model, POSE_KERNELS)
+    else:
+        kernels = dynamics_kernels(model, coriolis_matrix=False)
+    return _module_from_kernels(model, backend, kind, kernels)
+
+
+@lru_cache(maxsize=32)
+def _point_module(model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]) -> ModuleType:
+    from symkin.kernels import point_kernels
+
+    return _module_from_kernels(model, "numpy", "points", point_kernels(model, points))
+
+
+def _module_from_kernels(
+    model: Model, backend: str, kind: str, kernels: tuple[Kernel, ...]
+) -> ModuleType:
     from symkin.emit.casadi import emit_casadi
     from symkin.emit.numpy import emit_numpy
-    from symkin.kernels import dynamics_kernels, kinematics_kernels
 
-    kernels = {"kinematics": kinematics_kernels, "dynamics": dynamics_kernels}
-    if kind not in kernels:
-        raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(kernels)}")
     emit = {"numpy": emit_numpy, "casadi": emit_casadi}[backend]
-    (source,) = emit(model.robot, kernels[kind](model)).values()
+    (source,) = emit(model.robot, kernels).values()
     return module_from_source(source, f"{model.robot.name}_{backend}_{kind}")
 
 

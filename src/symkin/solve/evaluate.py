@@ -1,7 +1,9 @@
-"""Reference numeric evaluator: the symbolic model evaluated with NumPy at given states.
+"""Numeric evaluation of a model at given states: pose, Jacobian measures, point motion,
+dynamics.
 
-Parameters take their file values unless overridden.  This is the yardstick the generated
-code is compared against; it favours clarity over speed (``sympy.lambdify`` per call).
+Parameters take their file values unless overridden.  The numbers come from the generated
+NumPy kernels (:mod:`symkin.runtime.modules`), built once per robot and process; the test
+suite checks them against numeric DH products, finite differences and other toolboxes.
 """
 
 from __future__ import annotations
@@ -14,10 +16,10 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
-from symkin.derive.numeric import numeric_function
 from symkin.errors import ParameterError, SymkinError
 from symkin.kernels import inertial_symbols
-from symkin.runtime.modules import generated_numpy_module
+from symkin.runtime.modules import generated_numpy_module, generated_point_module
+from symkin.solve.ik.joints import parameter_vector
 from symkin.spatial import euler_zyx_from_rotation
 
 
@@ -96,16 +98,16 @@ def kinematic_state(
 
     The determinant, manipulability, condition number and smallest singular value are those
     of the task Jacobian (``rows``, or the model's default task rows), computed numerically.
+    Everything comes from the generated NumPy kernels of the model's product form, built once
+    per robot (and point set) and process: no readable form, determinant or singular set is
+    derived, and a repeated call costs the kernels' arithmetic, not a rebuild.
     """
     _check_lengths(model, q, dq, ddq)
     rows = tuple(rows or model.task_rows)
-    # Numbers come from the unsimplified product form: the same mathematics, far shorter
-    # expressions to lambdify on a long or oddly angled chain.
-    model = model.product_form
-    transform = numeric_function(model, model.forward_kinematics, overrides)(q)
-    jacobian = numeric_function(model, model.geometric_jacobian, overrides)(q)
+    parameters = parameter_vector(model, overrides)
+    transform, jacobian = generated_numpy_module(model, "kinematics").fk_jacobian(q, parameters)
     euler = euler_zyx_from_rotation(transform[:3, :3])
-    task = numeric_function(model, model.task_jacobian(rows), overrides)(q)
+    task = jacobian[list(rows_from_names(rows)), :]
     if task.shape[0] == task.shape[1]:
         # Square: |det J| exactly, not sqrt(det(J J^T)), which rounds 0 up to ~1e-8.
         determinant = float(np.linalg.det(task))
@@ -114,22 +116,6 @@ def kinematic_state(
         determinant = None
         manipulability = float(np.sqrt(max(np.linalg.det(task @ task.T), 0.0)))
     smallest, condition = singular_value_measures(task)
-    states = []
-    for link, point in points:
-        motion = model.point_motion(link, point)
-
-        def value(quantity: str, motion=motion) -> np.ndarray:
-            return numeric_function(model, getattr(motion, quantity), overrides)(q, dq, ddq).ravel()
-
-        states.append(
-            PointState(
-                link=link,
-                point=tuple(float(c) for c in point),
-                position=value("position"),
-                velocity=None if dq is None else value("velocity"),
-                acceleration=None if dq is None or ddq is None else value("acceleration"),
-            )
-        )
     return KinematicState(
         transform=transform,
         position=transform[:3, 3].copy(),
@@ -139,10 +125,41 @@ def kinematic_state(
         task_rows=rows,
         determinant=determinant,
         manipulability=manipulability,
-        points=tuple(states),
+        points=_point_states(model, points, parameters, q, dq, ddq),
         condition_number=condition,
         smallest_singular_value=smallest,
     )
+
+
+def _point_states(
+    model: Model,
+    points: Sequence[tuple[int, Sequence[float]]],
+    parameters: np.ndarray,
+    q: Sequence[float],
+    dq: Sequence[float] | None,
+    ddq: Sequence[float] | None,
+) -> tuple[PointState, ...]:
+    """Motion of each point from the generated point kernels (velocity needs ``dq``,
+    acceleration ``dq`` and ``ddq``)."""
+    if not points:
+        return ()
+    key = tuple((int(link), tuple(float(c) for c in point)) for link, point in points)
+    module = generated_point_module(model, key)
+    zeros = np.zeros(model.robot.dof)
+    rates = (zeros if dq is None else dq, zeros if ddq is None else ddq)
+    states = []
+    for k, (link, point) in enumerate(key, start=1):
+        position, velocity, acceleration = getattr(module, f"point{k}")(q, *rates, parameters)
+        states.append(
+            PointState(
+                link=link,
+                point=point,
+                position=position,
+                velocity=None if dq is None else velocity,
+                acceleration=None if dq is None or ddq is None else acceleration,
+            )
+        )
+    return tuple(states)
 
 
 @dataclass(frozen=True)
@@ -173,9 +190,12 @@ def dynamics_arguments(
     inertial = {k: overrides.pop(k) for k in list(overrides) if k in inertial_names}
     missing = [name for name in inertial_names if name not in inertial]
     if missing:
+        robot = model.robot
+        where = f"{robot.file}: " if robot.file else ""
         raise ParameterError(
-            f"{model.robot.name} has no inertial data for {', '.join(missing)}; give them in "
-            "the robot file ([joints.link]) or with {overrides}"
+            f"{where}{robot.name} has no inertial data for {', '.join(missing)}; give them in "
+            "the robot file ([joints.link], or each link's <inertial> in a URDF) or with "
+            "{overrides}"
         )
     values = model.robot.parameter_values(overrides)
     arguments = {"p": np.array([values[name] for name, _ in model.robot.parameters])}

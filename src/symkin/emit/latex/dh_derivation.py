@@ -135,5 +135,11 @@ def dh_derivation_tex(extraction: DhExtraction, proof: FkProof) -> str:
 
 
 def matrix_tex(matrix: sp.MatrixBase) -> str:
-    rows = [" & ".join(value_tex(v) for v in matrix.row(i)) for i in range(matrix.rows)]
+    """A constant transform, entries to 6 significant digits (a 4x4 of full floats is wider
+    than the page)."""
+
+    def entry(value: sp.Expr) -> str:
+        return sp.latex(value) if value.is_Integer else f"{float(value):.6g}"
+
+    rows = [" & ".join(entry(v) for v in matrix.row(i)) for i in range(matrix.rows)]
     return r"\begin{pmatrix} " + r" \\ ".join(rows) + r" \end{pmatrix}"

@@ -216,7 +216,7 @@ def _document(
     sections: list[Section],
 ) -> str:
     robot = model.robot
-    intro = t["intro"].format(
+    intro = t["intro_placement" if robot.convention == "placement" else "intro"].format(
         name=robot.name.replace("_", r"\_"),
         convention=t[robot.convention],
         dof=robot.dof,

@@ -117,45 +117,27 @@ class SectionWriter:
 
     def section_dh(self, dh: DHContent) -> Section:
         layout, t = self.layout, self.t
-        standard = self.content.model.robot.convention == "standard"
-        if standard:
-            product = (
-                r"\mathrm{Rot}_{z}(\theta_{i})\, \mathrm{Trans}_{z}(d_{i})\, "
-                r"\mathrm{Trans}_{x}(a_{i})\, \mathrm{Rot}_{x}(\alpha_{i})"
-            )
-            columns = [r"\theta_{i}", "d_{i}", "a_{i}", r"\alpha_{i}"]
-        else:
-            product = (
-                r"\mathrm{Rot}_{x}(\alpha_{i-1})\, \mathrm{Trans}_{x}(a_{i-1})\, "
-                r"\mathrm{Rot}_{z}(\theta_{i})\, \mathrm{Trans}_{z}(d_{i})"
-            )
-            columns = [r"\alpha_{i-1}", "a_{i-1}", r"\theta_{i}", "d_{i}"]
+        convention = self.content.model.robot.convention
+        product = {
+            "standard": r"\mathrm{Rot}_{z}(\theta_{i})\, \mathrm{Trans}_{z}(d_{i})\, "
+            r"\mathrm{Trans}_{x}(a_{i})\, \mathrm{Rot}_{x}(\alpha_{i})",
+            "modified": r"\mathrm{Rot}_{x}(\alpha_{i-1})\, \mathrm{Trans}_{x}(a_{i-1})\, "
+            r"\mathrm{Rot}_{z}(\theta_{i})\, \mathrm{Trans}_{z}(d_{i})",
+            "placement": r"\mathrm{Rot}_{z}(\theta_{i})\, \mathrm{Trans}_{z}(d_{i})",
+        }[convention]
+        lhs = r"A_{i} = {}^{i-1}T_{i}"
+        if convention == "placement":  # A_i = P_i Rz Tz, and the matrix shown is Rz Tz
+            lhs, product = rf"{lhs} &= P_{{i}}\, {product} \\{product}", ""
         # The general matrix is printed without shorthand: its angles are theta_i, alpha_i.
         general_printer = KinematicsLatexPrinter((), fold_func_brackets=True)
         general_rows = [
             [general_printer.doprint(dh.general[j, k]) for k in range(4)] for j in range(4)
         ]
+        matrix = layout.bmatrix(general_rows)
         formula = align(
-            [
-                rf"A_{{i}} = {{}}^{{i-1}}T_{{i}} &= {product} \\"
-                rf"&= {layout.bmatrix(general_rows)}"
-            ]
+            [rf"{lhs} &= {product} \\&= {matrix}" if product else rf"{lhs} &= {matrix}"]
         )
-        header = " & ".join([r"$i$", t["joint"]] + [f"${c}$" for c in columns])
-        lines = [
-            r"\begin{center}",
-            r"\begin{tabular}{cl" + "c" * 4 + "}",
-            r"\toprule",
-            header + r" \\",
-            r"\midrule",
-        ]
-        for index, row in enumerate(dh.rows, start=1):
-            th, dd, aa, al = row.values
-            values = [th, dd, aa, al] if standard else [al, aa, th, dd]
-            cells = [f"${index}$", t[row.joint_type]] + [self.math(v) for v in values]
-            lines.append(" & ".join(cells) + r" \\")
-        lines += [r"\bottomrule", r"\end{tabular}", r"\end{center}"]
-        table = "\n".join(lines)
+        table = self.placement_table(dh) if convention == "placement" else self.dh_table(dh)
         quantities = [
             Quantity("dh-matrix", "DHMatrix", "the general DH link transform", formula),
             Quantity("dh-table", "DHTable", "the DH table", table, text=t["table_intro"]),
@@ -172,8 +154,46 @@ class SectionWriter:
                         f"{key}-transform", key.capitalize(), f"the {key} transform", body, t[key]
                     )
                 )
-        intro = t["dh_intro_standard" if standard else "dh_intro_modified"]
-        return Section("dh", t["dh"], intro, tuple(quantities))
+        return Section("dh", t["dh"], t[f"dh_intro_{convention}"], tuple(quantities))
+
+    def dh_table(self, dh: DHContent) -> str:
+        """The DH table, columns in the order of the convention's product."""
+        standard = self.content.model.robot.convention == "standard"
+        if standard:
+            columns = [r"\theta_{i}", "d_{i}", "a_{i}", r"\alpha_{i}"]
+        else:
+            columns = [r"\alpha_{i-1}", "a_{i-1}", r"\theta_{i}", "d_{i}"]
+        rows = []
+        for row in dh.rows:
+            th, dd, aa, al = row.values
+            rows.append([th, dd, aa, al] if standard else [al, aa, th, dd])
+        return self.table([f"${c}$" for c in columns], dh, rows)
+
+    def placement_table(self, dh: DHContent) -> str:
+        """Placed joints: ``P_i`` as URDF's origin (xyz, fixed-axis rpy) and the motion."""
+        names = ["x_{i}", "y_{i}", "z_{i}", r"\mathrm{roll}_{i}", r"\mathrm{pitch}_{i}"]
+        columns = [f"${c}$" for c in [*names, r"\mathrm{yaw}_{i}"]]
+        rows = []
+        for row in dh.rows:
+            theta, d, _, _ = row.values
+            rows.append([*(sp.N(v, 6) for v in row.placement), theta, d])
+        return self.table([*columns, r"$\theta_{i}$", "$d_{i}$"], dh, rows)
+
+    def table(self, columns: list[str], dh: DHContent, rows: list[list[sp.Expr]]) -> str:
+        t = self.t
+        header = " & ".join([r"$i$", t["joint"], *columns])
+        lines = [
+            r"\begin{center}",
+            r"\begin{tabular}{cl" + "c" * len(columns) + "}",
+            r"\toprule",
+            header + r" \\",
+            r"\midrule",
+        ]
+        for index, (row, values) in enumerate(zip(dh.rows, rows, strict=True), start=1):
+            cells = [f"${index}$", t[row.joint_type]] + [self.math(v) for v in values]
+            lines.append(" & ".join(cells) + r" \\")
+        lines += [r"\bottomrule", r"\end{tabular}", r"\end{center}"]
+        return "\n".join(lines)
 
     def parameter_text(self, dh: DHContent) -> str:
         t = self.t
@@ -347,6 +367,8 @@ class SectionWriter:
         layout, t = self.layout, self.t
         if det is None:
             return Section("det", t["det"], t["det_none"], ())
+        if det.determinant is None:
+            return Section("det", t["det"], t["det_missing"], ())
         determinant = det.determinant
         body = align(
             layout.equation_rows(

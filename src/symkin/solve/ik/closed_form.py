@@ -88,8 +88,7 @@ def batched_forward_kinematics(
 
     Lambdified from the model's unsimplified product form: symkin's derivation of the table as
     written (standard or modified DH), independent of the closed forms and of their
-    standard-DH rewriting, and quick to build for any robot (the generated kinematics module
-    would first derive the Jacobian determinant, minutes for some six-joint tables).
+    standard-DH rewriting, and quick to build for any robot.
     """
     form = model.product_form
     entries = list(form.forward_kinematics.xreplace(parameter_substitution(model, overrides)))

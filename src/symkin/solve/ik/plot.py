@@ -24,8 +24,10 @@ PLANAR_ZERO_ROWS = (2, 3, 4)  # z, wx, wy
 
 
 def is_planar(model: Model) -> bool:
-    """True when the tool moves in the x-y plane only (z, wx, wy Jacobian rows all zero)."""
-    jacobian = model.geometric_jacobian
+    """True when the tool moves in the x-y plane only (z, wx, wy Jacobian rows all zero).
+
+    Read off the product form, where such rows are zero entry by entry (no contraction)."""
+    jacobian = model.product_form.geometric_jacobian
     return all(e == 0 for row in PLANAR_ZERO_ROWS for e in jacobian.row(row))
 
 

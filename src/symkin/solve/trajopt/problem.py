@@ -106,13 +106,15 @@ def check_problem(model: Model, problem: TrajectoryProblem) -> None:
 
 
 def fixed_tool_coordinates(model: Model, overrides: Mapping[str, float]) -> dict[int, float]:
-    """Tool coordinates that no joint moves (row -> value), e.g. z of a planar arm."""
+    """Tool coordinates that no joint moves (row -> value), e.g. z of a planar arm.
+
+    Read off the product form (no contraction derived), where they are free of ``q`` too."""
     kinematic = {k: v for k, v in overrides.items() if k in dict(model.robot.parameters)}
     substitution = parameter_substitution(model, kinematic)
     joints = set(model.q)
     return {
         row: float(expr.xreplace(substitution))
-        for row, expr in enumerate(model.tool_position)
+        for row, expr in enumerate(model.product_form.tool_position)
         if not (sp.sympify(expr).free_symbols & joints)
     }
 

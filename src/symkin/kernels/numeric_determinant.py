@@ -1,0 +1,78 @@
+"""The determinant and manipulability computed from the Jacobian's numbers (the fallback).
+
+When the factored determinant has no closed form within its budget (or closed forms are
+switched off), the ``det`` and ``manipulability`` kernels still exist, with the same inputs and
+outputs: they evaluate the geometric Jacobian (the ``jacobian`` kernel's intermediates) and
+take the determinant of its task rows by Laplace expansion with shared minors, written out as
+named intermediates (``n 2^(n-1)`` products, 192 for six joints; no division, so no pivoting
+and no branch).  Every backend prints it like any kernel: NumPy, C (float and double, single
+and batch calls), the Python extension and CasADi agree by construction, and the operation
+counts are honest.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+
+from symkin.kernels.passes import kernel_from_assignments
+from symkin.kernels.spec import Kernel
+
+
+def numeric_determinant_kernels(
+    jacobian: Kernel, rows: Sequence[int], rows_text: str, unit: str, reason: str
+) -> tuple[Kernel, Kernel]:
+    """``det`` and ``manipulability`` (``|det J|``) of rows ``rows`` of ``jacobian``'s output
+    ``J``, evaluated numerically; ``reason`` (why there is no closed form) goes into the
+    description."""
+    (output,) = jacobian.outputs
+    entries = [[output.matrix[r, c] for c in range(output.matrix.cols)] for r in rows]
+    assignments = list(jacobian.assignments)
+    determinant = _minors_expansion(entries, assignments)
+    kernels = []
+    for name, description, symbol, value, meaning in (
+        ("det", "determinant", "det", determinant, "det J"),
+        ("manipulability", "Yoshikawa manipulability", "mu", sp.Abs(determinant), "|det J|"),
+    ):
+        kernels.append(
+            kernel_from_assignments(
+                name,
+                f"{description} of the task Jacobian (rows {rows_text}), computed numerically "
+                f"from the Jacobian ({reason})",
+                jacobian.inputs,
+                assignments,
+                [(symbol, sp.Matrix([[value]]), meaning, "scalar", unit)],
+            )
+        )
+    return kernels[0], kernels[1]
+
+
+def _minors_expansion(
+    entries: list[list[sp.Expr]], assignments: list[tuple[sp.Symbol, sp.Expr]]
+) -> sp.Expr:
+    """``det`` of a square matrix of expressions; each minor of the last columns becomes an
+    intermediate appended to ``assignments`` (``minor[rows]`` for the bit mask ``rows``)."""
+    n = len(entries)
+    minors: dict[int, sp.Expr] = {0: sp.Integer(1)}
+    for size in range(1, n + 1):
+        column = n - size
+        for rows in (mask for mask in range(1 << n) if mask.bit_count() == size):
+            terms, sign = [], 1
+            for i in (i for i in range(n) if rows >> i & 1):
+                below = minors[rows & ~(1 << i)]
+                if entries[i][column] != 0 and below != 0:
+                    terms.append(sign * entries[i][column] * below)
+                sign = -sign
+            minors[rows] = _named(sp.Add(*terms), f"minor_{rows}", assignments)
+    return minors[(1 << n) - 1]
+
+
+def _named(value: sp.Expr, name: str, assignments: list[tuple[sp.Symbol, sp.Expr]]) -> sp.Expr:
+    """A symbol for ``value`` (recorded in ``assignments``), or ``value`` itself when it is a
+    number or a single symbol."""
+    if value.is_Atom:
+        return value
+    symbol = sp.Dummy(name, real=True)
+    assignments.append((symbol, value))
+    return symbol
