@@ -424,3 +424,51 @@ def test_closing_the_reporter_stops_a_display_left_running(monkeypatch: pytest.M
     with pytest.raises(KeyboardInterrupt), closing(reporter), reporting(reporter), phase("x"):
         pass
     assert reporter.display is None
+
+
+@pytest.mark.parametrize("package", ["numpy", "jinja2"])
+def test_key_follows_the_packages_that_shape_the_text(
+    package: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """NumPy prints the emitters' number literals and Jinja2 renders the templates: a new
+    version may change the text, so it must change the key (no stale entry after upgrading)."""
+    import symkin.cache as cache_module
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    cache_module._software.cache_clear()
+    before = entry_key("derive", robot, {})
+    real = cache_module.metadata.version
+    monkeypatch.setattr(
+        cache_module.metadata, "version", lambda name: "0.0" if name == package else real(name)
+    )
+    cache_module._software.cache_clear()
+    try:
+        assert entry_key("derive", robot, {}) != before
+    finally:
+        monkeypatch.undo()
+        cache_module._software.cache_clear()
+
+
+def test_a_cold_run_shows_its_warnings_as_they_come(
+    cache_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A budget warning early in a long cold derivation is shown then (above the live lines),
+    not held back until the derivation ends; it is still stored for the warm runs."""
+    import warnings
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    shown: list[str] = []
+    monkeypatch.setattr(
+        warnings, "showwarning", lambda message, *_, **__: shown.append(str(message))
+    )
+
+    def compute() -> str:
+        warnings.warn(RobotWarning("joint 2: odd inertia"), stacklevel=1)
+        assert shown == ["joint 2: odd inertia"]  # already shown, mid-derivation
+        return "text"
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+    assert shown == ["joint 2: odd inertia"] * 2
