@@ -175,3 +175,24 @@ def test_placement_toml_and_urdf_of_the_test_arm_agree():
     q = np.array([0.3, -0.4, 1.1, 0.05])
     fk = [symkin.kinematic_state(m, q=q).transform for m in (from_toml, from_urdf)]
     np.testing.assert_allclose(fk[0], fk[1], atol=1e-12)
+
+
+def test_closed_form_ik_of_the_ur5_urdf_reaches_the_pose_in_pinocchio(tmp_path):
+    """The UR5 URDF is solved in closed form through its DH model (was numeric only); every
+    solution, put into Pinocchio's model of the same file, gives the target pose."""
+    from symkin.solve.ik.closed_form import closed_form_family, closed_form_ik
+
+    pair = Pair("ur5", tmp_path)
+    pin = _pinocchio()
+    assert closed_form_family(pair.robot) == "three parallel axes (UR type)"
+    model = symkin.derive(pair.robot)
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, 6)
+    pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(q))
+    target = pair.data.oMf[pair.tip].homogeneous.copy()
+    solutions = closed_form_ik(model, target)
+    assert len(solutions) == 8  # a generic pose: 2 shoulders x 2 elbows x 2 wrists
+    wrapped = [np.abs((s.q - q + np.pi) % (2 * np.pi) - np.pi).max() for s in solutions]
+    assert min(wrapped) < 1e-9  # the configuration the target came from is among them
+    for solution in solutions:
+        pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(solution.q))
+        assert_close(pair.data.oMf[pair.tip].homogeneous, target, "UR5 URDF closed-form IK")

@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from functools import lru_cache
 
+from symkin.derive.dh_extraction import extract_dh
+from symkin.errors import SymkinError
 from symkin.kernels.ik.closed_form_parallel import (
     ParallelAxesSolver,
     parallel_axes_shape,
@@ -68,9 +70,13 @@ def _recognised(
 ) -> tuple[ClosedFormPlan, Solver] | None:
     """The plan of the first family that accepts the robot's numeric table, with its solver
     at those numbers, or None.  The families' formulas take ``theta_i = q_i + offset``: a
-    robot with a flipped joint is left to the numeric solver, and so is a robot of placed
-    joints (URDF-like): the families read a DH table, which such a robot does not have."""
-    if robot.convention == "placement" or any(joint.flip for joint in robot.joints):
+    robot with a flipped joint is left to the numeric solver.  A robot of placed joints
+    (URDF-like) is read through its DH model (:func:`_dh_model`), which has the same pose at
+    the same joint values."""
+    if robot.convention == "placement":
+        dh = _dh_model(robot, overrides)
+        return None if dh is None else _recognised(dh, (), generic)
+    if any(joint.flip for joint in robot.joints):
         return None
     numbers = parameter_numbers(robot, dict(overrides), generic)
     chain = symbolic_chain(robot).at(numbers)
@@ -84,6 +90,18 @@ def _recognised(
             continue
         return plan, solver_type.from_plan(plan, values, chain.dof)
     return None
+
+
+def _dh_model(robot: Robot, overrides: tuple) -> Robot | None:
+    """The standard-DH model of a placed-joint robot by the frame-assignment procedure
+    (:func:`symkin.derive.dh_extraction.extract_dh`: ``T = base A_1 .. A_n tool`` equals the
+    source's ``T`` at every ``q``), or None when it has none (a redundant chain, a parameter
+    without a value).  The solvers' candidates are checked by the source's own FK."""
+    try:
+        source = robot.with_parameter_values(dict(overrides)) if robot.parameters else robot
+        return extract_dh(source, "standard").robot
+    except SymkinError:
+        return None
 
 
 def _key(overrides: Mapping[str, float] | None) -> tuple:

@@ -107,11 +107,6 @@ def batched_forward_kinematics(
 
 
 def _no_closed_form_reason(robot: Robot) -> str:
-    if robot.convention == "placement":
-        return (
-            f"{robot.name}: no closed-form inverse kinematics for a robot of placed joints "
-            "(URDF-like): the closed forms read a DH table; use the numeric solver"
-        )
     return (
         f"{robot.name}: no closed-form inverse kinematics for this {robot.dof}-joint "
         "structure (closed forms: planar 2R/3R arms, six-joint arms with a spherical "
