@@ -2,8 +2,10 @@
 
 The factored determinant, the singular configurations, the adjugate inverse and the symbolic
 manipulability are extras: the generated code can compute the determinant and the
-manipulability numerically from the Jacobian.  Each is computed under a budget of wall-clock
-seconds (:data:`DEFAULT_BUDGET_SECONDS`); past it the result is a :class:`ClosedForm` whose
+manipulability numerically from the Jacobian.  The readable (angle-sum contracted) forward
+kinematics and Jacobian of a long chain are extras too (:mod:`symkin.derive.readable`): their
+product form has the same values.  Each is computed under a budget of wall-clock seconds
+(:data:`DEFAULT_BUDGET_SECONDS`); past it the result is a :class:`ClosedForm` whose
 status says so, and one :class:`BudgetWarning` line tells the user which result, which robot,
 the budget and how to change it.
 
@@ -41,6 +43,8 @@ NOT_SQUARE = "not square"
 OVER_BUDGET = "over budget"
 NOT_ATTEMPTED = "not attempted"
 
+NUMERIC_FALLBACK = "the generated code computes it numerically from the Jacobian"
+
 
 @dataclass(frozen=True)
 class ClosedForm:
@@ -66,19 +70,23 @@ class OverBudgetError(Exception):
 
 
 def closed_form_within(
-    quantity: str, robot: str, budget: float | None, compute: Callable[[], Any]
+    quantity: str,
+    robot: str,
+    budget: float | None,
+    compute: Callable[[], Any],
+    fallback: str = NUMERIC_FALLBACK,
 ) -> ClosedForm:
     """``compute()`` as a :class:`ClosedForm`, or the over-budget one (with a warning).
 
-    ``budget`` is in seconds; ``None`` means no limit.
+    ``budget`` is in seconds; ``None`` means no limit.  ``fallback`` says, in the warning,
+    what symkin uses instead.
     """
     try:
         value = run_within(budget, compute)
     except OverBudgetError:
         warning = BudgetWarning(
             f"{robot}: the {quantity} was not found within the budget of {budget:g} s; "
-            "the generated code computes it numerically from the Jacobian "
-            "(a larger {budget} allows more time)"
+            f"{fallback} (a larger {{budget}} allows more time)"
         )
         warnings.warn(warning, stacklevel=4)
         return ClosedForm(quantity, OVER_BUDGET, None, warning.message_for({}))
