@@ -129,6 +129,11 @@ class Reference:
     functions: dict[str, object] = field(default_factory=dict)
 
     def __call__(self, output: str, q: np.ndarray) -> np.ndarray:
+        if output == "mu" and self.model.determinant() is None:
+            # A redundant arm: sqrt(det(J J^T)) of the task rows of the reference Jacobian.
+            rows = ["x", "y", "z", "wx", "wy", "wz"]
+            jacobian = self("J", q)[[rows.index(r) for r in self.model.task_rows]]
+            return np.array(np.sqrt(np.linalg.det(jacobian @ jacobian.T)))
         if output not in self.functions:
             assert output in REFERENCE_OUTPUTS, f"no reference for kernel output {output!r}"
             expr = REFERENCE_OUTPUTS[output](self.model)

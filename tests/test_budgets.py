@@ -204,3 +204,47 @@ def test_budget_overrun_derive_gives_working_numpy_and_c(
         assert module.det(q) == pytest.approx(expected, rel=1e-9, abs=1e-13)
         assert c_det == pytest.approx(expected, rel=1e-9, abs=1e-13)
         assert c_mu == pytest.approx(abs(expected), rel=1e-9, abs=1e-13)
+
+
+PANDA_DRIVER = """
+#include <stdio.h>
+#include "panda.h"
+int main(void) {
+    double q[7], mu[1];
+    while (scanf("%lf %lf %lf %lf %lf %lf %lf", q, q + 1, q + 2, q + 3, q + 4, q + 5, q + 6)
+           == 7) {
+        panda_manipulability(q, mu);
+        printf("%.17g\\n", mu[0]);
+    }
+    return 0;
+}
+"""
+
+
+@pytest.mark.slow
+def test_redundant_arm_gets_a_numeric_manipulability(tmp_path: Path) -> None:
+    """The Panda (7 joints, 6 task rows) has no closed-form manipulability within a budget;
+    its generated NumPy and C still give sqrt(det(J J^T)) of the complex-step Jacobian of the
+    numeric DH product."""
+    panda = robot("panda").with_parameter_values()
+    files = files_for_robot(panda, ("numpy", "c"), dynamics=False)
+    write_tree(tmp_path, files)
+    module = import_path("panda_redundant", tmp_path / "numpy" / "panda_kinematics.py")
+    (tmp_path / "c" / "driver.c").write_text(PANDA_DRIVER)
+    flags = ["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+    subprocess.run(
+        ["gcc", *flags, "driver.c", "panda.c", "-lm", "-o", "driver"],
+        cwd=tmp_path / "c",
+        check=True,
+    )
+    states = samples("panda", 43, 5)
+    text = "\n".join(" ".join(repr(float(v)) for v in q) for q in states)
+    lines = subprocess.run(
+        [str(tmp_path / "c" / "driver")], input=text, capture_output=True, text=True, check=True
+    ).stdout.splitlines()
+    reference = NumericRobot.from_robot(panda)
+    for q, line in zip(states, lines, strict=True):
+        jacobian = reference.jacobian(q, method="complex")
+        expected = float(np.sqrt(np.linalg.det(jacobian @ jacobian.T)))
+        assert module.manipulability(q) == pytest.approx(expected, rel=1e-9)
+        assert float(line) == pytest.approx(expected, rel=1e-9)

@@ -424,3 +424,70 @@ def test_closing_the_reporter_stops_a_display_left_running(monkeypatch: pytest.M
     with pytest.raises(KeyboardInterrupt), closing(reporter), reporting(reporter), phase("x"):
         pass
     assert reporter.display is None
+
+
+@pytest.mark.parametrize("package", ["numpy", "jinja2"])
+def test_key_follows_the_packages_that_shape_the_text(
+    package: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """NumPy prints the emitters' number literals and Jinja2 renders the templates: a new
+    version may change the text, so it must change the key (no stale entry after upgrading)."""
+    import symkin.cache as cache_module
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    cache_module._software.cache_clear()
+    before = entry_key("derive", robot, {})
+    real = cache_module.metadata.version
+    monkeypatch.setattr(
+        cache_module.metadata, "version", lambda name: "0.0" if name == package else real(name)
+    )
+    cache_module._software.cache_clear()
+    try:
+        assert entry_key("derive", robot, {}) != before
+    finally:
+        monkeypatch.undo()
+        cache_module._software.cache_clear()
+
+
+def test_a_cold_run_shows_its_warnings_as_they_come(
+    cache_root: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A budget warning early in a long cold derivation is shown then (above the live lines),
+    not held back until the derivation ends; it is still stored for the warm runs."""
+    import warnings
+
+    robot = load_robot(str(robot_file(tmp_path)))
+    shown: list[str] = []
+    monkeypatch.setattr(
+        warnings, "showwarning", lambda message, *_, **__: shown.append(str(message))
+    )
+
+    def compute() -> str:
+        warnings.warn(RobotWarning("joint 2: odd inertia"), stacklevel=1)
+        assert shown == ["joint 2: odd inertia"]  # already shown, mid-derivation
+        return "text"
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+        assert remembered(user_cache(), "show", robot, {}, compute) == "text"
+    assert shown == ["joint 2: odd inertia"] * 2
+
+
+def test_a_dangling_link_in_the_package_does_not_break_the_key(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The source digest reads symkin's files; a broken symbolic link among them (a removed
+    template in a development checkout) is named, not read, instead of failing every command."""
+    import symkin.cache as cache_module
+
+    (tmp_path / "package").mkdir()
+    (tmp_path / "package" / "cache.py").write_text("# a stand-in\n")
+    (tmp_path / "package" / "gone.j2").symlink_to(tmp_path / "missing")
+    monkeypatch.setattr(cache_module, "__file__", str(tmp_path / "package" / "cache.py"))
+    cache_module._software.cache_clear()
+    try:
+        assert len(cache_module._software()["source"]) == 64
+    finally:
+        monkeypatch.undo()
+        cache_module._software.cache_clear()

@@ -71,6 +71,29 @@ def test_bad_input_is_one_message_and_exit_2(capsys, argv, words):
     assert err.count("\n") == 1
 
 
+@pytest.mark.parametrize(
+    "outputs",
+    [
+        ("urdf", "{robot}", "-o", "{robot}"),
+        ("dh", "{robot}", "--toml", "{robot}"),
+        ("dh", "{robot}", "--latex", "{folder}/../{folder_name}/{robot_name}"),
+        ("dh", "{robot}", "--toml", "{folder}/a.toml", "--latex", "{folder}/a.toml"),
+    ],
+)
+def test_outputs_never_replace_the_robot_file_or_each_other(capsys, tmp_path, outputs):
+    """Before the check, each of these replaced the user's robot file (or one output the
+    other) without a word."""
+    robot = tmp_path / "arm.urdf"
+    robot.write_text(urdf_text(load_robot("planar_2r"), "test"), encoding="utf-8")
+    before = robot.read_text(encoding="utf-8")
+    names = {"robot": robot, "folder": tmp_path, "folder_name": tmp_path.name}
+    argv = [part.format(robot_name=robot.name, **names) for part in outputs]
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and "give another file name" in err
+    assert robot.read_text(encoding="utf-8") == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.urdf"]
+
+
 def test_dh_uses_set_values_and_names_a_missing_one(capsys, tmp_path):
     robot_file = tmp_path / "free.toml"
     robot_file.write_text(

@@ -171,7 +171,42 @@ BAD = {
                   "joint 'j': 'axis' must be a nonzero direction"),
     "only-fixed": (urdf(link("a"), link("b"), joint("j", "a", "b", kind="fixed")),
                    "no moving joint between link 'a' and link 'b'"),
+    # The parser takes inf/NaN and repeated names; before these checks an infinite origin was a
+    # message without file or joint, the rest loaded silently.
+    "infinite-origin": (urdf(link("a"), link("b"), joint("j", "a", "b", xyz="inf 0 0")),
+                        "joint 'j': origin xyz must be finite numbers"),
+    "nan-rpy": (urdf(link("a"), link("b"), joint("j", "a", "b", rpy="0 nan 0")),
+                "joint 'j': origin rpy must be finite numbers"),
+    "lower-above-upper": (
+        urdf(link("a"), link("b"), joint("j", "a", "b").replace('lower="-1" upper="1"',
+                                                                 'lower="1" upper="-1"')),
+        "joint 'j': limit lower=1.0 is above upper=-1.0",
+    ),
+    "repeated-joint": (urdf(link("a"), link("b"), link("c"), joint("j", "a", "b"),
+                            joint("j", "b", "c")),
+                       "two joints are named 'j'"),
+    "repeated-link": (urdf(link("a"), link("b", 1.0), link("b"), joint("j", "a", "b")),
+                      "two links are named 'b'"),
+    "negative-mass": (urdf(link("a"), link("b", -1.0), joint("j", "a", "b")),
+                      "link 'b': inertial mass must be >= 0, got -1"),
+    "not-psd": (
+        urdf(link("a"), link("b", 1.0).replace('ixy="0"', 'ixy="0.5"'), joint("j", "a", "b")),
+        "link 'b': the inertia tensor is not positive semi-definite",
+    ),
 }  # fmt: skip
+
+
+def test_elements_symkin_does_not_read_cannot_make_a_file_invalid():
+    """PR2's old-style <transmission> and iCub's <texture> without a filename (both in
+    example-robot-data, loaded by Pinocchio) made the strict parser reject the whole file."""
+    extras = (
+        '<material name="m"><texture/></material>'
+        '<transmission name="t"><type>x</type><joint name="shoulder"/></transmission>'
+    )
+    text = TWO_LINK.replace('<link name="upper">', f'<link name="upper"><visual>{extras}</visual>')
+    text = text.replace("</robot>", f"{extras}<gazebo><x/></gazebo></robot>")
+    loaded = robot_from_urdf(text, "extras.urdf")
+    assert loaded == robot_from_urdf(TWO_LINK, "extras.urdf")
 
 
 @pytest.mark.parametrize("case", list(BAD))
@@ -183,7 +218,9 @@ def test_bad_urdf_is_one_message_naming_file_and_joint_or_link(case):
     assert message in str(caught.value)
 
 
-@pytest.mark.parametrize("case", ["malformed", "missing-link", "mimic", "zero-axis"])
+@pytest.mark.parametrize(
+    "case", ["malformed", "missing-link", "mimic", "zero-axis", "infinite-origin", "negative-mass"]
+)
 def test_cli_reports_bad_urdf_in_one_line_exit_2(case, tmp_path, capsys):
     path = tmp_path / "bad.urdf"
     path.write_text(BAD[case][0], encoding="utf-8")

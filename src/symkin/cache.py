@@ -7,9 +7,10 @@ simplification, CSE, printing), so a warm command skips all of it; and text come
 executed (no pickle, no ``sympify``), so a tampered entry can at worst be wrong text.
 
 The key (:func:`entry_key`) is a SHA-256 of the robot's content (every compared field of
-:class:`~symkin.robot.Robot`, in ``srepr`` form; not its file path or time), the command's
-options that shape the text, the symkin, SymPy and SymEngine versions, and a digest of
-symkin's own source files (a development checkout changes code without changing its version).
+:class:`~symkin.robot.Robot`, in ``srepr`` form; not its file path or time: a caller whose
+text names the path puts it in ``options``), the command's options that shape the text, the
+symkin, SymPy, SymEngine, NumPy and Jinja2 versions, and a digest of symkin's own source
+files (a development checkout changes code without changing its version).
 
 Safety (see docs/security.md): the directory is ``$XDG_CACHE_HOME/symkin`` (an absolute
 ``XDG_CACHE_HOME``), else ``~/.cache/symkin``, created with mode 0700; a directory or entry
@@ -86,7 +87,8 @@ def _canonical(value: object) -> str:
 def _software() -> dict[str, str]:
     """Versions and the source digest that shape every result."""
     versions = {}
-    for package in ("symkin", "sympy", "symengine"):
+    # NumPy prints number literals, Jinja2 renders the templates: both shape the text.
+    for package in ("symkin", "sympy", "symengine", "numpy", "jinja2"):
         try:
             versions[package] = metadata.version(package)
         except metadata.PackageNotFoundError:
@@ -99,7 +101,8 @@ def _software() -> dict[str, str]:
         for name in sorted(names):
             path = Path(folder, name)
             digest.update(path.relative_to(package_root).as_posix().encode() + b"\0")
-            digest.update(path.read_bytes())
+            # A dangling link (a removed file in a checkout) is named, not read.
+            digest.update(path.read_bytes() if path.is_file() else b"\0dangling\0")
     python = f"{sys.version_info.major}.{sys.version_info.minor}"
     return versions | {"python": python, "source": digest.hexdigest()}
 
@@ -277,12 +280,16 @@ def remembered(
         for record in said:
             warnings.warn(warning_from_record(record), stacklevel=2)
         return value
-    with warnings.catch_warnings(record=True) as caught:
+    said: list[Warning] = []
+    show = warnings.showwarning
+
+    def keep_and_show(message: Warning, *where: object, **more: object) -> None:
+        # Shown as it comes (a long derivation's early warning is not held back to its end).
+        said.append(message)
+        show(message, *where, **more)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = keep_and_show
         value = compute()
-    for caught_warning in caught:
-        warnings.showwarning(
-            caught_warning.message, caught_warning.category, caught_warning.filename,
-            caught_warning.lineno, caught_warning.file, caught_warning.line,
-        )  # fmt: skip
-    cache.store(kind, key, value, [warning_record(w.message) for w in caught])
+    cache.store(kind, key, value, [warning_record(message) for message in said])
     return value

@@ -9,6 +9,7 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
+ *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
  *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)

@@ -8,6 +8,7 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
+ *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
  *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
@@ -639,6 +640,190 @@ void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, dou
     size_t i;
     for (i = 0; i < count; ++i) {
         panda_fk_jacobian(q + i * 7, p, T + i * 16, J + i * 42);
+    }
+}
+
+void panda_manipulability(const double q[7], const double *p, double mu[restrict 1])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double d3 = p[1];
+    const double a4 = p[2];
+    const double a5 = p[3];
+    const double d5 = p[4];
+    const double a7 = p[5];
+    const double t_0 = sin(q1);
+    const double t_1 = sin(q2);
+    const double t_2 = t_0*t_1;
+    const double t_3 = sin(q3);
+    const double t_4 = cos(q1);
+    const double t_5 = t_3*t_4;
+    const double t_6 = cos(q2);
+    const double t_7 = cos(q3);
+    const double t_8 = t_0*t_7;
+    const double t_9 = t_5 + t_6*t_8;
+    const double t_10 = sin(q4);
+    const double t_11 = cos(q4);
+    const double t_12 = t_10*t_2 + t_11*t_9;
+    const double t_13 = t_11*t_2 - t_10*t_9;
+    const double t_14 = sin(q6);
+    const double t_15 = cos(q6);
+    const double t_16 = sin(q5);
+    const double t_17 = t_0*t_3;
+    const double t_18 = t_17*t_6 - t_4*t_7;
+    const double t_19 = cos(q5);
+    const double t_20 = t_12*t_19 - t_16*t_18;
+    const double t_21 = t_13*t_15;
+    const double t_22 = t_14*t_20;
+    const double t_23 = t_22 - t_21;
+    const double t_24 = 0.107*t_23;
+    const double t_25 = t_24 + a7*(t_13*t_14 + t_15*t_20);
+    const double t_26 = t_25 + a5*t_12 + d5*t_13;
+    const double t_27 = t_26 + a4*t_9;
+    const double t_28 = t_27 + d3*t_2;
+    const double t_29 = t_1*t_7;
+    const double t_30 = t_10*t_6 - t_11*t_29;
+    const double t_31 = t_10*t_29 + t_11*t_6;
+    const double t_32 = t_1*t_3;
+    const double t_33 = t_16*t_32 + t_19*t_30;
+    const double t_34 = t_15*t_31;
+    const double t_35 = t_14*t_33;
+    const double t_36 = t_35 - t_34;
+    const double t_37 = 0.107*t_36;
+    const double t_38 = t_37 + a7*(t_14*t_31 + t_15*t_33);
+    const double t_39 = t_38 + a5*t_30 + d5*t_31;
+    const double t_40 = t_39 - a4*t_29;
+    const double t_41 = t_40 + d3*t_6;
+    const double t_42 = t_12*t_16 + t_18*t_19;
+    const double t_43 = t_16*t_30 - t_19*t_32;
+    const double t_44 = t_1*t_4;
+    const double t_45 = -t_17 + t_4*t_6*t_7;
+    const double t_46 = t_10*t_44 + t_11*t_45;
+    const double t_47 = t_11*t_44 - t_10*t_45;
+    const double t_48 = t_8 + t_5*t_6;
+    const double t_49 = t_19*t_46 - t_16*t_48;
+    const double t_50 = t_15*t_47;
+    const double t_51 = t_14*t_49;
+    const double t_52 = t_51 - t_50;
+    const double t_53 = 0.107*t_52;
+    const double t_54 = t_53 + a7*(t_14*t_47 + t_15*t_49);
+    const double t_55 = t_54 + a5*t_46 + d5*t_47;
+    const double t_56 = t_55 + a4*t_45;
+    const double t_57 = t_56 + d3*t_44;
+    const double t_58 = t_16*t_46 + t_19*t_48;
+    const double t_59 = t_41*t_41;
+    const double t_60 = t_4*t_4;
+    const double t_61 = t_18*t_39 + t_26*t_32;
+    const double t_62 = t_13*t_38 - t_25*t_31;
+    const double t_63 = t_23*t_37 - t_24*t_36;
+    const double t_64 = t_38*t_42 - t_25*t_43;
+    const double t_65 = t_2*t_40 - t_27*t_6;
+    const double t_66 = t_28*t_28 + t_61*t_61 + t_62*t_62 + t_63*t_63 + t_64*t_64 + t_65*t_65 + t_59*t_60;
+    const double t_67 = t_31*t_54 - t_38*t_47;
+    const double t_68 = t_32*t_55 + t_39*t_48;
+    const double t_69 = t_36*t_53 - t_37*t_52;
+    const double t_70 = t_43*t_54 - t_38*t_58;
+    const double t_71 = t_56*t_6 - t_40*t_44;
+    const double t_72 = t_0*t_4;
+    const double t_73 = t_59*t_72 + t_62*t_67 + t_63*t_69 + t_64*t_70 + t_65*t_71 - t_28*t_57 - t_61*t_68;
+    const double t_74 = t_0*t_28 + t_4*t_57;
+    const double t_75 = t_4*t_74;
+    const double t_76 = t_26*t_48 - t_18*t_55;
+    const double t_77 = t_25*t_47 - t_13*t_54;
+    const double t_78 = t_24*t_52 - t_23*t_53;
+    const double t_79 = t_25*t_58 - t_42*t_54;
+    const double t_80 = t_27*t_44 - t_2*t_56;
+    const double t_81 = t_61*t_76 + t_62*t_77 + t_63*t_78 + t_64*t_79 + t_65*t_80 - t_41*t_75;
+    const double t_82 = -t_28 + t_31*t_62 + t_36*t_63 + t_43*t_64 + t_6*t_65 - t_32*t_61;
+    const double t_83 = t_41*t_72;
+    const double t_84 = -t_83 + t_44*t_65 + t_47*t_62 + t_48*t_61 + t_52*t_63 + t_58*t_64;
+    const double t_85 = t_13*t_62 + t_18*t_61 + t_2*t_65 + t_23*t_63 + t_41*t_60 + t_42*t_64;
+    const double t_86 = t_0*t_0;
+    const double t_87 = t_57*t_57 + t_67*t_67 + t_68*t_68 + t_69*t_69 + t_70*t_70 + t_71*t_71 + t_59*t_86;
+    const double t_88 = t_0*t_74;
+    const double t_89 = t_67*t_77 + t_69*t_78 + t_70*t_79 + t_71*t_80 - t_41*t_88 - t_68*t_76;
+    const double t_90 = t_57 + t_31*t_67 + t_32*t_68 + t_36*t_69 + t_43*t_70 + t_6*t_71;
+    const double t_91 = t_44*t_71 + t_47*t_67 + t_52*t_69 + t_58*t_70 - t_41*t_86 - t_48*t_68;
+    const double t_92 = t_83 + t_13*t_67 + t_2*t_71 + t_23*t_69 + t_42*t_70 - t_18*t_68;
+    const double t_93 = t_74*t_74 + t_76*t_76 + t_77*t_77 + t_78*t_78 + t_79*t_79 + t_80*t_80;
+    const double t_94 = t_31*t_77 + t_36*t_78 + t_43*t_79 + t_6*t_80 - t_32*t_76;
+    const double t_95 = t_88 + t_44*t_80 + t_47*t_77 + t_48*t_76 + t_52*t_78 + t_58*t_79;
+    const double t_96 = -t_75 + t_13*t_77 + t_18*t_76 + t_2*t_80 + t_23*t_78 + t_42*t_79;
+    const double t_97 = 1 + t_31*t_31 + t_32*t_32 + t_36*t_36 + t_43*t_43 + t_6*t_6;
+    const double t_98 = t_31*t_47 + t_36*t_52 + t_43*t_58 + t_44*t_6 - t_32*t_48;
+    const double t_99 = t_13*t_31 + t_2*t_6 + t_23*t_36 + t_42*t_43 - t_18*t_32;
+    const double t_100 = t_86 + t_44*t_44 + t_47*t_47 + t_48*t_48 + t_52*t_52 + t_58*t_58;
+    const double t_101 = -t_72 + t_13*t_47 + t_18*t_48 + t_2*t_44 + t_23*t_52 + t_42*t_58;
+    const double t_102 = t_60 + t_13*t_13 + t_18*t_18 + t_2*t_2 + t_23*t_23 + t_42*t_42;
+    const double t_103 = t_84*t_92 - t_85*t_91;
+    const double t_104 = t_84*t_96 - t_85*t_95;
+    const double t_105 = t_91*t_96 - t_92*t_95;
+    const double t_106 = t_84*t_99 - t_85*t_98;
+    const double t_107 = t_91*t_99 - t_92*t_98;
+    const double t_108 = t_95*t_99 - t_96*t_98;
+    const double t_109 = t_101*t_84 - t_100*t_85;
+    const double t_110 = t_101*t_91 - t_100*t_92;
+    const double t_111 = t_101*t_95 - t_100*t_96;
+    const double t_112 = t_101*t_98 - t_100*t_99;
+    const double t_113 = t_102*t_84 - t_101*t_85;
+    const double t_114 = t_102*t_91 - t_101*t_92;
+    const double t_115 = t_102*t_95 - t_101*t_96;
+    const double t_116 = t_102*t_98 - t_101*t_99;
+    const double t_117 = -t_101*t_101 + t_100*t_102;
+    const double t_118 = t_103*t_94 + t_105*t_82 - t_104*t_90;
+    const double t_119 = t_103*t_97 + t_107*t_82 - t_106*t_90;
+    const double t_120 = t_104*t_97 + t_108*t_82 - t_106*t_94;
+    const double t_121 = t_105*t_97 + t_108*t_90 - t_107*t_94;
+    const double t_122 = t_103*t_98 + t_110*t_82 - t_109*t_90;
+    const double t_123 = t_104*t_98 + t_111*t_82 - t_109*t_94;
+    const double t_124 = t_105*t_98 + t_111*t_90 - t_110*t_94;
+    const double t_125 = t_106*t_98 + t_112*t_82 - t_109*t_97;
+    const double t_126 = t_107*t_98 + t_112*t_90 - t_110*t_97;
+    const double t_127 = t_108*t_98 + t_112*t_94 - t_111*t_97;
+    const double t_128 = t_103*t_99 + t_114*t_82 - t_113*t_90;
+    const double t_129 = t_104*t_99 + t_115*t_82 - t_113*t_94;
+    const double t_130 = t_105*t_99 + t_115*t_90 - t_114*t_94;
+    const double t_131 = t_106*t_99 + t_116*t_82 - t_113*t_97;
+    const double t_132 = t_107*t_99 + t_116*t_90 - t_114*t_97;
+    const double t_133 = t_108*t_99 + t_116*t_94 - t_115*t_97;
+    const double t_134 = t_109*t_99 + t_117*t_82 - t_113*t_98;
+    const double t_135 = t_110*t_99 + t_117*t_90 - t_114*t_98;
+    const double t_136 = t_111*t_99 + t_117*t_94 - t_115*t_98;
+    const double t_137 = t_112*t_99 + t_117*t_97 - t_116*t_98;
+    const double t_138 = t_119*t_93 + t_121*t_81 - t_118*t_94 - t_120*t_89;
+    const double t_139 = t_122*t_93 + t_124*t_81 - t_118*t_95 - t_123*t_89;
+    const double t_140 = t_122*t_94 + t_126*t_81 - t_119*t_95 - t_125*t_89;
+    const double t_141 = t_123*t_94 + t_127*t_81 - t_120*t_95 - t_125*t_93;
+    const double t_142 = t_124*t_94 + t_127*t_89 - t_121*t_95 - t_126*t_93;
+    const double t_143 = t_128*t_93 + t_130*t_81 - t_118*t_96 - t_129*t_89;
+    const double t_144 = t_128*t_94 + t_132*t_81 - t_119*t_96 - t_131*t_89;
+    const double t_145 = t_129*t_94 + t_133*t_81 - t_120*t_96 - t_131*t_93;
+    const double t_146 = t_130*t_94 + t_133*t_89 - t_121*t_96 - t_132*t_93;
+    const double t_147 = t_128*t_95 + t_135*t_81 - t_122*t_96 - t_134*t_89;
+    const double t_148 = t_129*t_95 + t_136*t_81 - t_123*t_96 - t_134*t_93;
+    const double t_149 = t_130*t_95 + t_136*t_89 - t_124*t_96 - t_135*t_93;
+    const double t_150 = t_131*t_95 + t_137*t_81 - t_125*t_96 - t_134*t_94;
+    const double t_151 = t_132*t_95 + t_137*t_89 - t_126*t_96 - t_135*t_94;
+    const double t_152 = t_133*t_95 + t_137*t_93 - t_127*t_96 - t_136*t_94;
+    const double t_153 = t_138*t_91 + t_140*t_89 + t_142*t_73 - t_139*t_90 - t_141*t_87;
+    const double t_154 = t_138*t_92 + t_144*t_89 + t_146*t_73 - t_143*t_90 - t_145*t_87;
+    const double t_155 = t_139*t_92 + t_147*t_89 + t_149*t_73 - t_143*t_91 - t_148*t_87;
+    const double t_156 = t_140*t_92 + t_147*t_90 + t_151*t_73 - t_144*t_91 - t_150*t_87;
+    const double t_157 = t_141*t_92 + t_148*t_90 + t_152*t_73 - t_145*t_91 - t_150*t_89;
+    const double t_158 = t_142*t_92 + t_149*t_90 + t_152*t_87 - t_146*t_91 - t_151*t_89;
+    const double t_159 = t_154*t_84 + t_156*t_81 + t_158*t_66 - t_153*t_85 - t_155*t_82 - t_157*t_73;
+    mu[0] = sqrt(fabs(t_159));
+}
+
+void panda_manipulability_batch(size_t count, const double *q, const double *p, double *restrict mu)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        panda_manipulability(q + i * 7, p, mu + i * 1);
     }
 }
 

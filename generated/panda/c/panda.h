@@ -8,6 +8,7 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
+ *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
  *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
@@ -97,6 +98,16 @@ void panda_position_jacobian_batch(size_t count, const double *q, const double *
 void panda_fk_jacobian(const double q[7], const double *p, double T[SYMKIN_RESTRICT 16], double J[SYMKIN_RESTRICT 42]);
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_fk_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT J);
+
+/* Yoshikawa manipulability sqrt(det(j j^t)) of the task jacobian (rows x, y, z, wz, wx, wy), computed numerically from the jacobian (redundant arm: no closed form attempted) (709 operations).
+ * mu[1]: sqrt(det(J J^T))
+ *   units: m^3/rad^3
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
+ */
+void panda_manipulability(const double q[7], const double *p, double mu[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
 /* Mass matrix (1340 operations).
  * M[49]: M(q) (7x7)

@@ -8,6 +8,7 @@
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
+ *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
  *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
@@ -327,6 +328,26 @@ static PyObject *py_fk_jacobian(PyObject *self, PyObject *const *args, Py_ssize_
     return run_binding(&fk_jacobian_binding, args, nargs, kwnames);
 }
 
+static void manipulability_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    panda_manipulability_batch(count, states[0], p, outputs[0]);
+}
+
+static const binding manipulability_binding = {
+    "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
+    { 0 },
+    { { 0, 0 } },
+NULL,
+};
+
+static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&manipulability_binding, args, nargs, kwnames);
+}
+
 static void mass_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
@@ -461,6 +482,8 @@ static PyMethodDef methods[] = {
      "position_jacobian(q, p=None): analytic position Jacobian; returns Jp."},
     {"fk_jacobian", (PyCFunction)(void (*)(void))py_fk_jacobian, METH_FASTCALL | METH_KEYWORDS,
      "fk_jacobian(q, p=None): forward kinematics and Jacobian; returns T, J."},
+    {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL | METH_KEYWORDS,
+     "manipulability(q, p=None): Yoshikawa manipulability sqrt(det(J J^T)) of the task Jacobian (rows x, y, z, wz, wx, wy), computed numerically from the Jacobian (redundant arm: no closed form attempted); returns mu."},
     {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL | METH_KEYWORDS,
      "mass_matrix(q, p=None): mass matrix; returns M."},
     {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL | METH_KEYWORDS,

@@ -33,6 +33,26 @@ def write_text_file(path_text: str, text: str) -> Path:
     return replace_file(path.parent, path.name, text)
 
 
+def check_output_paths(source: Robot, paths: list[str]) -> None:
+    """Refuse, before anything is written, an output file that is the robot's own file (``symkin
+    urdf arm.urdf -o arm.urdf`` would replace the user's URDF by the export, without its meshes;
+    ``dh arm.toml --toml arm.toml`` the robot file by its DH model) or that two outputs share."""
+    taken = [(Path(source.file), "the robot file")] if source.file else []
+    for text in paths:
+        path = Path(text)
+        for other, what in taken:
+            if _same_file(path, other):
+                raise SymkinError(f"{path} is {what}; give another file name")
+        taken.append((path, "also another output"))
+
+
+def _same_file(path: Path, other: Path) -> bool:
+    """One file under two names (links and ``..`` included), existing or not yet."""
+    if path.exists() and other.exists():
+        return path.samefile(other)
+    return path.resolve() == other.resolve()
+
+
 def source_label(robot: Robot) -> str:
     """The robot's file name (no machine path) or catalogue name, for headers."""
     return Path(robot.file).name if robot.file else robot.name
@@ -135,6 +155,7 @@ def command_dh(args: argparse.Namespace) -> None:
     source = numeric_source(args)
     extraction = extract_dh(source, args.convention)
     proof = prove_forward_kinematics(extraction)
+    check_output_paths(source, [path for path in (args.toml, args.latex) if path])
     print(json_text(dh_json(extraction, proof)) if args.json else dh_text(extraction, proof))
     command = f"symkin dh {source_label(source)} --convention {args.convention}"
     if args.toml:
@@ -148,5 +169,6 @@ def command_dh(args: argparse.Namespace) -> None:
 
 def command_urdf(args: argparse.Namespace) -> None:
     robot = numeric_source(args)
+    check_output_paths(robot, [args.output])
     header = f"URDF of {source_label(robot)}, written by: symkin urdf {source_label(robot)} -o FILE"
     print(f"wrote {write_text_file(args.output, urdf_text(robot, header))}")

@@ -22,7 +22,9 @@ link (default: the tree's root) to the ``tip`` link (default: the one leaf below
 
 Every problem in the file is one :class:`~symkin.errors.RobotError` naming the file and the
 joint or link: malformed XML, a missing link, a loop, floating, planar or mimic joints on the
-chain, a zero axis; a non-unit axis is normalised and said once.
+chain, a zero axis; repeated names, numbers that are not finite, a negative mass, an inertia
+tensor that is not positive semi-definite, ``lower > upper`` (:mod:`symkin.io.urdf_checks`);
+a non-unit axis is normalised and said once.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ from symkin.io.placement import (
     unit_axis,
     warn_normalised,
 )
+from symkin.io.urdf_checks import check_urdf_model
 from symkin.io.urdf_inertia import body_link
 from symkin.names import robot_name_reason
 from symkin.robot import NAME_PATTERN, Joint, Link, Robot
@@ -55,6 +58,7 @@ __all__ = ["robot_from_urdf"]
 MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
 UNSUPPORTED = ("floating", "planar")
 IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+IGNORED_ELEMENTS = "transmission|gazebo|material|link/visual|link/collision"
 
 
 @dataclass(frozen=True)
@@ -90,6 +94,7 @@ def robot_from_urdf(
     :class:`RobotError` for anything the file or the choice of links gets wrong.
     """
     model = _parse(text, file)
+    check_urdf_model(model, file)
     tree = _tree(model, file)
     base = _base_link(tree, base)
     tip = _tip_link(tree, base, tip)
@@ -118,15 +123,24 @@ def robot_from_urdf(
 
 def _parse(text: str | bytes, file: str) -> Any:
     # Imported here: only URDF loading pays for the parser (and lxml).
+    from lxml import etree
     from urdf_parser_py import urdf
     from urdf_parser_py.xml_reflection import core
 
     data = text.encode("utf-8") if isinstance(text, str) else text
-    # The parser reports unknown tags (<gazebo>, <transmission>) on stderr through this hook;
-    # they are legal URDF extensions that carry nothing symkin reads.
+    # The parser reports unknown tags on stderr through this hook; they are legal URDF
+    # extensions that carry nothing symkin reads.
     quiet, core.on_error = core.on_error, lambda message: None
     try:
-        return urdf.URDF.from_xml_string(data)
+        node = etree.fromstring(data, etree.XMLParser(resolve_entities=False, no_network=True))
+        # Elements symkin never reads, removed before the strict parser sees them: it rejects
+        # real files over them (PR2's old-style <transmission>, iCub's <texture> without a
+        # filename, both in example-robot-data) that Pinocchio and ROS load.
+        for element in node.xpath(IGNORED_ELEMENTS):
+            element.getparent().remove(element)
+        return urdf.URDF.from_xml(
+            node, core.Path(urdf.URDF.XML_REFL.tag, tree=etree.ElementTree(node))
+        )
     except Exception as exc:  # lxml, xml_reflection and plain errors for bad values
         detail = " ".join(str(exc).split()) or type(exc).__name__
         raise RobotError(f"{file}: not a valid URDF: {detail}") from None

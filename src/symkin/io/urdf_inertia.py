@@ -18,6 +18,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.io.placement import exact_angle, exact_number
+from symkin.io.urdf_checks import check_inertial
 from symkin.robot import Link
 from symkin.spatial import rotation_from_rpy
 
@@ -62,6 +63,7 @@ def body_link(tree: Tree, link: str, stop: Any) -> tuple[Link | None, list[str]]
         inertial = tree.links[name].inertial
         if inertial is None:
             continue
+        check_inertial(f"{tree.file}: link {name!r}", inertial)
         frame = pose @ _origin(inertial)
         tensor = inertial.inertia
         elements = (

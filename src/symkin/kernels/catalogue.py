@@ -15,7 +15,10 @@ from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
-from symkin.kernels.numeric_determinant import numeric_determinant_kernels
+from symkin.kernels.numeric_determinant import (
+    numeric_determinant_kernels,
+    numeric_manipulability_kernel,
+)
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput, kernel_from_outputs
 
@@ -74,7 +77,8 @@ def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> 
 
 def kinematics_kernels(model: Model) -> tuple[Kernel, ...]:
     """The kinematics kernels of one robot, in a fixed order: :func:`pose_kernels` and, when
-    the task Jacobian is square, ``det`` and ``manipulability``."""
+    the task Jacobian is square, ``det`` and ``manipulability`` (a redundant arm:
+    ``manipulability`` alone)."""
     kernels = pose_kernels(model)
     jacobian = next(k for k in kernels if k.name == "jacobian")
     return kernels + _determinant_kernels(model, state_inputs(model), jacobian)
@@ -142,11 +146,17 @@ def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Ke
 def _determinant_kernels(
     model: Model, inputs: Sequence[KernelInput], jacobian: Kernel
 ) -> tuple[Kernel, ...]:
-    """``det`` and ``manipulability`` of the task Jacobian, when it is square (else none):
-    the closed form, or without one (over budget, switched off) the numeric fallback."""
+    """``det`` and ``manipulability`` of the task Jacobian when it is square: the closed form,
+    or without one (over budget, switched off) the numeric fallback; for a redundant arm
+    (fewer task rows than joints) ``manipulability`` alone, computed numerically."""
     form = model.determinant_form()
     if form.status == NOT_SQUARE:
-        return ()
+        indices = rows_from_names(model.task_rows)
+        if len(indices) > model.robot.dof:
+            return ()
+        unit = units.manipulability(model.robot, model.task_rows)
+        rows_text = ", ".join(model.task_rows)
+        return (numeric_manipulability_kernel(jacobian, indices, rows_text, unit),)
     rows = ", ".join(model.task_rows)
     unit = units.determinant(model.robot, model.task_rows)
     if not form.found:

@@ -48,6 +48,35 @@ def numeric_determinant_kernels(
     return kernels[0], kernels[1]
 
 
+def numeric_manipulability_kernel(
+    jacobian: Kernel, rows: Sequence[int], rows_text: str, unit: str
+) -> Kernel:
+    """Yoshikawa's ``mu = sqrt(det(J J^T))`` of rows ``rows`` of ``jacobian``'s ``J`` when the
+    arm is redundant (more columns than rows): the Gram matrix ``J J^T`` as named
+    intermediates (symmetric: the upper triangle only), its determinant by the same minors
+    expansion, and the square root of its absolute value (rounding can leave ``-1e-17`` where
+    the arm is singular)."""
+    (output,) = jacobian.outputs
+    matrix = output.matrix
+    assignments = list(jacobian.assignments)
+    gram: dict[tuple[int, int], sp.Expr] = {}
+    for i, row_i in enumerate(rows):
+        for j, row_j in enumerate(rows[i:], start=i):
+            value = sp.Add(*(matrix[row_i, c] * matrix[row_j, c] for c in range(matrix.cols)))
+            gram[i, j] = gram[j, i] = _named(value, f"gram_{i}{j}", assignments)
+    size = len(rows)
+    entries = [[gram[i, j] for j in range(size)] for i in range(size)]
+    value = sp.sqrt(sp.Abs(_minors_expansion(entries, assignments)))
+    return kernel_from_assignments(
+        "manipulability",
+        f"Yoshikawa manipulability sqrt(det(J J^T)) of the task Jacobian (rows {rows_text}), "
+        "computed numerically from the Jacobian (redundant arm: no closed form attempted)",
+        jacobian.inputs,
+        assignments,
+        [("mu", sp.Matrix([[value]]), "sqrt(det(J J^T))", "scalar", unit)],
+    )
+
+
 def _minors_expansion(
     entries: list[list[sp.Expr]], assignments: list[tuple[sp.Symbol, sp.Expr]]
 ) -> sp.Expr:

@@ -68,6 +68,22 @@ def determinant(robot: Robot, task_rows: Sequence[str]) -> str:
     )
 
 
+def manipulability(robot: Robot, task_rows: Sequence[str]) -> str:
+    """The unit of ``sqrt(det(J J^T))`` for a redundant arm (more joints than task rows): as
+    det of a square task Jacobian when every joint has one type (each square minor then has
+    that unit); mixed joint types give minors of different units."""
+    kinds = {joint.type for joint in robot.joints}
+    if len(kinds) > 1:
+        return "mixed: the square minors of J J^T differ in unit (revolute and prismatic joints)"
+    positions = sum(1 for row in task_rows if not row.startswith("w"))
+    size = len(task_rows)
+    moving = {
+        "m": size if kinds == {"prismatic"} else 0,
+        "rad": size if kinds == {"revolute"} else 0,
+    }
+    return unit_product({"m": positions - moving["m"], "rad": size - positions - moving["rad"]})
+
+
 def generalized_force(robot: Robot) -> str:
     """Joint torques or forces: N m for a revolute joint, N for a prismatic one."""
     return per_joint(robot, "N m", "N")
