@@ -472,3 +472,22 @@ def test_a_cold_run_shows_its_warnings_as_they_come(
         assert remembered(user_cache(), "show", robot, {}, compute) == "text"
         assert remembered(user_cache(), "show", robot, {}, compute) == "text"
     assert shown == ["joint 2: odd inertia"] * 2
+
+
+def test_a_dangling_link_in_the_package_does_not_break_the_key(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The source digest reads symkin's files; a broken symbolic link among them (a removed
+    template in a development checkout) is named, not read, instead of failing every command."""
+    import symkin.cache as cache_module
+
+    (tmp_path / "package").mkdir()
+    (tmp_path / "package" / "cache.py").write_text("# a stand-in\n")
+    (tmp_path / "package" / "gone.j2").symlink_to(tmp_path / "missing")
+    monkeypatch.setattr(cache_module, "__file__", str(tmp_path / "package" / "cache.py"))
+    cache_module._software.cache_clear()
+    try:
+        assert len(cache_module._software()["source"]) == 64
+    finally:
+        monkeypatch.undo()
+        cache_module._software.cache_clear()

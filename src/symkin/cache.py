@@ -101,7 +101,8 @@ def _software() -> dict[str, str]:
         for name in sorted(names):
             path = Path(folder, name)
             digest.update(path.relative_to(package_root).as_posix().encode() + b"\0")
-            digest.update(path.read_bytes())
+            # A dangling link (a removed file in a checkout) is named, not read.
+            digest.update(path.read_bytes() if path.is_file() else b"\0dangling\0")
     python = f"{sys.version_info.major}.{sys.version_info.minor}"
     return versions | {"python": python, "source": digest.hexdigest()}
 
