@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from symkin.errors import BudgetWarning
+from symkin.progress import reporting
 
 # Seconds per optional closed form.  Every catalogue robot needs under 0.3 s (UR5 det 0.1 s),
 # a generic 6R arm's determinant about 6 s (2 shared cores); 20 s bounds what a user waits.
@@ -123,7 +124,7 @@ def run_within(seconds: float | None, compute: Callable[[], Any]) -> Any:
 def _send(writer: int, compute: Callable[[], Any]) -> None:
     try:
         try:
-            data = pickle.dumps(("value", compute()))
+            data = pickle.dumps(("value", _quietly(compute)))
         except Exception as error:  # the parent re-raises it (or a stand-in that pickles)
             try:
                 data = pickle.dumps(("error", error))
@@ -133,6 +134,15 @@ def _send(writer: int, compute: Callable[[], Any]) -> None:
             pipe.write(data)
     finally:
         os._exit(0)
+
+
+def _quietly(compute: Callable[[], Any]) -> Any:
+    """``compute()`` with no progress display and no warnings: the forked child must not
+    print through the parent's display, whose refresh thread (and its lock) did not survive
+    the fork (a lock held at that moment would deadlock the child until its budget ends)."""
+    with reporting(None), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return compute()
 
 
 def _receive(reader: int, deadline: float) -> bytes:
