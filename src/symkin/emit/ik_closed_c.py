@@ -141,9 +141,8 @@ def emit_ik_closed_c(
     robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double", flags: Sequence[str] = ()
 ) -> dict[str, str]:
     """``c/<robot>_ik_closed.h`` and ``.c``, which call ``<robot>_fk``; ``{}`` for a robot
-    without a closed form.  Placed-joint robots (URDF) have their closed form in Python only
-    (through their DH model, :mod:`symkin.kernels.ik.plan`); the C plan reads a DH table."""
-    plan = None if robot.convention == "placement" else closed_form_plan(robot)
+    without a closed form."""
+    plan = closed_form_plan(robot)
     if plan is None:
         return {}
     (fk,) = [k for k in kernels if k.name == "fk"]

@@ -64,6 +64,22 @@ def _plan(robot: Robot, shape: Shape) -> ClosedFormPlan:
     return ClosedFormPlan(shape, tuple(constants(symbolic_chain(robot), shape)))
 
 
+@lru_cache(maxsize=16)
+def dh_form(robot: Robot) -> Robot | None:
+    """The DH model of a robot of placed joints (URDF-like) without parameters, found by the
+    lecture's frame assignment (:func:`~symkin.derive.dh_extraction.extract_dh`): the same
+    joint values give the same tool pose (its base and tool transforms make it exact), so a
+    closed form of the DH model solves the placed robot.  None for a chain the extraction
+    rejects, and for a robot with parameters (the extracted table holds their numbers, and a
+    plan must follow the parameters)."""
+    if robot.parameters:
+        return None
+    try:
+        return extract_dh(robot).robot
+    except SymkinError:
+        return None
+
+
 @lru_cache(maxsize=64)
 def _recognised(
     robot: Robot, overrides: tuple, generic: bool
@@ -71,11 +87,10 @@ def _recognised(
     """The plan of the first family that accepts the robot's numeric table, with its solver
     at those numbers, or None.  The families' formulas take ``theta_i = q_i + offset``: a
     robot with a flipped joint is left to the numeric solver.  A robot of placed joints
-    (URDF-like) is read through its DH model (:func:`_dh_model`), which has the same pose at
-    the same joint values."""
+    (URDF-like) is judged by its DH form (:func:`dh_form`)."""
     if robot.convention == "placement":
-        dh = _dh_model(robot, overrides)
-        return None if dh is None else _recognised(dh, (), generic)
+        table = dh_form(robot)
+        return None if table is None else _recognised(table, overrides, generic)
     if any(joint.flip for joint in robot.joints):
         return None
     numbers = parameter_numbers(robot, dict(overrides), generic)
@@ -90,18 +105,6 @@ def _recognised(
             continue
         return plan, solver_type.from_plan(plan, values, chain.dof)
     return None
-
-
-def _dh_model(robot: Robot, overrides: tuple) -> Robot | None:
-    """The standard-DH model of a placed-joint robot by the frame-assignment procedure
-    (:func:`symkin.derive.dh_extraction.extract_dh`: ``T = base A_1 .. A_n tool`` equals the
-    source's ``T`` at every ``q``), or None when it has none (a redundant chain, a parameter
-    without a value).  The solvers' candidates are checked by the source's own FK."""
-    try:
-        source = robot.with_parameter_values(dict(overrides)) if robot.parameters else robot
-        return extract_dh(source, "standard").robot
-    except SymkinError:
-        return None
 
 
 def _key(overrides: Mapping[str, float] | None) -> tuple:
