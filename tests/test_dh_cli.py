@@ -31,6 +31,17 @@ def test_dh_text_names_cases_transforms_and_proof(capsys):
     assert "Proof: symbolic" in out
 
 
+def test_dh_text_writes_a_negative_offset_as_a_difference(capsys, tmp_path):
+    """theta = q1 - 10 deg (printed "q1 + -10" before)."""
+    robot = tmp_path / "offset.toml"
+    robot.write_text(
+        'name = "offset"\nangles = "deg"\n[[joints]]\ntype = "revolute"\ntheta = -10\na = 0.5\n'
+        '[[joints]]\ntype = "revolute"\ntheta = 20\na = 0.3\n'
+    )
+    code, out, _ = run(capsys, "dh", str(robot))
+    assert code == 0 and "q1 - 10" in out and "q2 + 20" in out and "+ -" not in out
+
+
 def test_dh_json_rows_are_sympy_text(capsys):
     code, out, _ = run(capsys, "dh", "panda", "--convention", "modified", "--json")
     assert code == 0

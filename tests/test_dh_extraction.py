@@ -139,8 +139,26 @@ def test_over_budget_the_proof_is_numeric_and_says_why(monkeypatch):
     ],
 )
 def test_degenerate_chains_are_explained_not_tabled(file, words):
-    with pytest.raises(RobotError, match=words):
+    with pytest.raises(RobotError, match=words) as caught:
         extract_dh(load_robot(DATA / file))
+    assert str(caught.value).startswith(f"{DATA / file}: ")  # the file, not only the robot
+
+
+def test_degenerate_urdf_names_the_file_and_the_joints():
+    from symkin.io.urdf import robot_from_urdf
+
+    link = '<link name="{}"/>'
+    joint = (
+        '<joint name="{}" type="continuous"><parent link="{}"/><child link="{}"/>'
+        '<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/></joint>'
+    )
+    text = (
+        '<robot name="r">' + "".join(link.format(n) for n in "abc")
+        + joint.format("yaw", "a", "b") + joint.format("spin", "b", "c") + "</robot>"
+    )  # fmt: skip
+    with pytest.raises(RobotError) as caught:
+        extract_dh(robot_from_urdf(text, "twice.urdf"))
+    assert str(caught.value).startswith("twice.urdf: joints 1 (yaw) and 2 (spin) turn about")
 
 
 @pytest.mark.slow

@@ -93,7 +93,7 @@ def _c_call(library, name: str, arrays, size: int) -> np.ndarray:
 
 def test_numeric_ik_reaches_a_pose_pinocchio_computed(pinocchio_arm):
     robot = symkin.load_robot(URDF)
-    assert not has_closed_form(robot)  # placed joints: the closed forms read a DH table
+    assert not has_closed_form(robot)  # its DH form (`symkin dh`) is no closed-form family
     model = symkin.derive(robot)
     q_star = np.array([0.4, -0.6, 0.9, 0.1])
     target = expected(pinocchio_arm, q_star, np.zeros(4), np.zeros(4))["fk"]

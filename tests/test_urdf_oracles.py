@@ -15,6 +15,7 @@ symkin's convention), the mass matrix (``crba``) and the inverse dynamics (``rne
 
 from __future__ import annotations
 
+import subprocess
 import warnings
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
@@ -175,3 +176,75 @@ def test_placement_toml_and_urdf_of_the_test_arm_agree():
     q = np.array([0.3, -0.4, 1.1, 0.05])
     fk = [symkin.kinematic_state(m, q=q).transform for m in (from_toml, from_urdf)]
     np.testing.assert_allclose(fk[0], fk[1], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["ur5", "ur3"])
+def test_closed_form_ik_of_a_urdf_arm_through_its_dh_form(name, tmp_path):
+    """A URDF arm whose DH form (``symkin dh``) is a known family gets closed-form IK: for
+    poses Pinocchio computes at random joint values, every solution reproduces the pose in
+    Pinocchio's FK, and one of them is the joint values the pose came from."""
+    from symkin.solve.ik.closed_form import closed_form_ik
+
+    pair = Pair(name, tmp_path)
+    pin = _pinocchio()
+    model = symkin.derive(pair.robot)
+    for q, _, _ in states(pair, 17):
+        pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(q))
+        target = pair.data.oMf[pair.tip].homogeneous
+        solutions = closed_form_ik(model, target)
+        assert 1 <= len(solutions) <= 8
+        for solution in solutions:
+            pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(solution.q))
+            assert_close(pair.data.oMf[pair.tip].homogeneous, target, "pose of a solution")
+        nearest = min(
+            np.max(np.abs(np.angle(np.exp(1j * (solution.q - q))))) for solution in solutions
+        )
+        assert nearest < 1e-6
+
+
+CLOSED_DRIVER = """
+#include <stdio.h>
+#include "ur5_ik_closed.h"
+int main(void) {
+    double T[16], q[UR5_IK_CLOSED_MAX_SOLUTIONS * 6];
+    int branch[UR5_IK_CLOSED_MAX_SOLUTIONS], inside[UR5_IK_CLOSED_MAX_SOLUTIONS];
+    for (;;) {
+        for (int i = 0; i < 16; ++i) {
+            if (scanf("%lf", &T[i]) != 1) return 0;
+        }
+        int count = ur5_ik_closed(T, q, branch, inside);
+        printf("%d", count);
+        for (int i = 0; i < count * 6; ++i) printf(" %.17g", q[i]);
+        printf("\\n");
+    }
+}
+"""
+
+
+@pytest.mark.needs_cc
+def test_generated_c_closed_form_ik_of_the_ur5_urdf(tmp_path):
+    """The C closed form `symkin derive` writes for the UR5 URDF (through its DH form),
+    compiled with -Werror: every solution reproduces the pose in Pinocchio's FK."""
+    pair = Pair("ur5", tmp_path / "pair")
+    pin = _pinocchio()
+    c = tmp_path / "out"
+    write_tree(c, files_for_robot(pair.robot, ("c",), dynamics=False))
+    (c / "c" / "driver.c").write_text(CLOSED_DRIVER)
+    flags = ["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+    sources = ["driver.c", "ur5.c", "ur5_ik_closed.c"]
+    subprocess.run(["gcc", *flags, *sources, "-lm", "-o", "driver"], cwd=c / "c", check=True)
+    poses = []
+    for q, _, _ in states(pair, 23):
+        pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(q))
+        poses.append(pair.data.oMf[pair.tip].homogeneous.copy())
+    text = "\n".join(" ".join(repr(float(v)) for v in pose.ravel()) for pose in poses)
+    lines = subprocess.run(
+        [str(c / "c" / "driver")], input=text, capture_output=True, text=True, check=True
+    ).stdout.splitlines()
+    for pose, line in zip(poses, lines, strict=True):
+        count, *values = line.split()
+        solutions = np.array(values, dtype=float).reshape(int(count), 6)
+        assert len(solutions) >= 1
+        for solution in solutions:
+            pin.framesForwardKinematics(pair.model, pair.data, pair.pin_q(solution))
+            assert_close(pair.data.oMf[pair.tip].homogeneous, pose, "pose of a C solution")

@@ -72,7 +72,9 @@ def _value_text(value: sp.Expr, angle: bool) -> str:
 def _with_variable(variable: str, moves: bool, offset: str) -> str:
     if not moves:
         return offset
-    return variable if offset == "0" else f"{variable} + {offset}"
+    if offset == "0":
+        return variable
+    return f"{variable} - {offset[1:]}" if offset.startswith("-") else f"{variable} + {offset}"
 
 
 def dh_text(extraction: DhExtraction, proof: FkProof) -> str:

@@ -55,8 +55,9 @@ def add_derivation_options(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_BUDGET_SECONDS,
         metavar="SECONDS",
         help="time for each optional closed form (factored determinant, singular set, "
-        "adjugate inverse, symbolic manipulability); past it symkin says so and the code "
-        f"computes det and manipulability numerically (default {DEFAULT_BUDGET_SECONDS:g}; "
+        "adjugate inverse, symbolic manipulability, readable angle-sum FK and Jacobian of a "
+        "long chain); past it symkin says so and the code computes det and manipulability "
+        f"numerically, FK and J stay products (default {DEFAULT_BUDGET_SECONDS:g}; "
         "0: no limit)",
     )
     parser.add_argument(

@@ -30,6 +30,7 @@ from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_f
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
+from symkin.derive.readable import Readable, readable_form
 from symkin.errors import ParameterError, SymkinError
 from symkin.progress import phase
 from symkin.robot import Robot
@@ -94,7 +95,21 @@ class Model:
     @cached_property
     @derivation_step("the link transforms and forward kinematics")
     def kinematics(self) -> Kinematics:
-        return kinematics_from_robot(self.robot, self.simplified)
+        """Readable (angle sums contracted) when :attr:`simplified` and the contraction fits
+        the budget; else the product form (``kinematics.simplified`` is then ``False``, so
+        every later quantity keeps its product form too)."""
+        if not self.simplified:
+            return kinematics_from_robot(self.robot, simplified=False)
+        return self._readable_kinematics_and_jacobian[0]
+
+    @cached_property
+    def _readable_kinematics_and_jacobian(self) -> Readable:
+        """FK and geometric Jacobian contracted within the budget, else their product form
+        (see :mod:`symkin.derive.readable`)."""
+        form = readable_form(self.robot, self.budget)
+        if form.found:
+            return form.value
+        return self.product_form.kinematics, self.product_form.geometric_jacobian
 
     @cached_property
     def product_form(self) -> Model:
@@ -147,6 +162,8 @@ class Model:
     @derivation_step("the geometric Jacobian")
     def geometric_jacobian(self) -> sp.ImmutableMatrix:
         """6 x n, base frame, linear rows first."""
+        if self.simplified:
+            return self._readable_kinematics_and_jacobian[1]
         return jacobians.geometric_jacobian(self.robot, self.kinematics)
 
     @cached_property

@@ -2,8 +2,10 @@
 
 The factored determinant, the singular configurations, the adjugate inverse and the symbolic
 manipulability are extras: the generated code can compute the determinant and the
-manipulability numerically from the Jacobian.  Each is computed under a budget of wall-clock
-seconds (:data:`DEFAULT_BUDGET_SECONDS`); past it the result is a :class:`ClosedForm` whose
+manipulability numerically from the Jacobian.  The readable (angle-sum contracted) forward
+kinematics and Jacobian of a long chain are extras too (:mod:`symkin.derive.readable`): their
+product form has the same values.  Each is computed under a budget of wall-clock seconds
+(:data:`DEFAULT_BUDGET_SECONDS`); past it the result is a :class:`ClosedForm` whose
 status says so, and one :class:`BudgetWarning` line tells the user which result, which robot,
 the budget and how to change it.
 
@@ -31,6 +33,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from symkin.errors import BudgetWarning
+from symkin.progress import reporting
 
 # Seconds per optional closed form.  Every catalogue robot needs under 0.3 s (UR5 det 0.1 s),
 # a generic 6R arm's determinant about 6 s (2 shared cores); 20 s bounds what a user waits.
@@ -40,6 +43,8 @@ FOUND = "found"
 NOT_SQUARE = "not square"
 OVER_BUDGET = "over budget"
 NOT_ATTEMPTED = "not attempted"
+
+NUMERIC_FALLBACK = "the generated code computes it numerically from the Jacobian"
 
 
 @dataclass(frozen=True)
@@ -66,19 +71,23 @@ class OverBudgetError(Exception):
 
 
 def closed_form_within(
-    quantity: str, robot: str, budget: float | None, compute: Callable[[], Any]
+    quantity: str,
+    robot: str,
+    budget: float | None,
+    compute: Callable[[], Any],
+    fallback: str = NUMERIC_FALLBACK,
 ) -> ClosedForm:
     """``compute()`` as a :class:`ClosedForm`, or the over-budget one (with a warning).
 
-    ``budget`` is in seconds; ``None`` means no limit.
+    ``budget`` is in seconds; ``None`` means no limit.  ``fallback`` says, in the warning,
+    what symkin uses instead.
     """
     try:
         value = run_within(budget, compute)
     except OverBudgetError:
         warning = BudgetWarning(
             f"{robot}: the {quantity} was not found within the budget of {budget:g} s; "
-            "the generated code computes it numerically from the Jacobian "
-            "(a larger {budget} allows more time)"
+            f"{fallback} (a larger {{budget}} allows more time)"
         )
         warnings.warn(warning, stacklevel=4)
         return ClosedForm(quantity, OVER_BUDGET, None, warning.message_for({}))
@@ -115,7 +124,7 @@ def run_within(seconds: float | None, compute: Callable[[], Any]) -> Any:
 def _send(writer: int, compute: Callable[[], Any]) -> None:
     try:
         try:
-            data = pickle.dumps(("value", compute()))
+            data = pickle.dumps(("value", _quietly(compute)))
         except Exception as error:  # the parent re-raises it (or a stand-in that pickles)
             try:
                 data = pickle.dumps(("error", error))
@@ -125,6 +134,15 @@ def _send(writer: int, compute: Callable[[], Any]) -> None:
             pipe.write(data)
     finally:
         os._exit(0)
+
+
+def _quietly(compute: Callable[[], Any]) -> Any:
+    """``compute()`` with no progress display and no warnings: the forked child must not
+    print through the parent's display, whose refresh thread (and its lock) did not survive
+    the fork (a lock held at that moment would deadlock the child until its budget ends)."""
+    with reporting(None), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return compute()
 
 
 def _receive(reader: int, deadline: float) -> bytes:

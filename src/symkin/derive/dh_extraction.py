@@ -184,7 +184,8 @@ def check_not_redundant(source: Robot, normals: list[Normal], lines: tuple[Line,
     joints = source.joints
     for k in range(len(joints) - 1):
         first, second = joints[k], joints[k + 1]
-        label = f"{source.name}: joints {k + 1} and {k + 2}"
+        named = [f" ({j.name})" if j.name else "" for j in (first, second)]
+        label = f"{source.file or source.name}: joints {k + 1}{named[0]} and {k + 2}{named[1]}"
         if first.type == second.type == "revolute" and normals[k].case == "coincident":
             raise RobotError(
                 f"{label} turn about the same line (coincident axes): the two joints are one "

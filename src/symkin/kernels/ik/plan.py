@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from functools import lru_cache
 
+from symkin.derive.dh_extraction import extract_dh
+from symkin.errors import SymkinError
 from symkin.kernels.ik.closed_form_parallel import (
     ParallelAxesSolver,
     parallel_axes_shape,
@@ -62,15 +64,34 @@ def _plan(robot: Robot, shape: Shape) -> ClosedFormPlan:
     return ClosedFormPlan(shape, tuple(constants(symbolic_chain(robot), shape)))
 
 
+@lru_cache(maxsize=16)
+def dh_form(robot: Robot) -> Robot | None:
+    """The DH model of a robot of placed joints (URDF-like) without parameters, found by the
+    lecture's frame assignment (:func:`~symkin.derive.dh_extraction.extract_dh`): the same
+    joint values give the same tool pose (its base and tool transforms make it exact), so a
+    closed form of the DH model solves the placed robot.  None for a chain the extraction
+    rejects, and for a robot with parameters (the extracted table holds their numbers, and a
+    plan must follow the parameters)."""
+    if robot.parameters:
+        return None
+    try:
+        return extract_dh(robot).robot
+    except SymkinError:
+        return None
+
+
 @lru_cache(maxsize=64)
 def _recognised(
     robot: Robot, overrides: tuple, generic: bool
 ) -> tuple[ClosedFormPlan, Solver] | None:
     """The plan of the first family that accepts the robot's numeric table, with its solver
     at those numbers, or None.  The families' formulas take ``theta_i = q_i + offset``: a
-    robot with a flipped joint is left to the numeric solver, and so is a robot of placed
-    joints (URDF-like): the families read a DH table, which such a robot does not have."""
-    if robot.convention == "placement" or any(joint.flip for joint in robot.joints):
+    robot with a flipped joint is left to the numeric solver.  A robot of placed joints
+    (URDF-like) is judged by its DH form (:func:`dh_form`)."""
+    if robot.convention == "placement":
+        table = dh_form(robot)
+        return None if table is None else _recognised(table, overrides, generic)
+    if any(joint.flip for joint in robot.joints):
         return None
     numbers = parameter_numbers(robot, dict(overrides), generic)
     chain = symbolic_chain(robot).at(numbers)

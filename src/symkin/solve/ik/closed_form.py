@@ -107,13 +107,15 @@ def batched_forward_kinematics(
 
 
 def _no_closed_form_reason(robot: Robot) -> str:
-    if robot.convention == "placement":
+    if robot.convention == "placement" and robot.parameters:
         return (
             f"{robot.name}: no closed-form inverse kinematics for a robot of placed joints "
-            "(URDF-like): the closed forms read a DH table; use the numeric solver"
+            "with parameters (the closed forms read the DH table `symkin dh` finds, which "
+            "holds numbers); use the numeric solver"
         )
+    table = "its DH form (`symkin dh`) " if robot.convention == "placement" else ""
     return (
-        f"{robot.name}: no closed-form inverse kinematics for this {robot.dof}-joint "
+        f"{robot.name}: no closed-form inverse kinematics for {table}this {robot.dof}-joint "
         "structure (closed forms: planar 2R/3R arms, six-joint arms with a spherical "
         "wrist, UR-type arms); use the numeric solver"
     )

@@ -1,0 +1,69 @@
+"""The readable forward kinematics and Jacobian under a budget, with the product form as fallback.
+
+The readable model contracts sums of products of sines and cosines into functions of summed
+angles after every product (:func:`~symkin.derive.simplify.contract_product`, Fu's TR10i).
+Its cost grows with the length of the expanded chain, far faster than the chain: readable
+FK + J take about 9 s of CPU at 8 joints with right-angle twists and more than 80 s at 12.
+The product form has the same values (and the kernels use it anyway when it is shorter), so the
+contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
+
+* a cheap size measure comes first: the number of terms of ``T = base A_1 ... A_n tool``
+  expanded by SymEngine (:func:`expanded_size`; milliseconds).  At most
+  :data:`INLINE_TERMS` terms (every catalogue robot: the Panda has 160) the contraction runs
+  in process without a deadline, so catalogue forms never depend on the machine's speed;
+* above it, the contraction runs under the model's budget (a forked child, see
+  :func:`~symkin.derive.budget.run_within`); past the budget one
+  :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
+  model keeps the product form.
+"""
+
+from __future__ import annotations
+
+import symengine as se
+import sympy as sp
+
+from symkin.derive import jacobians
+from symkin.derive.budget import ClosedForm, closed_form_within
+from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
+from symkin.robot import Robot
+from symkin.symbols import joint_symbols
+
+# Expanded terms of T up to which the contraction runs without a deadline.  Measured
+# (symkin's catalogue and bench/random_arms.py): catalogue robots 18..160, a random 6R arm
+# with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
+# (9 s), a random 12R 3,046 (over 80 s).
+INLINE_TERMS = 200
+
+QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
+FALLBACK = "they keep their product form (same values, longer expressions)"
+
+Readable = tuple[Kinematics, sp.ImmutableMatrix]
+
+
+def expanded_size(robot: Robot) -> int:
+    """Number of terms of the 16 entries of ``T`` expanded (the chain multiplied in SymEngine,
+    expanded after each link as the contraction does)."""
+    q = joint_symbols(robot.dof)
+    transform = _symengine(robot.base)
+    for joint, qi in zip(robot.joints, q, strict=True):
+        product = transform * _symengine(link_transform(joint, qi, robot.convention))
+        transform = product.applyfunc(se.expand)
+    transform = (transform * _symengine(robot.tool)).applyfunc(se.expand)
+    return sum(len(e.args) if isinstance(e, se.Add) else 1 for e in transform)
+
+
+def _symengine(matrix: sp.MatrixBase) -> se.DenseMatrix:
+    return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
+
+
+def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
+    """The contracted ``(kinematics, geometric Jacobian)`` of ``robot`` as a
+    :class:`ClosedForm`: found, or over budget (with one warning) for the caller to fall back
+    to the product form."""
+
+    def contracted() -> Readable:
+        kinematics = kinematics_from_robot(robot)
+        return kinematics, jacobians.geometric_jacobian(robot, kinematics)
+
+    within = None if expanded_size(robot) <= INLINE_TERMS else budget
+    return closed_form_within(QUANTITY, robot.name, within, contracted, FALLBACK)
