@@ -80,6 +80,22 @@ def sympy_from_symengine(expr: se.Basic, symbols: dict[str, sp.Symbol]) -> sp.Ex
     return converted
 
 
+def derivative_matrix(column: sp.MatrixBase, variables: Sequence[sp.Symbol]) -> sp.Matrix:
+    """``column.jacobian(variables)`` (entry ``(i, j)`` = ``d column_i / d variables_j``),
+    differentiated in SymEngine and brought back with our symbols."""
+    symbols = {s.name: s for s in column.free_symbols}
+    entries = [se.sympify(e) for e in column]
+    return sp.Matrix(
+        len(entries),
+        len(variables),
+        [
+            sympy_from_symengine(se.diff(e, se.Symbol(v.name)), symbols)
+            for e in entries
+            for v in variables
+        ],
+    )
+
+
 def contract_matrix(matrix: sp.MatrixBase, angle_sums: bool = True) -> sp.ImmutableMatrix:
     """:func:`contract_trig` applied to every entry."""
     return sp.ImmutableMatrix(matrix.applyfunc(lambda e: contract_trig(e, angle_sums)))
