@@ -105,7 +105,9 @@ def kinematic_state(
     _check_lengths(model, q, dq, ddq)
     rows = tuple(rows or model.task_rows)
     parameters = parameter_vector(model, overrides)
-    transform, jacobian = generated_numpy_module(model, "kinematics").fk_jacobian(q, parameters)
+    with np.errstate(all="ignore"):
+        transform, jacobian = generated_numpy_module(model, "kinematics").fk_jacobian(q, parameters)
+    _require_finite(model, parameters, "kinematics", transform, jacobian)
     euler = euler_zyx_from_rotation(transform[:3, :3])
     task = jacobian[list(rows_from_names(rows)), :]
     if task.shape[0] == task.shape[1]:
@@ -219,11 +221,36 @@ def dynamic_state(
     _check_lengths(model, q, dq, ddq)
     shared = dynamics_arguments(model, overrides)
     module = generated_numpy_module(model)
-    return DynamicState(
-        mass_matrix=module.mass_matrix(q, **shared),
-        gravity=module.gravity(q, **shared),
-        coriolis=None if dq is None else module.coriolis(q, dq, **shared),
-        torque=None if dq is None or ddq is None else module.inverse_dynamics(q, dq, ddq, **shared),
+    with np.errstate(all="ignore"):
+        state = DynamicState(
+            mass_matrix=module.mass_matrix(q, **shared),
+            gravity=module.gravity(q, **shared),
+            coriolis=None if dq is None else module.coriolis(q, dq, **shared),
+            torque=None
+            if dq is None or ddq is None
+            else module.inverse_dynamics(q, dq, ddq, **shared),
+        )
+    values = (state.mass_matrix, state.gravity, state.coriolis, state.torque)
+    _require_finite(model, shared["p"], "dynamics", *(v for v in values if v is not None))
+    return state
+
+
+def _require_finite(
+    model: Model, parameters: np.ndarray, quantity: str, *values: np.ndarray
+) -> None:
+    """A :class:`ParameterError` where a generated kernel returned inf or NaN: with finite
+    joint values only the parameters can do that (a length like ``1/(2 L1 - 1)`` at its
+    pole), so the message names their values."""
+    if all(np.all(np.isfinite(v)) for v in values):
+        return
+    names = [name for name, _ in model.robot.parameters]
+    given = ", ".join(
+        f"{n} = {float(v):g}" for n, v in zip(names, np.ravel(parameters), strict=False)
+    )
+    raise ParameterError(
+        f"{model.robot.name}: the {quantity} are not finite at the parameter values "
+        f"({given or 'none'}): a formula divides by zero there; choose other values with "
+        "{overrides}"
     )
 
 
