@@ -88,7 +88,6 @@ def _read_terminal(descriptor: int, seconds: float) -> bytes:
     return out
 
 
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs a pseudo-terminal")
 def test_ctrl_c_during_the_live_display_restores_the_terminal(tmp_path: Path):
     """On a terminal the phases are live lines (rich hides the cursor meanwhile); Ctrl-C in the
     middle exits 130 and shows the cursor again, after the last time it was hidden."""
