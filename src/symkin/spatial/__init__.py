@@ -21,7 +21,9 @@ The functions live in :mod:`~symkin.spatial.rotations` (elementary rotations, ax
 :mod:`~symkin.spatial.quaternions` (quaternion algebra, slerp, conversions),
 :mod:`~symkin.spatial.euler` (Z-Y-X / roll-pitch-yaw and Z-Y-Z angles),
 :mod:`~symkin.spatial.transforms` (homogeneous transforms, :class:`TransformGraph`),
-:mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and :mod:`~symkin.spatial.screws`
+:mod:`~symkin.spatial.inertia` (inertia tensors: rotation, Steiner, composite bodies,
+simple solids), :mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and
+:mod:`~symkin.spatial.screws`
 (screw axes, twists ``(v, w)``, wrenches ``(f, tau)``, the adjoint); all are importable from
 here.
 """
@@ -44,6 +46,20 @@ from symkin.spatial.euler import (
     rotation_from_euler_zyz,
     rotation_from_rpy,
     rpy_from_rotation,
+)
+from symkin.spatial.inertia import (
+    RigidBody,
+    box_inertia,
+    box_volume,
+    composite_body,
+    cylinder_inertia,
+    cylinder_volume,
+    hollow_cylinder_inertia,
+    inertia_about_com,
+    inertia_about_point,
+    rotated_inertia,
+    sphere_inertia,
+    sphere_volume,
 )
 from symkin.spatial.lie import (
     RotationLog,
@@ -96,14 +112,23 @@ __all__ = [
     "EulerZYZ",
     "Matrix",
     "MatrixLike",
+    "RigidBody",
     "RotationLog",
     "Scalar",
     "TransformGraph",
     "TransformLog",
     "adjoint_from_transform",
     "axis_angle_from_rotation",
+    "box_inertia",
+    "box_volume",
+    "composite_body",
+    "cylinder_inertia",
+    "cylinder_volume",
     "euler_zyx_from_rotation",
     "euler_zyz_from_rotation",
+    "hollow_cylinder_inertia",
+    "inertia_about_com",
+    "inertia_about_point",
     "quaternion_canonical",
     "quaternion_conjugate",
     "quaternion_from_rotation",
@@ -113,6 +138,7 @@ __all__ = [
     "rot_x",
     "rot_y",
     "rot_z",
+    "rotated_inertia",
     "rotation_from_axis_angle",
     "rotation_from_euler_zyx",
     "rotation_from_euler_zyz",
@@ -123,6 +149,8 @@ __all__ = [
     "rpy_from_rotation",
     "screw_axis_from_line",
     "skew",
+    "sphere_inertia",
+    "sphere_volume",
     "transform_from_rotation_translation",
     "transform_from_twist",
     "transform_inverse",
