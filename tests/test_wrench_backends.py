@@ -20,7 +20,7 @@ pytestmark = [pytest.mark.needs_cc, pytest.mark.slow]
 
 NAMES = ("planar_2r", "rpr")
 KERNELS = ("wrench_torque", "static_torque", "energy")
-INPUTS = {"q": 1.5, "dq": 2.0, "w": 10.0}
+INPUTS = {"q": 1.5, "dq": 2.0, "wrench": 10.0}
 
 
 class Built:
@@ -47,7 +47,7 @@ class Built:
     def states(self, kernel: str, count: int, seed: int) -> list[np.ndarray]:
         rng = np.random.default_rng(seed)
         names = [i.name for i in self.kernels[kernel].inputs if i.name in INPUTS]
-        sizes = {"w": 6}
+        sizes = {"wrench": 6}
         return [
             rng.uniform(-1, 1, (count, sizes.get(n, self.robot.dof))) * INPUTS[n] for n in names
         ]
@@ -109,5 +109,5 @@ def _as_tuple(value):
 
 def test_extension_rejects_a_wrench_of_the_wrong_size(built):
     q = np.zeros(built.robot.dof)
-    with pytest.raises(ValueError, match=r"the wrench w: \(6,\) or \(N, 6\)"):
+    with pytest.raises(ValueError, match=r"the wrench: \(6,\) or \(N, 6\)"):
         built.extension.wrench_torque(q, np.zeros(5))

@@ -1569,18 +1569,18 @@ void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q,
     }
 }
 
-void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double w[6], const double *p, double tau_w[restrict 6])
+void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
 {
     const double q1 = q[0];
     const double q3 = q[2];
     const double q4 = q[3];
     const double q5 = q[4];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d6 = p[1];
     const double t0 = cos(q1);
     const double t1 = cos(q5);
@@ -1604,27 +1604,27 @@ void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double w[6], c
     tau_w[5] = t7*w_nx - t5*w_ny + t4*t9*w_nz;
 }
 
-void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        cylindrical_rtt_wrist_wrench_torque(q + i * 6, w + i * 6, p, tau_w + i * 6);
+        cylindrical_rtt_wrist_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
     }
 }
 
-void cylindrical_rtt_wrist_static_torque(const double q[6], const double w[6], const double *p, const double *pi, double tau_s[restrict 6])
+void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 6])
 {
     const double q1 = q[0];
     const double q3 = q[2];
     const double q4 = q[3];
     const double q5 = q[4];
     const double q6 = q[5];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d6 = p[1];
     const double m2 = pi[10];
     const double m3 = pi[20];
@@ -1708,15 +1708,15 @@ void cylindrical_rtt_wrist_static_torque(const double q[6], const double w[6], c
     tau_s[5] = t39;
 }
 
-void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        cylindrical_rtt_wrist_static_torque(q + i * 6, w + i * 6, p, pi, tau_s + i * 6);
+        cylindrical_rtt_wrist_static_torque(q + i * 6, wrench + i * 6, p, pi, tau_s + i * 6);
     }
 }
 
-void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -1909,16 +1909,16 @@ void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const d
     const double t130 = t129 + 9.81*q2;
     const double t131 = 9.81*t0;
     const double t132 = m1*(-t129 - 9.81*cz1) + m2*(-t130 + 9.81*cy2) + m3*(-t130 + 9.81*cy3) + m4*(-t130 + cz4*t131 + 9.81*cx4*t1) + m5*(-t130 + cy5*t131 + 9.81*cx5*t5 + 9.81*cz5*t7) + m6*(-t130 - 9.81*cx6*(-t11 - t12*t5) - 9.81*cy6*(-t14 + t10*t5) + 9.81*cz6*t1*t6 + 9.81*d6*t1*t6);
-    T[0] = t128;
-    V[0] = -t132;
-    L[0] = t128 + t132;
+    kinetic[0] = t128;
+    potential[0] = -t132;
+    lagrangian[0] = t128 + t132;
 }
 
-void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        cylindrical_rtt_wrist_energy(q + i * 6, dq + i * 6, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        cylindrical_rtt_wrist_energy(q + i * 6, dq + i * 6, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -186,40 +186,40 @@ void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q,
  * tau_w[6]: -J^T w (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
  */
-void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double w[6], const double *p, double tau_w[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *SYMKIN_RESTRICT tau_w);
+void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
 /* Static torques holding the arm against gravity and an external wrench (183 operations).
  * tau_s[6]: G - J^T w (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
  * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_static_torque(const double q[6], const double w[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
 
 /* Kinetic and potential energy and the lagrangian (574 operations).
- * T[1]: kinetic energy 1/2 dq^T M dq
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
- * V[1]: potential energy -sum m_i g^T p_ci
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
  *   units: J
- * L[1]: Lagrangian T - V
+ * lagrangian[1]: Lagrangian L = T - V
  *   units: J
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
  * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double T[SYMKIN_RESTRICT 1], double V[SYMKIN_RESTRICT 1], double L[SYMKIN_RESTRICT 1]);
+void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT V, double *SYMKIN_RESTRICT L);
+void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m for q1, q4, q5, q6; N for q2, q3) in place of ddq.

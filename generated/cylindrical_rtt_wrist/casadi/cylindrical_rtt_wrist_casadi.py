@@ -1520,18 +1520,18 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     q1 = q[0]
     q3 = q[2]
     q4 = q[3]
     q5 = q[4]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d6 = p[1]
     t0 = casadi.cos(q1)
     t1 = casadi.cos(q5)
@@ -1556,9 +1556,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[5, 0] = t7*w_nx - t5*w_ny + t4*t9*w_nz
     return casadi.Function(
         "cylindrical_rtt_wrist_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -1569,7 +1569,7 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     pi = symbol_type.sym("pi", 60)
     q1 = q[0]
@@ -1577,12 +1577,12 @@ def static_torque_function(symbol_type=casadi.SX):
     q4 = q[3]
     q5 = q[4]
     q6 = q[5]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d6 = p[1]
     m2 = pi[10]
     m3 = pi[20]
@@ -1667,9 +1667,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[5, 0] = t39
     return casadi.Function(
         "cylindrical_rtt_wrist_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -1677,9 +1677,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (574 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 6)
     dq = symbol_type.sym("dq", 6)
@@ -1876,18 +1876,18 @@ def energy_function(symbol_type=casadi.SX):
     t130 = t129 + 9.81*q2
     t131 = 9.81*t0
     t132 = m1*(-t129 - 9.81*cz1) + m2*(-t130 + 9.81*cy2) + m3*(-t130 + 9.81*cy3) + m4*(-t130 + cz4*t131 + 9.81*cx4*t1) + m5*(-t130 + cy5*t131 + 9.81*cx5*t5 + 9.81*cz5*t7) + m6*(-t130 - 9.81*cx6*(-t11 - t12*t5) - 9.81*cy6*(-t14 + t10*t5) + 9.81*cz6*t1*t6 + 9.81*d6*t1*t6)
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t128
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = -t132
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t128 + t132
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t128
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = -t132
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t128 + t132
     return casadi.Function(
         "cylindrical_rtt_wrist_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

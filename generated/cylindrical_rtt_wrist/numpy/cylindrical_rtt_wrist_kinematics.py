@@ -1497,28 +1497,28 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     return tau
 
 
-def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Joint torques of an external wrench: 77 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns tau_w: -J^T w (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     d6 = p[..., 1]
     t0 = numpy.cos(q1)
     t1 = numpy.cos(q5)
@@ -1544,17 +1544,17 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     """Static torques holding the arm against gravity and an external wrench: 183 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
     Returns tau_s: G - J^T w (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     if pi is None:
         raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
@@ -1565,12 +1565,12 @@ def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
     q4 = q[..., 3]
     q5 = q[..., 4]
     q6 = q[..., 5]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     d6 = p[..., 1]
     m2 = pi[..., 10]
     m3 = pi[..., 20]
@@ -1663,9 +1663,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     dq: joint velocities (rad/s or m/s), 6 values per state.
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
-    Returns T: kinetic energy 1/2 dq^T M dq, shape (..., ).
-    Returns V: potential energy -sum m_i g^T p_ci, shape (..., ).
-    Returns L: Lagrangian T - V, shape (..., ).
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
@@ -1865,13 +1865,13 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t130 = t129 + 9.81*q2
     t131 = 9.81*t0
     t132 = m1*(-t129 - 9.81*cz1) + m2*(-t130 + 9.81*cy2) + m3*(-t130 + 9.81*cy3) + m4*(-t130 + cz4*t131 + 9.81*cx4*t1) + m5*(-t130 + cy5*t131 + 9.81*cx5*t5 + 9.81*cz5*t7) + m6*(-t130 - 9.81*cx6*(-t11 - t12*t5) - 9.81*cy6*(-t14 + t10*t5) + 9.81*cz6*t1*t6 + 9.81*d6*t1*t6)
-    T = numpy.zeros(batch + ())
-    T[...] = t128
-    V = numpy.zeros(batch + ())
-    V[...] = -t132
-    L = numpy.zeros(batch + ())
-    L[...] = t128 + t132
-    return T, V, L
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t128
+    potential = numpy.zeros(batch + ())
+    potential[...] = -t132
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t128 + t132
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

@@ -3086,7 +3086,7 @@ void panda_inverse_dynamics_batch(size_t count, const double *q, const double *d
     }
 }
 
-void panda_wrench_torque(const double q[7], const double w[6], const double *p, double tau_w[restrict 7])
+void panda_wrench_torque(const double q[7], const double wrench[6], const double *p, double tau_w[restrict 7])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -3094,12 +3094,12 @@ void panda_wrench_torque(const double q[7], const double w[6], const double *p, 
     const double q4 = q[3];
     const double q5 = q[4];
     const double q6 = q[5];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d3 = p[1];
     const double a4 = p[2];
     const double a5 = p[3];
@@ -3175,15 +3175,15 @@ void panda_wrench_torque(const double q[7], const double w[6], const double *p, 
     tau_w[6] = w_fx*(t24*t58 - t50*t59) + w_fy*(t50*t60 - t38*t58) + w_fz*(t38*t59 - t24*t60) - t58*w_nz - t59*w_ny - t60*w_nx;
 }
 
-void panda_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void panda_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        panda_wrench_torque(q + i * 7, w + i * 6, p, tau_w + i * 7);
+        panda_wrench_torque(q + i * 7, wrench + i * 6, p, tau_w + i * 7);
     }
 }
 
-void panda_static_torque(const double q[7], const double w[6], const double *p, double tau_s[restrict 7])
+void panda_static_torque(const double q[7], const double wrench[6], const double *p, double tau_s[restrict 7])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -3192,12 +3192,12 @@ void panda_static_torque(const double q[7], const double w[6], const double *p, 
     const double q5 = q[4];
     const double q6 = q[5];
     const double q7 = q[6];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d3 = p[1];
     const double a4 = p[2];
     const double a5 = p[3];
@@ -3380,15 +3380,15 @@ void panda_static_torque(const double q[7], const double w[6], const double *p, 
     tau_s[6] = t124;
 }
 
-void panda_static_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_s)
+void panda_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        panda_static_torque(q + i * 7, w + i * 6, p, tau_s + i * 7);
+        panda_static_torque(q + i * 7, wrench + i * 6, p, tau_s + i * 7);
     }
 }
 
-void panda_energy(const double q[7], const double dq[7], const double *p, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void panda_energy(const double q[7], const double dq[7], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -3759,16 +3759,16 @@ void panda_energy(const double q[7], const double dq[7], const double *p, double
     const double t347 = t290*t327;
     const double t348 = t288*t331;
     const double t349 = t290*t331;
-    T[0] = t273;
-    V[0] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338;
-    L[0] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349;
+    kinetic[0] = t273;
+    potential[0] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338;
+    lagrangian[0] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349;
 }
 
-void panda_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict T, double *restrict V, double *restrict L)
+void panda_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        panda_energy(q + i * 7, dq + i * 7, p, T + i * 1, V + i * 1, L + i * 1);
+        panda_energy(q + i * 7, dq + i * 7, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

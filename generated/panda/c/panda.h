@@ -170,38 +170,38 @@ void panda_inverse_dynamics_batch(size_t count, const double *q, const double *d
  * tau_w[7]: -J^T w (7x1)
  *   units: N m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_wrench_torque(const double q[7], const double w[6], const double *p, double tau_w[SYMKIN_RESTRICT 7]);
+void panda_wrench_torque(const double q[7], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *SYMKIN_RESTRICT tau_w);
+void panda_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
 /* Static torques holding the arm against gravity and an external wrench (503 operations).
  * tau_s[7]: G - J^T w (7x1)
  *   units: N m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_static_torque(const double q[7], const double w[6], const double *p, double tau_s[SYMKIN_RESTRICT 7]);
+void panda_static_torque(const double q[7], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_static_torque_batch(size_t count, const double *q, const double *w, const double *p, double *SYMKIN_RESTRICT tau_s);
+void panda_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
 /* Kinetic and potential energy and the lagrangian (1592 operations).
- * T[1]: kinetic energy 1/2 dq^T M dq
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
- * V[1]: potential energy -sum m_i g^T p_ci
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
  *   units: J
- * L[1]: Lagrangian T - V
+ * lagrangian[1]: Lagrangian L = T - V
  *   units: J
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
  * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
  */
-void panda_energy(const double q[7], const double dq[7], const double *p, double T[SYMKIN_RESTRICT 1], double V[SYMKIN_RESTRICT 1], double L[SYMKIN_RESTRICT 1]);
+void panda_energy(const double q[7], const double dq[7], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 7, each output count x its size. */
-void panda_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT V, double *SYMKIN_RESTRICT L);
+void panda_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[7] (N m) in place of ddq.

@@ -3056,7 +3056,7 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (7x1).
     """
     q = symbol_type.sym("q", 7)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 6)
     q1 = q[0]
     q2 = q[1]
@@ -3064,12 +3064,12 @@ def wrench_torque_function(symbol_type=casadi.SX):
     q4 = q[3]
     q5 = q[4]
     q6 = q[5]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d3 = p[1]
     a4 = p[2]
     a5 = p[3]
@@ -3146,9 +3146,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[6, 0] = w_fx*(t24*t58 - t50*t59) + w_fy*(t50*t60 - t38*t58) + w_fz*(t38*t59 - t24*t60) - t58*w_nz - t59*w_ny - t60*w_nx
     return casadi.Function(
         "panda_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -3159,7 +3159,7 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (7x1).
     """
     q = symbol_type.sym("q", 7)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 6)
     q1 = q[0]
     q2 = q[1]
@@ -3168,12 +3168,12 @@ def static_torque_function(symbol_type=casadi.SX):
     q5 = q[4]
     q6 = q[5]
     q7 = q[6]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d3 = p[1]
     a4 = p[2]
     a5 = p[3]
@@ -3357,9 +3357,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[6, 0] = t124
     return casadi.Function(
         "panda_static_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_s],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_s"],
     )
 
@@ -3367,9 +3367,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (1592 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 7)
     dq = symbol_type.sym("dq", 7)
@@ -3743,18 +3743,18 @@ def energy_function(symbol_type=casadi.SX):
     t347 = t290*t327
     t348 = t288*t331
     t349 = t290*t331
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t273
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t273
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349
     return casadi.Function(
         "panda_energy",
         [q, dq, p],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -3021,16 +3021,16 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     return tau
 
 
-def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Joint torques of an external wrench: 246 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns tau_w: -J^T w (7x1), shape (..., 7).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
@@ -3039,12 +3039,12 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     q4 = q[..., 3]
     q5 = q[..., 4]
     q6 = q[..., 5]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     d3 = p[..., 1]
     a4 = p[..., 2]
     a5 = p[..., 3]
@@ -3122,16 +3122,16 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, w, p=DEFAULT_PARAMETERS):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Static torques holding the arm against gravity and an external wrench: 503 operations.
 
     q: joint positions (rad or m), 7 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
     Returns tau_s: G - J^T w (7x1), shape (..., 7).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
@@ -3141,12 +3141,12 @@ def static_torque(q, w, p=DEFAULT_PARAMETERS):
     q5 = q[..., 4]
     q6 = q[..., 5]
     q7 = q[..., 6]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     d3 = p[..., 1]
     a4 = p[..., 2]
     a5 = p[..., 3]
@@ -3337,9 +3337,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     q: joint positions (rad or m), 7 values per state.
     dq: joint velocities (rad/s or m/s), 7 values per state.
     p: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad), 6 values.
-    Returns T: kinetic energy 1/2 dq^T M dq, shape (..., ).
-    Returns V: potential energy -sum m_i g^T p_ci, shape (..., ).
-    Returns L: Lagrangian T - V, shape (..., ).
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
@@ -3714,13 +3714,13 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t347 = t290*t327
     t348 = t288*t331
     t349 = t290*t331
-    T = numpy.zeros(batch + ())
-    T[...] = t273
-    V = numpy.zeros(batch + ())
-    V[...] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338
-    L = numpy.zeros(batch + ())
-    L[...] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349
-    return T, V, L
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t273
+    potential = numpy.zeros(batch + ())
+    potential[...] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

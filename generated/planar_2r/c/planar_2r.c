@@ -491,13 +491,13 @@ void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const doubl
     }
 }
 
-void planar_2r_wrench_torque(const double q[2], const double w[6], const double *p, double tau_w[restrict 2])
+void planar_2r_wrench_torque(const double q[2], const double wrench[6], const double *p, double tau_w[restrict 2])
 {
     const double q1 = q[0];
     const double q2 = q[1];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double t0 = q1 + q2;
@@ -507,22 +507,22 @@ void planar_2r_wrench_torque(const double q[2], const double w[6], const double 
     tau_w[1] = -w_nz - t2*w_fy + L2*t1*w_fx;
 }
 
-void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_wrench_torque(q + i * 2, w + i * 6, p, tau_w + i * 2);
+        planar_2r_wrench_torque(q + i * 2, wrench + i * 6, p, tau_w + i * 2);
     }
 }
 
-void planar_2r_static_torque(const double q[2], const double w[6], const double *p, const double *pi, double tau_s[restrict 2])
+void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 2])
 {
     (void)pi;
     const double q1 = q[0];
     const double q2 = q[1];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double t0 = q1 + q2;
@@ -537,15 +537,15 @@ void planar_2r_static_torque(const double q[2], const double w[6], const double 
     tau_s[1] = t5;
 }
 
-void planar_2r_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_static_torque(q + i * 2, w + i * 6, p, pi, tau_s + i * 2);
+        planar_2r_static_torque(q + i * 2, wrench + i * 6, p, pi, tau_s + i * 2);
     }
 }
 
-void planar_2r_energy(const double q[2], const double dq[2], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void planar_2r_energy(const double q[2], const double dq[2], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -581,16 +581,16 @@ void planar_2r_energy(const double q[2], const double dq[2], const double *p, co
     const double t16 = (1.0/2.0)*t15 + dq1*dq2*t7;
     const double t17 = 9.81*cz1*m1;
     const double t18 = 9.81*cz2*m2;
-    T[0] = t16;
-    V[0] = t17 + t18;
-    L[0] = t16 - t17 - t18;
+    kinetic[0] = t16;
+    potential[0] = t17 + t18;
+    lagrangian[0] = t16 - t17 - t18;
 }
 
-void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_energy(q + i * 2, dq + i * 2, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        planar_2r_energy(q + i * 2, dq + i * 2, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

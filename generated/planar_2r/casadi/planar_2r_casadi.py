@@ -453,13 +453,13 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (2x1).
     """
     q = symbol_type.sym("q", 2)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     q1 = q[0]
     q2 = q[1]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
     L1 = p[0]
     L2 = p[1]
     t0 = q1 + q2
@@ -470,9 +470,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[1, 0] = -w_nz - t2*w_fy + L2*t1*w_fx
     return casadi.Function(
         "planar_2r_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -483,14 +483,14 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (2x1).
     """
     q = symbol_type.sym("q", 2)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     pi = symbol_type.sym("pi", 20)
     q1 = q[0]
     q2 = q[1]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
     L1 = p[0]
     L2 = p[1]
     t0 = q1 + q2
@@ -506,9 +506,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[1, 0] = t5
     return casadi.Function(
         "planar_2r_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -516,9 +516,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (51 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 2)
     dq = symbol_type.sym("dq", 2)
@@ -558,18 +558,18 @@ def energy_function(symbol_type=casadi.SX):
     t16 = (1/2)*t15 + dq1*dq2*t7
     t17 = 9.81*cz1*m1
     t18 = 9.81*cz2*m2
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t16
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = t17 + t18
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t16 - t17 - t18
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t16
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t17 + t18
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t16 - t17 - t18
     return casadi.Function(
         "planar_2r_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -430,23 +430,23 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     return tau
 
 
-def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Joint torques of an external wrench: 21 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
     Returns tau_w: -J^T w (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
@@ -458,17 +458,17 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     """Static torques holding the arm against gravity and an external wrench: 18 operations.
 
     q: joint positions (rad or m), 2 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns tau_s: G - J^T w (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     if pi is None:
         raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
@@ -476,9 +476,9 @@ def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
@@ -502,9 +502,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     dq: joint velocities (rad/s or m/s), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
-    Returns T: kinetic energy 1/2 dq^T M dq, shape (..., ).
-    Returns V: potential energy -sum m_i g^T p_ci, shape (..., ).
-    Returns L: Lagrangian T - V, shape (..., ).
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
@@ -547,13 +547,13 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t16 = (1/2)*t15 + dq1*dq2*t7
     t17 = 9.81*cz1*m1
     t18 = 9.81*cz2*m2
-    T = numpy.zeros(batch + ())
-    T[...] = t16
-    V = numpy.zeros(batch + ())
-    V[...] = t17 + t18
-    L = numpy.zeros(batch + ())
-    L[...] = t16 - t17 - t18
-    return T, V, L
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t16
+    potential = numpy.zeros(batch + ())
+    potential[...] = t17 + t18
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t16 - t17 - t18
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

@@ -21,7 +21,7 @@
  *
  * CPython extension 'planar_2r_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
- * where it needs them), each of shape (2,) or (N, 2) (the wrench w: (6,) or (N, 6)), then optionally p (the
+ * where it needs them), each of shape (2,) or (N, 2) (the wrench: (6,) or (N, 6)), then optionally p (the
  * parameters L1, L2) and the 20 inertial parameters pi the robot
  * file leaves out (required by the dynamics functions); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
@@ -43,7 +43,7 @@
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
-#define STATE_SHAPES "every state input must be numbers of shape (2,) or (N, 2), the same for all (the wrench w: (6,) or (N, 6))"
+#define STATE_SHAPES "every state input must be numbers of shape (2,) or (N, 2), the same for all (the wrench: (6,) or (N, 6))"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -477,7 +477,7 @@ static void wrench_torque_adapter(size_t count, const double *const *states, con
 }
 
 static const binding wrench_torque_binding = {
-    "wrench_torque(q, w, p=None)", 2, { 2, 6 }, 0, wrench_torque_adapter, 1,
+    "wrench_torque(q, wrench, p=None)", 2, { 2, 6 }, 0, wrench_torque_adapter, 1,
     { 1 },
     { { 2, 0 } },
 NULL,
@@ -496,7 +496,7 @@ static void static_torque_adapter(size_t count, const double *const *states, con
 }
 
 static const binding static_torque_binding = {
-    "static_torque(q, w, p=None, pi=None)", 2, { 2, 6 }, 1, static_torque_adapter, 1,
+    "static_torque(q, wrench, p=None, pi=None)", 2, { 2, 6 }, 1, static_torque_adapter, 1,
     { 1 },
     { { 2, 0 } },
 NULL,
@@ -575,11 +575,11 @@ static PyMethodDef methods[] = {
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
-     "wrench_torque(q, w, p=None): joint torques of an external wrench; returns tau_w."},
+     "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
     {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
-     "static_torque(q, w, p=None, pi=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+     "static_torque(q, wrench, p=None, pi=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
     {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
-     "energy(q, dq, p=None, pi=None): kinetic and potential energy and the Lagrangian; returns T, V, L."},
+     "energy(q, dq, p=None, pi=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},

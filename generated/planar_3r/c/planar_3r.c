@@ -651,14 +651,14 @@ void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const doubl
     }
 }
 
-void planar_3r_wrench_torque(const double q[3], const double w[6], const double *p, double tau_w[restrict 3])
+void planar_3r_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
@@ -674,23 +674,23 @@ void planar_3r_wrench_torque(const double q[3], const double w[6], const double 
     tau_w[2] = -w_nz - t5*w_fy + L3*t3*w_fx;
 }
 
-void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_wrench_torque(q + i * 3, w + i * 6, p, tau_w + i * 3);
+        planar_3r_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
     }
 }
 
-void planar_3r_static_torque(const double q[3], const double w[6], const double *p, const double *pi, double tau_s[restrict 3])
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
 {
     (void)pi;
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
@@ -712,15 +712,15 @@ void planar_3r_static_torque(const double q[3], const double w[6], const double 
     tau_s[2] = t5;
 }
 
-void planar_3r_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_static_torque(q + i * 3, w + i * 6, p, pi, tau_s + i * 3);
+        planar_3r_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
     }
 }
 
-void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -784,16 +784,16 @@ void planar_3r_energy(const double q[3], const double dq[3], const double *p, co
     const double t36 = 9.81*cz1*m1;
     const double t37 = 9.81*cz2*m2;
     const double t38 = 9.81*cz3*m3;
-    T[0] = t35;
-    V[0] = t36 + t37 + t38;
-    L[0] = t35 - t36 - t37 - t38;
+    kinetic[0] = t35;
+    potential[0] = t36 + t37 + t38;
+    lagrangian[0] = t35 - t36 - t37 - t38;
 }
 
-void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_energy(q + i * 3, dq + i * 3, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        planar_3r_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

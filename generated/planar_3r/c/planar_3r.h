@@ -186,40 +186,40 @@ void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const doubl
  * tau_w[3]: -J^T w (3x1)
  *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  */
-void planar_3r_wrench_torque(const double q[3], const double w[6], const double *p, double tau_w[SYMKIN_RESTRICT 3]);
+void planar_3r_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *SYMKIN_RESTRICT tau_w);
+void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
 /* Static torques holding the arm against gravity and an external wrench (29 operations).
  * tau_s[3]: G - J^T w (3x1)
  *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
- * w[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_static_torque(const double q[3], const double w[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
 
 /* Kinetic and potential energy and the lagrangian (117 operations).
- * T[1]: kinetic energy 1/2 dq^T M dq
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
- * V[1]: potential energy -sum m_i g^T p_ci
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
  *   units: J
- * L[1]: Lagrangian T - V
+ * lagrangian[1]: Lagrangian L = T - V
  *   units: J
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
  * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double T[SYMKIN_RESTRICT 1], double V[SYMKIN_RESTRICT 1], double L[SYMKIN_RESTRICT 1]);
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT T, double *SYMKIN_RESTRICT V, double *SYMKIN_RESTRICT L);
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m) in place of ddq.

@@ -1746,19 +1746,19 @@ void puma560_inverse_dynamics_batch(size_t count, const double *q, const double 
     }
 }
 
-void puma560_wrench_torque(const double q[6], const double w[6], const double *p, double tau_w[restrict 6])
+void puma560_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
     const double q4 = q[3];
     const double q5 = q[4];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double a2 = p[0];
     const double a3 = p[1];
     const double d3 = p[2];
@@ -1797,15 +1797,15 @@ void puma560_wrench_torque(const double q[6], const double w[6], const double *p
     tau_w[5] = w_nx*(t16*t22 - t1*t24 + t0*t19*t25) + w_ny*(t0*t24 + t17*t22 + t21*t25) + w_nz*(-t22*t4 + t19*t23*t6);
 }
 
-void puma560_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void puma560_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        puma560_wrench_torque(q + i * 6, w + i * 6, p, tau_w + i * 6);
+        puma560_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
     }
 }
 
-void puma560_static_torque(const double q[6], const double w[6], const double *p, double tau_s[restrict 6])
+void puma560_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -1813,12 +1813,12 @@ void puma560_static_torque(const double q[6], const double w[6], const double *p
     const double q4 = q[3];
     const double q5 = q[4];
     const double q6 = q[5];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double a2 = p[0];
     const double a3 = p[1];
     const double d3 = p[2];
@@ -1921,15 +1921,15 @@ void puma560_static_torque(const double q[6], const double w[6], const double *p
     tau_s[5] = t61;
 }
 
-void puma560_static_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_s)
+void puma560_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        puma560_static_torque(q + i * 6, w + i * 6, p, tau_s + i * 6);
+        puma560_static_torque(q + i * 6, wrench + i * 6, p, tau_s + i * 6);
     }
 }
 
-void puma560_energy(const double q[6], const double dq[6], const double *p, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void puma560_energy(const double q[6], const double dq[6], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -2113,16 +2113,16 @@ void puma560_energy(const double q[6], const double dq[6], const double *p, doub
     const double t164 = 12.2625*d4*t161;
     const double t165 = 0.0282528*t161*t17;
     const double t166 = 0.0282528*t10*t159*t16;
-    T[0] = t154;
-    V[0] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166;
-    L[0] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165;
+    kinetic[0] = t154;
+    potential[0] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166;
+    lagrangian[0] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165;
 }
 
-void puma560_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict T, double *restrict V, double *restrict L)
+void puma560_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        puma560_energy(q + i * 6, dq + i * 6, p, T + i * 1, V + i * 1, L + i * 1);
+        puma560_energy(q + i * 6, dq + i * 6, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -1691,19 +1691,19 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 4)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
     q4 = q[3]
     q5 = q[4]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     a2 = p[0]
     a3 = p[1]
     d3 = p[2]
@@ -1743,9 +1743,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[5, 0] = w_nx*(t16*t22 - t1*t24 + t0*t19*t25) + w_ny*(t0*t24 + t17*t22 + t21*t25) + w_nz*(-t22*t4 + t19*t23*t6)
     return casadi.Function(
         "puma560_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -1756,7 +1756,7 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 4)
     q1 = q[0]
     q2 = q[1]
@@ -1764,12 +1764,12 @@ def static_torque_function(symbol_type=casadi.SX):
     q4 = q[3]
     q5 = q[4]
     q6 = q[5]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     a2 = p[0]
     a3 = p[1]
     d3 = p[2]
@@ -1873,9 +1873,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[5, 0] = t61
     return casadi.Function(
         "puma560_static_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_s],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_s"],
     )
 
@@ -1883,9 +1883,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (565 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 6)
     dq = symbol_type.sym("dq", 6)
@@ -2072,18 +2072,18 @@ def energy_function(symbol_type=casadi.SX):
     t164 = 12.2625*d4*t161
     t165 = 0.0282528*t161*t17
     t166 = 0.0282528*t10*t159*t16
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t154
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t154
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
     return casadi.Function(
         "puma560_energy",
         [q, dq, p],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

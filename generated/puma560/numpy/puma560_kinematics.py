@@ -1653,16 +1653,16 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     return tau
 
 
-def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Joint torques of an external wrench: 120 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns tau_w: -J^T w (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
@@ -1670,12 +1670,12 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     a2 = p[..., 0]
     a3 = p[..., 1]
     d3 = p[..., 2]
@@ -1716,16 +1716,16 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, w, p=DEFAULT_PARAMETERS):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Static torques holding the arm against gravity and an external wrench: 258 operations.
 
     q: joint positions (rad or m), 6 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
     Returns tau_s: G - J^T w (6x1), shape (..., 6).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
@@ -1734,12 +1734,12 @@ def static_torque(q, w, p=DEFAULT_PARAMETERS):
     q4 = q[..., 3]
     q5 = q[..., 4]
     q6 = q[..., 5]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     a2 = p[..., 0]
     a3 = p[..., 1]
     d3 = p[..., 2]
@@ -1850,9 +1850,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     q: joint positions (rad or m), 6 values per state.
     dq: joint velocities (rad/s or m/s), 6 values per state.
     p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
-    Returns T: kinetic energy 1/2 dq^T M dq, shape (..., ).
-    Returns V: potential energy -sum m_i g^T p_ci, shape (..., ).
-    Returns L: Lagrangian T - V, shape (..., ).
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
@@ -2040,13 +2040,13 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t164 = 12.2625*d4*t161
     t165 = 0.0282528*t161*t17
     t166 = 0.0282528*t10*t159*t16
-    T = numpy.zeros(batch + ())
-    T[...] = t154
-    V = numpy.zeros(batch + ())
-    V[...] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
-    L = numpy.zeros(batch + ())
-    L[...] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
-    return T, V, L
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t154
+    potential = numpy.zeros(batch + ())
+    potential[...] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -660,17 +660,17 @@ void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
     }
 }
 
-void rpr_wrench_torque(const double q[3], const double w[6], const double *p, double tau_w[restrict 3])
+void rpr_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double L3 = p[0];
     const double t0 = cos(q1);
     const double t1 = L3*sin(q3);
@@ -682,25 +682,25 @@ void rpr_wrench_torque(const double q[3], const double w[6], const double *p, do
     tau_w[2] = w_fz*(t1*t0*t0 + t1*t2*t2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy;
 }
 
-void rpr_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_wrench_torque(q + i * 3, w + i * 6, p, tau_w + i * 3);
+        rpr_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
     }
 }
 
-void rpr_static_torque(const double q[3], const double w[6], const double *p, const double *pi, double tau_s[restrict 3])
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double L3 = p[0];
     const double m3 = pi[20];
     const double cx3 = pi[21];
@@ -732,15 +732,15 @@ void rpr_static_torque(const double q[3], const double w[6], const double *p, co
     tau_s[2] = t18;
 }
 
-void rpr_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_static_torque(q + i * 3, w + i * 6, p, pi, tau_s + i * 3);
+        rpr_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
     }
 }
 
-void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -800,16 +800,16 @@ void rpr_energy(const double q[3], const double dq[3], const double *p, const do
     const double t29 = 9.81*cy1*m1;
     const double t30 = 9.81*t0;
     const double t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1);
-    T[0] = t27;
-    V[0] = t28 + t29 - t31;
-    L[0] = t27 + t31 - t28 - t29;
+    kinetic[0] = t27;
+    potential[0] = t28 + t29 - t31;
+    lagrangian[0] = t27 + t31 - t28 - t29;
 }
 
-void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_energy(q + i * 3, dq + i * 3, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        rpr_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -630,17 +630,17 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (3x1).
     """
     q = symbol_type.sym("q", 3)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 1)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     L3 = p[0]
     t0 = casadi.cos(q1)
     t1 = L3*casadi.sin(q3)
@@ -653,9 +653,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[2, 0] = w_fz*(t1*t0**2 + t1*t2**2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy
     return casadi.Function(
         "rpr_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -666,18 +666,18 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (3x1).
     """
     q = symbol_type.sym("q", 3)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 1)
     pi = symbol_type.sym("pi", 30)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     L3 = p[0]
     m3 = pi[20]
     cx3 = pi[21]
@@ -710,9 +710,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[2, 0] = t18
     return casadi.Function(
         "rpr_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -720,9 +720,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (109 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 3)
     dq = symbol_type.sym("dq", 3)
@@ -786,18 +786,18 @@ def energy_function(symbol_type=casadi.SX):
     t29 = 9.81*cy1*m1
     t30 = 9.81*t0
     t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1)
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t27
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = t28 + t29 - t31
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t27 + t31 - t28 - t29
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t27
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t28 + t29 - t31
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t27 + t31 - t28 - t29
     return casadi.Function(
         "rpr_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -607,27 +607,27 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     return tau
 
 
-def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Joint torques of an external wrench: 37 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L3; SI units, angles in rad), 1 values.
     Returns tau_w: -J^T w (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     L3 = p[..., 0]
     t0 = numpy.cos(q1)
     t1 = L3*numpy.sin(q3)
@@ -641,17 +641,17 @@ def wrench_torque(q, w, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     """Static torques holding the arm against gravity and an external wrench: 54 operations.
 
     q: joint positions (rad or m), 3 values per state.
-    w: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L3; SI units, angles in rad), 1 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau_s: G - J^T w (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
-    w = numpy.asarray(w, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     if pi is None:
         raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
@@ -660,12 +660,12 @@ def static_torque(q, w, p=DEFAULT_PARAMETERS, pi=None):
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
-    w_fx = w[..., 0]
-    w_fy = w[..., 1]
-    w_fz = w[..., 2]
-    w_nx = w[..., 3]
-    w_ny = w[..., 4]
-    w_nz = w[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
     L3 = p[..., 0]
     m3 = pi[..., 20]
     cx3 = pi[..., 21]
@@ -706,9 +706,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L3; SI units, angles in rad), 1 values.
     pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
-    Returns T: kinetic energy 1/2 dq^T M dq, shape (..., ).
-    Returns V: potential energy -sum m_i g^T p_ci, shape (..., ).
-    Returns L: Lagrangian T - V, shape (..., ).
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
@@ -775,13 +775,13 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t29 = 9.81*cy1*m1
     t30 = 9.81*t0
     t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1)
-    T = numpy.zeros(batch + ())
-    T[...] = t27
-    V = numpy.zeros(batch + ())
-    V[...] = t28 + t29 - t31
-    L = numpy.zeros(batch + ())
-    L[...] = t27 + t31 - t28 - t29
-    return T, V, L
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t27
+    potential = numpy.zeros(batch + ())
+    potential[...] = t28 + t29 - t31
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t27 + t31 - t28 - t29
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

@@ -556,14 +556,14 @@ void scara_inverse_dynamics_batch(size_t count, const double *q, const double *d
     }
 }
 
-void scara_wrench_torque(const double q[3], const double w[6], const double *p, double tau_w[restrict 3])
+void scara_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double t0 = q1 + q2;
@@ -574,22 +574,22 @@ void scara_wrench_torque(const double q[3], const double w[6], const double *p, 
     tau_w[2] = -w_fz;
 }
 
-void scara_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void scara_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_wrench_torque(q + i * 3, w + i * 6, p, tau_w + i * 3);
+        scara_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
     }
 }
 
-void scara_static_torque(const double q[3], const double w[6], const double *p, const double *pi, double tau_s[restrict 3])
+void scara_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
     const double m3 = pi[20];
@@ -607,15 +607,15 @@ void scara_static_torque(const double q[3], const double w[6], const double *p, 
     tau_s[2] = t5;
 }
 
-void scara_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_static_torque(q + i * 3, w + i * 6, p, pi, tau_s + i * 3);
+        scara_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
     }
 }
 
-void scara_energy(const double q[3], const double dq[3], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void scara_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -665,16 +665,16 @@ void scara_energy(const double q[3], const double dq[3], const double *p, const 
     const double t23 = 9.81*cz1*m1;
     const double t24 = 9.81*cz2*m2;
     const double t25 = m3*(-9.81*cz3 - 9.81*q3);
-    T[0] = t22;
-    V[0] = t23 + t24 - t25;
-    L[0] = t22 + t25 - t23 - t24;
+    kinetic[0] = t22;
+    potential[0] = t23 + t24 - t25;
+    lagrangian[0] = t22 + t25 - t23 - t24;
 }
 
-void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_energy(q + i * 3, dq + i * 3, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        scara_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -500,14 +500,14 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (3x1).
     """
     q = symbol_type.sym("q", 3)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     q1 = q[0]
     q2 = q[1]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
     L1 = p[0]
     L2 = p[1]
     t0 = q1 + q2
@@ -519,9 +519,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[2, 0] = -w_fz
     return casadi.Function(
         "scara_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -532,15 +532,15 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (3x1).
     """
     q = symbol_type.sym("q", 3)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
     pi = symbol_type.sym("pi", 30)
     q1 = q[0]
     q2 = q[1]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
     L1 = p[0]
     L2 = p[1]
     m3 = pi[20]
@@ -559,9 +559,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[2, 0] = t5
     return casadi.Function(
         "scara_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -569,9 +569,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (84 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 3)
     dq = symbol_type.sym("dq", 3)
@@ -625,18 +625,18 @@ def energy_function(symbol_type=casadi.SX):
     t23 = 9.81*cz1*m1
     t24 = 9.81*cz2*m2
     t25 = m3*(-9.81*cz3 - 9.81*q3)
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t22
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = t23 + t24 - t25
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t22 + t25 - t23 - t24
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t22
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t23 + t24 - t25
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t22 + t25 - t23 - t24
     return casadi.Function(
         "scara_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

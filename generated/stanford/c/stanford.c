@@ -1985,19 +1985,19 @@ void stanford_inverse_dynamics_batch(size_t count, const double *q, const double
     }
 }
 
-void stanford_wrench_torque(const double q[6], const double w[6], const double *p, double tau_w[restrict 6])
+void stanford_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
     const double q4 = q[3];
     const double q5 = q[4];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d2 = p[1];
     const double d6 = p[2];
     const double t0 = cos(q1);
@@ -2036,15 +2036,15 @@ void stanford_wrench_torque(const double q[6], const double w[6], const double *
     tau_w[5] = t19*w_nz - t11*w_ny - t16*w_nx;
 }
 
-void stanford_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void stanford_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        stanford_wrench_torque(q + i * 6, w + i * 6, p, tau_w + i * 6);
+        stanford_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
     }
 }
 
-void stanford_static_torque(const double q[6], const double w[6], const double *p, const double *pi, double tau_s[restrict 6])
+void stanford_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -2052,12 +2052,12 @@ void stanford_static_torque(const double q[6], const double w[6], const double *
     const double q4 = q[3];
     const double q5 = q[4];
     const double q6 = q[5];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double d2 = p[1];
     const double d6 = p[2];
     const double m2 = pi[10];
@@ -2173,15 +2173,15 @@ void stanford_static_torque(const double q[6], const double w[6], const double *
     tau_s[5] = t54;
 }
 
-void stanford_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        stanford_static_torque(q + i * 6, w + i * 6, p, pi, tau_s + i * 6);
+        stanford_static_torque(q + i * 6, wrench + i * 6, p, pi, tau_s + i * 6);
     }
 }
 
-void stanford_energy(const double q[6], const double dq[6], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void stanford_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -2423,16 +2423,16 @@ void stanford_energy(const double q[6], const double dq[6], const double *p, con
     const double t168 = t12*t6;
     const double t169 = 9.81*t14;
     const double t170 = m1*(-t164 + 9.81*cy1) + m2*(-t164 - cz2*t165 + 9.81*cx2*t1) + m3*(-t166 - cz3*t165 + 9.81*cx3*t1) + m4*(-t166 - cz4*t167 + 9.81*cy4*t0 + 9.81*cx4*t1*t5) + m5*(-t166 - cy5*t167 - cz5*t169 - 9.81*cx5*(-t168 - t0*t11)) + m6*(-t166 - cz6*t169 - 9.81*cx6*(-t0*t109 - t168*t18 + t1*t17*t7) - 9.81*cy6*(t0*t110 + t168*t17 + t18*t8) - 9.81*d6*t0*t12 + 9.81*d6*t1*t11*t5);
-    T[0] = t163;
-    V[0] = -t170;
-    L[0] = t163 + t170;
+    kinetic[0] = t163;
+    potential[0] = -t170;
+    lagrangian[0] = t163 + t170;
 }
 
-void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        stanford_energy(q + i * 6, dq + i * 6, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        stanford_energy(q + i * 6, dq + i * 6, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

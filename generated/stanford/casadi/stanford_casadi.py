@@ -1951,19 +1951,19 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 3)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
     q4 = q[3]
     q5 = q[4]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d2 = p[1]
     d6 = p[2]
     t0 = casadi.cos(q1)
@@ -2003,9 +2003,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[5, 0] = t19*w_nz - t11*w_ny - t16*w_nx
     return casadi.Function(
         "stanford_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -2016,7 +2016,7 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 3)
     pi = symbol_type.sym("pi", 60)
     q1 = q[0]
@@ -2025,12 +2025,12 @@ def static_torque_function(symbol_type=casadi.SX):
     q4 = q[3]
     q5 = q[4]
     q6 = q[5]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     d2 = p[1]
     d6 = p[2]
     m2 = pi[10]
@@ -2147,9 +2147,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[5, 0] = t54
     return casadi.Function(
         "stanford_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -2157,9 +2157,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (826 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 6)
     dq = symbol_type.sym("dq", 6)
@@ -2405,18 +2405,18 @@ def energy_function(symbol_type=casadi.SX):
     t168 = t12*t6
     t169 = 9.81*t14
     t170 = m1*(-t164 + 9.81*cy1) + m2*(-t164 - cz2*t165 + 9.81*cx2*t1) + m3*(-t166 - cz3*t165 + 9.81*cx3*t1) + m4*(-t166 - cz4*t167 + 9.81*cy4*t0 + 9.81*cx4*t1*t5) + m5*(-t166 - cy5*t167 - cz5*t169 - 9.81*cx5*(-t168 - t0*t11)) + m6*(-t166 - cz6*t169 - 9.81*cx6*(-t0*t109 - t168*t18 + t1*t17*t7) - 9.81*cy6*(t0*t110 + t168*t17 + t18*t8) - 9.81*d6*t0*t12 + 9.81*d6*t1*t11*t5)
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t163
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = -t170
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t163 + t170
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t163
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = -t170
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t163 + t170
     return casadi.Function(
         "stanford_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

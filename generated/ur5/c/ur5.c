@@ -2217,19 +2217,19 @@ void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
     }
 }
 
-void ur5_wrench_torque(const double q[6], const double w[6], const double *p, double tau_w[restrict 6])
+void ur5_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
     const double q4 = q[3];
     const double q5 = q[4];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double a2 = p[1];
     const double a3 = p[2];
     const double d4 = p[3];
@@ -2287,15 +2287,15 @@ void ur5_wrench_torque(const double q[6], const double w[6], const double *p, do
     tau_w[5] = t19*w_ny + t28*w_nx + t37*w_nz;
 }
 
-void ur5_wrench_torque_batch(size_t count, const double *q, const double *w, const double *p, double *restrict tau_w)
+void ur5_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        ur5_wrench_torque(q + i * 6, w + i * 6, p, tau_w + i * 6);
+        ur5_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
     }
 }
 
-void ur5_static_torque(const double q[6], const double w[6], const double *p, const double *pi, double tau_s[restrict 6])
+void ur5_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 6])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -2303,12 +2303,12 @@ void ur5_static_torque(const double q[6], const double w[6], const double *p, co
     const double q4 = q[3];
     const double q5 = q[4];
     const double q6 = q[5];
-    const double w_fx = w[0];
-    const double w_fy = w[1];
-    const double w_fz = w[2];
-    const double w_nx = w[3];
-    const double w_ny = w[4];
-    const double w_nz = w[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
     const double a2 = p[1];
     const double a3 = p[2];
     const double d4 = p[3];
@@ -2423,15 +2423,15 @@ void ur5_static_torque(const double q[6], const double w[6], const double *p, co
     tau_s[5] = t49;
 }
 
-void ur5_static_torque_batch(size_t count, const double *q, const double *w, const double *p, const double *pi, double *restrict tau_s)
+void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        ur5_static_torque(q + i * 6, w + i * 6, p, pi, tau_s + i * 6);
+        ur5_static_torque(q + i * 6, wrench + i * 6, p, pi, tau_s + i * 6);
     }
 }
 
-void ur5_energy(const double q[6], const double dq[6], const double *p, const double *pi, double T[restrict 1], double V[restrict 1], double L[restrict 1])
+void ur5_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -2702,16 +2702,16 @@ void ur5_energy(const double q[6], const double dq[6], const double *p, const do
     const double t194 = t189 - 9.81*d5*t193;
     const double t195 = t14*t191;
     const double t196 = m1*(-t184 - 9.81*cy1) + m2*(-t186 - cx2*t185 - 9.81*cy2*t1) + m3*(-t189 - cx3*t188 - 9.81*cy3*cos(t187)) + m4*(-t189 - cx4*t192 + 9.81*cz4*t193) + m5*(-t194 - 9.81*cy5*t193 - cx5*t14*t192 + 9.81*cz5*t16*t191) + m6*(-t194 - 9.81*cx6*(t193*t20 + t195*t21) - 9.81*cy6*(t193*t21 - t195*t20) + 9.81*cz6*t16*t191 + 9.81*d6*t16*t191);
-    T[0] = t183;
-    V[0] = -t196;
-    L[0] = t183 + t196;
+    kinetic[0] = t183;
+    potential[0] = -t196;
+    lagrangian[0] = t183 + t196;
 }
 
-void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict T, double *restrict V, double *restrict L)
+void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        ur5_energy(q + i * 6, dq + i * 6, p, pi, T + i * 1, V + i * 1, L + i * 1);
+        ur5_energy(q + i * 6, dq + i * 6, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

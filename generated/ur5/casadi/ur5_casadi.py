@@ -2187,19 +2187,19 @@ def wrench_torque_function(symbol_type=casadi.SX):
     Output tau_w: -J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 6)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
     q4 = q[3]
     q5 = q[4]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     a2 = p[1]
     a3 = p[2]
     d4 = p[3]
@@ -2258,9 +2258,9 @@ def wrench_torque_function(symbol_type=casadi.SX):
     tau_w[5, 0] = t19*w_ny + t28*w_nx + t37*w_nz
     return casadi.Function(
         "ur5_wrench_torque",
-        [q, w, p],
+        [q, wrench, p],
         [tau_w],
-        ["q", "w", "p"],
+        ["q", "wrench", "p"],
         ["tau_w"],
     )
 
@@ -2271,7 +2271,7 @@ def static_torque_function(symbol_type=casadi.SX):
     Output tau_s: G - J^T w (6x1).
     """
     q = symbol_type.sym("q", 6)
-    w = symbol_type.sym("w", 6)
+    wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 6)
     pi = symbol_type.sym("pi", 60)
     q1 = q[0]
@@ -2280,12 +2280,12 @@ def static_torque_function(symbol_type=casadi.SX):
     q4 = q[3]
     q5 = q[4]
     q6 = q[5]
-    w_fx = w[0]
-    w_fy = w[1]
-    w_fz = w[2]
-    w_nx = w[3]
-    w_ny = w[4]
-    w_nz = w[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
     a2 = p[1]
     a3 = p[2]
     d4 = p[3]
@@ -2401,9 +2401,9 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[5, 0] = t49
     return casadi.Function(
         "ur5_static_torque",
-        [q, w, p, pi],
+        [q, wrench, p, pi],
         [tau_s],
-        ["q", "w", "p", "pi"],
+        ["q", "wrench", "p", "pi"],
         ["tau_s"],
     )
 
@@ -2411,9 +2411,9 @@ def static_torque_function(symbol_type=casadi.SX):
 def energy_function(symbol_type=casadi.SX):
     """Kinetic and potential energy and the lagrangian (932 operations) as a casadi.Function.
 
-    Output T: kinetic energy 1/2 dq^T M dq.
-    Output V: potential energy -sum m_i g^T p_ci.
-    Output L: Lagrangian T - V.
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
     """
     q = symbol_type.sym("q", 6)
     dq = symbol_type.sym("dq", 6)
@@ -2688,18 +2688,18 @@ def energy_function(symbol_type=casadi.SX):
     t194 = t189 - 9.81*d5*t193
     t195 = t14*t191
     t196 = m1*(-t184 - 9.81*cy1) + m2*(-t186 - cx2*t185 - 9.81*cy2*t1) + m3*(-t189 - cx3*t188 - 9.81*cy3*casadi.cos(t187)) + m4*(-t189 - cx4*t192 + 9.81*cz4*t193) + m5*(-t194 - 9.81*cy5*t193 - cx5*t14*t192 + 9.81*cz5*t16*t191) + m6*(-t194 - 9.81*cx6*(t193*t20 + t195*t21) - 9.81*cy6*(t193*t21 - t195*t20) + 9.81*cz6*t16*t191 + 9.81*d6*t16*t191)
-    T = symbol_type.zeros(1, 1)
-    T[0, 0] = t183
-    V = symbol_type.zeros(1, 1)
-    V[0, 0] = -t196
-    L = symbol_type.zeros(1, 1)
-    L[0, 0] = t183 + t196
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t183
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = -t196
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t183 + t196
     return casadi.Function(
         "ur5_energy",
         [q, dq, p, pi],
-        [T, V, L],
+        [kinetic, potential, lagrangian],
         ["q", "dq", "p", "pi"],
-        ["T", "V", "L"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

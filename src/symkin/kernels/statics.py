@@ -1,10 +1,11 @@
 """Kernels of external wrenches, statics and energies (docs/conventions.md, External wrench).
 
-* ``wrench_torque(q, w, p)``: ``-J^T w``, the torques a wrench ``w = (f, n)`` on the tool
+* ``wrench_torque(q, wrench, p)``: ``-J^T w``, the torques a wrench ``w = (f, n)`` on the tool
   (base frame, at the tool point) adds to ``tau``; the torques of a motion under the wrench
   are ``inverse_dynamics + wrench_torque``.
-* ``static_torque(q, w, p, pi)``: ``G - J^T w``, the torques that hold the arm at rest.
-* ``energy(q, dq, p, pi)``: kinetic ``T``, potential ``V`` and the Lagrangian ``L = T - V``.
+* ``static_torque(q, wrench, p, pi)``: ``G - J^T w``, the torques that hold the arm at rest.
+* ``energy(q, dq, p, pi)``: ``kinetic`` (T), ``potential`` (V) energy and the ``lagrangian``
+  ``L = T - V``.
 
 ``J^T w`` reuses the Jacobian's expressions (the shorter of its two forms); the statics and
 the energies reuse the Newton–Euler intermediates.
@@ -30,8 +31,8 @@ WRENCH_DESCRIPTION = (
 
 
 def with_wrench(model: Model, inputs: Sequence[KernelInput]) -> tuple[KernelInput, ...]:
-    """``inputs`` with the wrench ``w`` after the state inputs (before ``p``)."""
-    wrench = KernelInput("w", model.wrench, WRENCH_DESCRIPTION)
+    """``inputs`` with the ``wrench`` after the state inputs (before ``p``)."""
+    wrench = KernelInput("wrench", model.wrench, WRENCH_DESCRIPTION)
     index = next(i for i, kernel_input in enumerate(inputs) if kernel_input.name == "p")
     return (*inputs[:index], wrench, *inputs[index:])
 
@@ -87,9 +88,9 @@ def energy_kernel(model: Model) -> Kernel:
     """``T = 1/2 dq^T M dq``, ``V = -sum m g^T p_c`` and ``L = T - V``."""
     energies = model.energies
     outputs = [
-        ("T", energies.kinetic, "kinetic energy 1/2 dq^T M dq"),
-        ("V", energies.potential, "potential energy -sum m_i g^T p_ci"),
-        ("L", energies.lagrangian, "Lagrangian T - V"),
+        ("kinetic", energies.kinetic, "kinetic energy T = 1/2 dq^T M dq"),
+        ("potential", energies.potential, "potential energy V = -sum m_i g^T p_ci"),
+        ("lagrangian", energies.lagrangian, "Lagrangian L = T - V"),
     ]
     return kernel_from_assignments(
         "energy",
