@@ -51,8 +51,8 @@ def workspace_figure(workspace: Workspace) -> Any:
                 *closed.T, style, color="tab:red", linewidth=1, label=f"{which} boundary"
             )
     occupancy.legend(loc="upper right", fontsize="small")
-    occupancy.set_title(f"{workspace.robot}: reachable workspace ({workspace.samples:,} samples)")
-    dexterity.set_title("dexterity map: best w = sqrt(det(Jv Jv^T)) per cell")
+    occupancy.set_title(f"{workspace.robot}: {workspace.samples:,} samples", fontsize="medium")
+    dexterity.set_title("dexterity: best w = sqrt(det(Jv Jv^T))", fontsize="medium")
     cloud = figure.add_subplot(133, projection="3d")
     cloud.scatter(*workspace.preview.T, s=1, alpha=0.3, color="tab:blue", label="samples")
     surface = _surface_points(workspace)
@@ -61,7 +61,7 @@ def workspace_figure(workspace: Workspace) -> Any:
     cloud.set_ylabel("y [m]")
     cloud.set_zlabel("z [m]")
     cloud.legend(loc="upper left", fontsize="small")
-    cloud.set_title("3-D point cloud and radial boundary")
+    cloud.set_title("3-D cloud and radial boundary", fontsize="medium")
     return figure
 
 
