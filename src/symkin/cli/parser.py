@@ -39,6 +39,10 @@ from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
 Commands = argparse._SubParsersAction
 # Commands whose text products the derivation cache keeps (symkin.cache).
 CACHED_COMMANDS = ("show", "derive", "latex")
+IK_EULER_HELP = (
+    "how the three rotation values of a target read: an intrinsic Euler order (angles in that "
+    "order) or rotvec (axis * angle); default: rx,ry,rz of R = Rz(rz) Ry(ry) Rx(rx)"
+)
 TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
 
 
@@ -312,12 +316,7 @@ def add_ik(commands: Commands) -> None:
     )
     add_robot_argument(ik)
     ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
-    add_euler_option(
-        ik,
-        "how the three rotation values of a target read: an intrinsic Euler "
-        "order (angles in that order) or rotvec (axis * angle); default: rx,ry,rz "
-        "of R = Rz(rz) Ry(ry) Rx(rx)",
-    )
+    add_euler_option(ik, IK_EULER_HELP)
     ik.add_argument(
         "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
     )
