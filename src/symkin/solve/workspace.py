@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -298,20 +299,13 @@ def preview_points(kernel, plan: SamplingPlan) -> np.ndarray:
     return evaluate_block(kernel, plan, q)[0]
 
 
-def sample_workspace(
-    model: Model,
-    samples: int = DEFAULT_SAMPLES,
-    plane: str = "xy",
-    seed: int = 0,
-    chunk: int = DEFAULT_CHUNK,
-    overrides: Mapping[str, float] | None = None,
-) -> Workspace:
+def sample_workspace(model: Model, samples: int = DEFAULT_SAMPLES, **options: Any) -> Workspace:
     """The workspace of ``samples`` configurations, computed here chunk by chunk.
 
-    Memory is that of one chunk (``chunk`` configurations), whatever ``samples`` is; the
-    same run on Dask (:func:`symkin.solve.workspace_dask.sample_workspace_dask`) gives the
-    same result."""
-    plan = plan_sampling(model, samples, plane, seed, chunk, overrides)
+    ``options``: ``plane``, ``seed``, ``chunk`` and ``overrides`` as for
+    :func:`plan_sampling`.  Memory is that of one chunk, whatever ``samples`` is; the same run
+    on Dask (:func:`symkin.solve.workspace_dask.sample_workspace_dask`) gives the same result."""
+    plan = plan_sampling(model, samples, **options)
     kernel = generated_numpy_module(model, "kinematics").fk_jacobian
     maxima = np.full(MAX_LENGTH, -np.inf)
     sums = np.zeros(ROW_LENGTH - MAX_LENGTH)

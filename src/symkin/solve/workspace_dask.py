@@ -15,7 +15,7 @@ extra ``symkin[dask]`` (``dask[distributed]``).
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
@@ -27,7 +27,6 @@ from symkin.derive import Model
 from symkin.errors import SymkinError
 from symkin.runtime.modules import generated_numpy_module, module_from_source
 from symkin.solve.workspace import (
-    DEFAULT_CHUNK,
     DEFAULT_SAMPLES,
     MAX_LENGTH,
     ROW_LENGTH,
@@ -110,19 +109,14 @@ def summary_arrays(plan: SamplingPlan, source: str) -> tuple[Any, Any]:
 
 
 def sample_workspace_dask(
-    model: Model,
-    samples: int = DEFAULT_SAMPLES,
-    plane: str = "xy",
-    seed: int = 0,
-    chunk: int = DEFAULT_CHUNK,
-    overrides: Mapping[str, float] | None = None,
-    client: Any = None,
+    model: Model, samples: int = DEFAULT_SAMPLES, client: Any = None, **options: Any
 ) -> Workspace:
     """:func:`symkin.solve.workspace.sample_workspace` on a Dask cluster.
 
     ``client``: a ``distributed.Client``; None starts a local cluster of two workers for this
-    call (see :func:`dask_client`)."""
-    plan = plan_sampling(model, samples, plane, seed, chunk, overrides)
+    call (see :func:`dask_client`).  ``options`` as for
+    :func:`~symkin.solve.workspace.plan_sampling`."""
+    plan = plan_sampling(model, samples, **options)
     module = generated_numpy_module(model, "kinematics")
     source = Path(module.__file__).read_text(encoding="utf-8")
     maxima, sums = summary_arrays(plan, source)
