@@ -26,6 +26,7 @@ import sympy as sp
 
 from symkin.errors import RobotError
 from symkin.io.context import Context, check_keys, did_you_mean, read_choice, read_text, show
+from symkin.io.inertia_tables import joints_with_payload
 from symkin.io.placement import canonical_joints
 from symkin.io.poses import read_poses
 from symkin.io.robot_tables import (
@@ -33,6 +34,7 @@ from symkin.io.robot_tables import (
     read_frame,
     read_joints,
     read_parameters,
+    read_payload,
     read_placed_joints,
     read_vector,
 )
@@ -50,7 +52,7 @@ __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
 
 TOP_KEYS = (
     "name", "title", "source", "convention", "angles", "gravity",
-    "parameters", "joints", "tool", "base", "poses",
+    "parameters", "joints", "tool", "base", "poses", "payload",
 )  # fmt: skip
 CONVENTIONS = ("standard", "modified", "placement")
 ANGLE_UNITS = ("deg", "rad")
@@ -210,6 +212,9 @@ def _robot_from_document(document: dict[str, Any], file: str) -> Robot:
     else:
         joints = read_joints(document, ctx)
     check_link_symbol_clash(parameters, joints, ctx)
+    if "payload" in document:
+        payload = read_payload(document["payload"], ctx)
+        joints = joints_with_payload(joints, payload, extra.get("tool", sp.eye(4)), ctx)
     if "poses" in document:
         extra["poses"] = read_poses(document["poses"], joints, ctx)
     extra["title"] = read_text(document, "title", ctx)

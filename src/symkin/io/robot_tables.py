@@ -27,6 +27,7 @@ from symkin.io.expressions import (
     numeric_value,
     sympy_value,
 )
+from symkin.io.inertia_tables import mass_and_inertia_from_shape
 from symkin.io.placement import unit_axis, warn_normalised
 from symkin.names import reserved_reason
 from symkin.robot import NAME_PATTERN, Joint, Link
@@ -43,7 +44,8 @@ PLACED_JOINT_KEYS = (
     "type", "name", "origin", "axis", "limits", "max_velocity", "max_effort", "link",
 )  # fmt: skip
 FRAME_KEYS = ("xyz", "rpy")
-LINK_KEYS = ("mass", "com", "inertia", "motor_inertia", "friction")
+LINK_KEYS = ("mass", "com", "inertia", "shape", "density", "motor_inertia", "friction")
+PAYLOAD_KEYS = ("mass", "com", "inertia", "shape", "density")
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
 FRICTION_KEYS = ("coulomb", "coulomb_positive", "coulomb_negative", "viscous", "stribeck")
 DIRECTIONAL_KEYS = ("coulomb_positive", "coulomb_negative")
@@ -309,11 +311,7 @@ def _link(value: Any, ctx: Context) -> Link:
     if not isinstance(value, dict):
         raise ctx.error(f"'link' must be a table, got {show(value)}")
     check_keys(value, LINK_KEYS, ctx)
-    if "mass" not in value:
-        raise ctx.error(f"{ctx.key('mass')!r} is missing; a [joints.link] table needs a mass")
-    mass = sympy_value(value["mass"], "mass", ctx)
-    _check_not_negative(mass, "mass", ctx)
-    inertia = _inertia(value.get("inertia", {}), ctx)
+    mass, inertia = _mass_and_inertia(value, ctx)
     motor_inertia = sympy_value(value.get("motor_inertia", 0), "motor_inertia", ctx)
     _check_not_negative(motor_inertia, "motor_inertia", ctx)
     return Link(
@@ -323,6 +321,30 @@ def _link(value: Any, ctx: Context) -> Link:
         motor_inertia=motor_inertia,
         **_friction(value.get("friction", {}), ctx),
     )
+
+
+def read_payload(value: Any, ctx: Context) -> Link:
+    """``[payload]``: mass, centre and inertia (or shape) of a body the tool holds, tool frame
+    (composed into the last link by :func:`symkin.io.inertia_tables.joints_with_payload`)."""
+    table = as_table(value, "payload", ctx)
+    inner = ctx.within("payload")
+    check_keys(table, PAYLOAD_KEYS, inner)
+    mass, inertia = _mass_and_inertia(table, inner)
+    com = read_vector(table.get("com", [0, 0, 0]), "com", 3, inner)
+    return Link(mass=mass, com=com, inertia=inertia)  # type: ignore[arg-type]
+
+
+def _mass_and_inertia(table: dict[str, Any], ctx: Context) -> tuple[sp.Expr, tuple[sp.Expr, ...]]:
+    """The mass and the six tensor elements: given, or from ``shape`` and density or mass."""
+    if "shape" in table:
+        return mass_and_inertia_from_shape(table, ctx)
+    if "density" in table:
+        raise ctx.error(f"{ctx.key('density')!r} needs a 'shape' (the volume it fills)")
+    if "mass" not in table:
+        raise ctx.error(f"{ctx.key('mass')!r} is missing; a [joints.link] table needs a mass")
+    mass = sympy_value(table["mass"], "mass", ctx)
+    _check_not_negative(mass, "mass", ctx)
+    return mass, _inertia(table.get("inertia", {}), ctx)
 
 
 def _inertia(value: Any, ctx: Context) -> tuple[sp.Expr, ...]:
