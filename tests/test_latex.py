@@ -635,7 +635,13 @@ def test_sections_are_validated_and_large_robots_get_no_dynamics_matrices(models
         "snippets/christoffel.tex",
         "snippets/dynamics-long.tex",
         "snippets/lagrange.tex",
+        "snippets/wrench-energies.tex",
     ]
+    # The wrench term and the energies: their general formulas, and the readable -J^T w and V
+    # of a small robot.
+    assert "J^{T} w" in document and "L = T - V" in document
+    scara = latex_files(models["scara"], sections=["dynamics"])["scara.tex"]
+    assert "\\tau_{w} = \\begin{bmatrix}" in scara and "V &= " in scara
 
 
 def test_bad_options_are_user_errors(models):

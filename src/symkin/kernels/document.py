@@ -152,7 +152,8 @@ class InverseContent:
 @dataclass(frozen=True)
 class DynamicsContent:
     """Whether rotor inertias enter ``M``, and the terms shown (``key`` one of
-    ``mass-matrix``, ``coriolis-matrix``, ``gravity-vector``, ``friction-vector``); no terms
+    ``mass-matrix``, ``coriolis-matrix``, ``gravity-vector``, ``friction-vector``,
+    ``wrench-torque``, ``potential-energy``); no terms
     beyond :data:`~symkin.derive.lagrange.READABLE_DOF` joints, where they run to pages."""
 
     rotors: bool
@@ -308,6 +309,9 @@ def _dynamics(e: _Evaluator) -> DynamicsContent:
     ]
     if any(x != 0 for x in dynamics.friction):
         terms.append(("friction-vector", dynamics.friction, False))
+    # The wrench's torques -J^T w (in the wrench symbols) and V, docs/conventions.md.
+    terms.append(("wrench-torque", e.model.wrench_torque, False))
+    terms.append(("potential-energy", e.model.energies.potential, numeric))
     return DynamicsContent(
         rotors,
         tuple(

@@ -45,6 +45,8 @@ DYNAMICS_TERMS = {
     "coriolis-matrix": ("CoriolisMatrix", "the Coriolis matrix", "C"),
     "gravity-vector": ("GravityVector", "the gravity torques", "G"),
     "friction-vector": ("FrictionVector", "the friction torques", "F"),
+    "wrench-torque": ("WrenchTorque", "the torques of an external wrench", r"\tau_{w}"),
+    "potential-energy": ("PotentialEnergy", "the potential energy", "V"),
 }
 
 
@@ -437,10 +439,25 @@ class SectionWriter:
                 r" - \frac{\partial M_{ij}}{\partial q_{k}} \right) \dot{q}_{i}"
             ]
         )
+        wrench_energies = align(
+            [
+                r"\tau &= M(q)\, \ddot{q} + C(q, \dot{q})\, \dot{q} + G(q) + F(\dot{q}) - J^{T} w, "
+                r"\qquad \tau_{s} = G(q) - J^{T} w",
+                r"T &= \frac{1}{2} \dot{q}^{T} M(q)\, \dot{q}, \qquad "
+                r"V = -\sum_{i=1}^{n} m_{i}\, g^{T} r_{c,i}, \qquad L = T - V",
+            ]
+        )
         quantities = [
             Quantity("lagrange", "Lagrange", "M and G by Lagrange", lagrange),
             Quantity(
                 "christoffel", "Christoffel", "C from M", christoffel, t["dynamics_christoffel"]
+            ),
+            Quantity(
+                "wrench-energies",
+                "WrenchEnergies",
+                "the external wrench and the energies",
+                wrench_energies,
+                t["dynamics_wrench_energies"],
             ),
         ]
         # Without terms (beyond READABLE_DOF joints) the section says how the generated code
@@ -453,9 +470,13 @@ class SectionWriter:
         rows = [str(i) for i in range(1, n + 1)]
         for key, shown in dynamics.terms:
             macro, description, symbol = DYNAMICS_TERMS[key]
-            cols = shown.value.cols
-            name = entry_name(symbol) if cols > 1 else vector_name(symbol, rows)
-            body = self.display(symbol, shown, name)
+            if isinstance(shown.value, sp.MatrixBase):
+                cols = shown.value.cols
+                name = entry_name(symbol) if cols > 1 else vector_name(symbol, rows)
+                body = self.display(symbol, shown, name)
+            else:  # a scalar: the potential energy
+                value = None if shown.numbers is None else float(shown.numbers)
+                body = align(self.layout.equation_rows(symbol, shown.value, value))
             text = t[key.replace("-", "_")]
             quantities.append(Quantity(key, macro, description, body, text))
         return Section("dynamics", t["dynamics"], t["dynamics_intro"], tuple(quantities))
