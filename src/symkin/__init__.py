@@ -6,6 +6,7 @@ The public API::
     model = symkin.derive(robot)               # closed-form kinematics (SymPy)
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+    d = symkin.dynamics_derivatives(model, q, dq, ddq)   # dtau/dq, dddq/dq, dJ/dt, ...
     result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
     motion = symkin.optimal_trajectory(model, symkin.TrajectoryProblem(start=..., goal=...,
                                        final_time=2.0))   # optimal control (CasADi + IPOPT)
@@ -17,6 +18,7 @@ from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.evaluate import (
     KinematicState,
     PointState,
@@ -43,6 +45,7 @@ from symkin.symbols import joint_symbols
 
 __all__ = [
     "DerivationError",
+    "DynamicsDerivatives",
     "IKResult",
     "InfeasibleTrajectoryError",
     "Joint",
@@ -59,6 +62,7 @@ __all__ = [
     "adjoint_from_transform",
     "catalogue_names",
     "derive",
+    "dynamics_derivatives",
     "joint_symbols",
     "kinematic_state",
     "load_robot",

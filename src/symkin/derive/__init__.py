@@ -24,6 +24,7 @@ from symkin.derive.budget import (
     closed_form_within,
     not_attempted,
 )
+from symkin.derive.derivatives import TorqueDerivatives, torque_derivatives
 from symkin.derive.determinant import factored_determinant, factored_gram_determinant
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
@@ -323,6 +324,14 @@ class Model:
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
         return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+
+    @cached_property
+    @derivation_step("the inverse dynamics' derivatives")
+    def inverse_dynamics_derivatives(self) -> TorqueDerivatives:
+        """``tau``, ``dtau/dq`` and ``dtau/ddq`` through the Newton–Euler recursion's named
+        intermediates (:mod:`symkin.derive.derivatives`)."""
+        assignments, torque = self.inverse_dynamics_recursion
+        return torque_derivatives(assignments, torque, self.q, self.dq)
 
     @derivation_step("the point kinematics")
     def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:

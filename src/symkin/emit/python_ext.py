@@ -16,6 +16,8 @@ from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}
+# The forward dynamics' derivative matrices, after ddq, as every backend names them.
+FD_DERIVATIVES = ("dddq_dq", "dddq_ddq", "dddq_dtau")
 
 
 @dataclass(frozen=True)
@@ -72,6 +74,19 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 batched=False,
                 if_not_finite="ddq is not finite: M(q) is not positive definite there "
                 "(non-physical inertial data?) or an input is not finite",
+            )
+        )
+    if forward is not None and forward["derivatives"]:
+        n = robot.dof
+        result.append(
+            Binding(
+                name="forward_dynamics_derivatives",
+                description="ddq and d ddq/dq, d ddq/ddq, d ddq/dtau (Cholesky of M)",
+                states=("q", "dq", "tau"),
+                takes_pi=bool(forward["pi"]),
+                outputs=(("ddq", (n,)), *((name, (n, n)) for name in FD_DERIVATIVES)),
+                if_not_finite="ddq is not finite: M(q) is not positive definite there "
+                "or an input is not finite",
             )
         )
     return result
