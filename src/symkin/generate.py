@@ -24,6 +24,7 @@ from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import ParameterError, literal
 from symkin.io import catalogue_names, load_robot
 from symkin.kernels import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.kernels.regressor import identification_kernels
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,
@@ -75,6 +76,7 @@ def files_for_robot(
     budget: float | None = DEFAULT_BUDGET_SECONDS,
     closed_forms: bool = True,
     dynamics: bool = True,
+    regressor: bool = False,
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot.
 
@@ -82,7 +84,9 @@ def files_for_robot(
     "Regenerate with" line ends with them (``--precision float --numeric-parameters``).
     ``budget`` and ``closed_forms`` as for :func:`~symkin.derive.derive` (without a closed
     form, ``det`` and ``manipulability`` are computed numerically from the Jacobian);
-    ``dynamics=False`` leaves the dynamics kernels out.
+    ``dynamics=False`` leaves the dynamics kernels out; ``regressor=True`` adds the
+    identification kernels ``regressor`` and ``base_regressor`` (opt-in: they cost derivation
+    time no other kernel needs).
     """
     if precision not in PRECISIONS:
         raise ParameterError(
@@ -91,7 +95,11 @@ def files_for_robot(
 
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     model = derive(robot, budget, closed_forms)
-    kernels = functools.cache(lambda: robot_kernels(model, dynamics) + point_kernels(model, points))
+    def all_kernels() -> tuple[Kernel, ...]:
+        extra = identification_kernels(model) if regressor else ()
+        return robot_kernels(model, dynamics) + point_kernels(model, points) + extra
+
+    kernels = functools.cache(all_kernels)
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),

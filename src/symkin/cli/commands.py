@@ -139,6 +139,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags += ["--numeric-parameters"] if args.numeric_parameters else []
     flags += [word for item in args.set for word in ("--set", item)]
     flags += [word for item in args.point for word in ("--point", item)]
+    flags += ["--regressor"] if args.regressor else []
     flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
     flags += ["--skip", ",".join(args.skip)] if args.skip else []
     return flags + (["--kinematics-only"] if args.kinematics_only else [])
@@ -170,6 +171,7 @@ def command_derive(args: argparse.Namespace) -> None:
             budget=budget,
             closed_forms=closed_forms,
             dynamics=dynamics,
+            regressor=args.regressor,
         ),
     )
     out = Path(args.out)

@@ -243,6 +243,12 @@ def add_derive(commands: Commands) -> None:
         "constants folded, and for robots with full inertial data the dynamics run on base "
         "parameters (fewer operations)",
     )
+    derive_parser.add_argument(
+        "--regressor",
+        action="store_true",
+        help="also the identification kernels: regressor (tau = Y pi) and base_regressor "
+        "(tau = Y_b beta); see docs/identification.md",
+    )
     add_set_option(derive_parser)
     add_derivation_options(derive_parser)
     derive_parser.set_defaults(run=command_derive)

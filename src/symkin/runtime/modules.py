@@ -30,14 +30,15 @@ if TYPE_CHECKING:
 # What the numeric solvers call, nothing more: the determinant, the singular set, the
 # Christoffel C and every readable (contracted) form are left out, so an arm whose determinant
 # takes minutes still gets its first IK answer in seconds.
-KINDS = ("kinematics", "dynamics")
+KINDS = ("kinematics", "dynamics", "identification")
 POSE_KERNELS = ("fk", "position", "fk_jacobian")
 
 
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The NumPy backend's ``kind`` kernels ("kinematics": ``fk``, ``position`` and
     ``fk_jacobian``; "dynamics": ``mass_matrix``, ``gravity``,
-    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``) rendered and imported once per
+    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``; "identification": ``regressor``,
+    ``base_regressor``) rendered and imported once per
     robot and process: the fast numeric path for solvers (IK, simulation, trajectories).
 
     They come from the model's product form (:attr:`Model.product_form`), the form code
@@ -94,6 +95,10 @@ def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
         raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(KINDS)}")
     if kind == "kinematics":
         kernels = pose_kernels(model, POSE_KERNELS)
+    elif kind == "identification":
+        from symkin.kernels.regressor import identification_kernels
+
+        kernels = identification_kernels(model)
     else:
         kernels = dynamics_kernels(model, coriolis_matrix=False)
     return _module_from_kernels(model, backend, kind, kernels)
