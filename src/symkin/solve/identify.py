@@ -12,7 +12,7 @@ of its residual.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,17 +43,22 @@ class Identification:
     weights: np.ndarray
 
 
-def stacked_base_regressor(
-    model: Model, q: np.ndarray, dq: np.ndarray, ddq: np.ndarray
-) -> np.ndarray:
-    """``Y_b`` at every sample, shape (N, n, b), from the generated NumPy kernel."""
+def base_regressor_function(model: Model) -> Callable[..., np.ndarray]:
+    """``(q, dq, ddq) -> Y_b`` at every sample (arrays N x n in, N x n x b out), from the
+    generated NumPy kernel at the robot file's parameter values; look it up once, then call
+    it often (the lookup hashes the robot)."""
     kernel = generated_numpy_module(model, "identification").base_regressor
     p = [float(v) for v in base_regressor(model.robot, model.kinematics).parameter_values]
-    parts = [
-        kernel(q[s : s + CHUNK], dq[s : s + CHUNK], ddq[s : s + CHUNK], p)
-        for s in range(0, len(q), CHUNK)
-    ]
-    return np.concatenate(parts).reshape(len(q), model.robot.dof, -1)
+    n = model.robot.dof
+
+    def stacked(q: np.ndarray, dq: np.ndarray, ddq: np.ndarray) -> np.ndarray:
+        parts = [
+            kernel(q[s : s + CHUNK], dq[s : s + CHUNK], ddq[s : s + CHUNK], p)
+            for s in range(0, len(q), CHUNK)
+        ]
+        return np.concatenate(parts).reshape(len(q), n, -1)
+
+    return stacked
 
 
 def identify(
@@ -76,57 +81,75 @@ def identify(
             f"too few samples: {len(q)} samples give {len(q) * n} equations for {b} base "
             f"parameters; at least {b // n + 1} samples are needed"
         )
-    Y = stacked_base_regressor(model, q, dq, ddq)
-    _check_rank(Y.reshape(-1, b), base)
+    Y = base_regressor_function(model)(q, dq, ddq)
     if isinstance(weights, str):
-        first = _fit(Y, tau, np.ones(n))
+        first = _fit(Y, tau, np.ones(n), base)
         w = 1.0 / np.maximum(first.residual_rms**2, np.finfo(float).tiny)
     else:
         w = np.ones(n) if weights is None else np.asarray(weights, dtype=float)
     return _fit(Y, tau, w, base)
 
 
-def _check_rank(Y: np.ndarray, base: BaseRegressor) -> None:
+def condition_number(A: np.ndarray) -> float:
+    """``sigma_max / sigma_min`` of a tall matrix, from the eigenvalues of ``A^T A`` (b x b):
+    cheap for many rows, and accurate while the condition number is well below 1e8."""
+    eigenvalues = np.linalg.eigvalsh(np.einsum("ij,ik->jk", A, A))
+    return float(np.sqrt(eigenvalues[-1] / max(eigenvalues[0], np.finfo(float).tiny)))
+
+
+def _check_rank(singular: np.ndarray, vt: np.ndarray, names: Sequence[str]) -> None:
     """Rank-deficient data (a joint never moves, too little excitation): name the base
     parameters the data cannot tell apart (the largest entries of the null-space vectors)."""
-    _, singular, vt = np.linalg.svd(Y / np.maximum(np.linalg.norm(Y, axis=0), 1e-300), False)
     deficient = singular < RANK_TOLERANCE * singular[0]
     if not deficient.any():
         return
     null = np.abs(vt[deficient]).max(axis=0)
-    names = [base.names[k] for k in np.argsort(-null)[: max(2, int(deficient.sum()) + 1)]]
+    worst = [names[k] for k in np.argsort(-null)[: max(2, int(deficient.sum()) + 1)]]
     raise ParameterError(
         f"rank-deficient data: the stacked base regressor has rank "
         f"{len(singular) - int(deficient.sum())} < {len(singular)} base parameters; the "
-        f"motion does not separate {', '.join(names)} (excite every joint, e.g. with "
+        f"motion does not separate {', '.join(worst)} (excite every joint, e.g. with "
         "'symkin identify ROBOT --excite')"
     )
 
 
-def _fit(
-    Y: np.ndarray, tau: np.ndarray, w: np.ndarray, base: BaseRegressor | None = None
-) -> Identification:
-    """Weighted least squares on the stacked system (module docstring)."""
+def _triangular_factor(A: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``R`` of the QR factorisation of ``[A y]``, a block of rows at a time (the stacked
+    regressor of 10^5 samples never needs a second copy): ``R[:b, :b]`` is A's factor,
+    ``R[:b, b] = Q^T y``."""
+    factor = np.zeros((0, A.shape[1] + 1))
+    for start in range(0, len(A), CHUNK):
+        block = np.column_stack([A[start : start + CHUNK], y[start : start + CHUNK]])
+        factor = np.linalg.qr(np.vstack([factor, block]), mode="r")
+    return factor
+
+
+def _fit(Y: np.ndarray, tau: np.ndarray, w: np.ndarray, base: BaseRegressor) -> Identification:
+    """Weighted least squares on the stacked system (module docstring): the QR factor of
+    the weighted regressor, then an SVD of its column-scaled ``b x b`` triangle (the columns
+    span kg to kg m^2) for the solution, the rank and ``(A^T A)^-1``."""
     N, n, b = Y.shape
     root = np.sqrt(w)
     A = (Y * root[None, :, None]).reshape(-1, b)
     y = (tau * root[None, :]).reshape(-1)
-    # Columns scaled to unit norm before the solve: their sizes span kg to kg m^2.
-    scale = np.maximum(np.linalg.norm(A, axis=0), 1e-300)
-    solution, *_ = np.linalg.lstsq(A / scale, y, rcond=None)
-    estimate = solution / scale
+    factor = _triangular_factor(A, y)
+    triangle = factor[:b, :b]
+    scale = np.maximum(np.linalg.norm(triangle, axis=0), np.finfo(float).tiny)
+    u, singular, vt = np.linalg.svd(triangle / scale)
+    _check_rank(singular, vt, base.names)
+    estimate = (vt.T @ ((u.T @ factor[:b, b]) / singular)) / scale
     residual = tau - np.einsum("snb,b->sn", Y, estimate)
     weighted = (residual * root[None, :]).reshape(-1)
     variance = weighted @ weighted / max(N * n - b, 1)
-    inverse = np.linalg.pinv((A / scale).T @ (A / scale))
-    std = np.sqrt(np.maximum(variance * np.diag(inverse), 0.0)) / scale
-    singular = np.linalg.svd(A, compute_uv=False)
+    # (A^T A)^-1 = V S^-2 V^T of the scaled columns, undone per parameter.
+    std = np.sqrt(variance * np.sum((vt.T / singular) ** 2, axis=1)) / scale
+    unscaled = np.linalg.svd(triangle, compute_uv=False)
     return Identification(
-        names=base.names if base else (),
-        definitions=tuple(str(d) for d in base.definitions) if base else (),
+        names=base.names,
+        definitions=tuple(str(d) for d in base.definitions),
         estimate=estimate,
         std=std,
-        condition_number=float(singular[0] / singular[-1]),
+        condition_number=float(unscaled[0] / unscaled[-1]),
         residual_rms=np.sqrt(np.mean(residual**2, axis=0)),
         samples=N,
         weights=w,
