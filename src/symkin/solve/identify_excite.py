@@ -23,13 +23,16 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import ParameterError
+from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.identify import base_regressor_function, condition_number
 
 TIME_SAMPLES = 60
 # Unlimited joints move within +-pi; a margin keeps the motion off the limits themselves.
 DEFAULT_RANGE = (-np.pi, np.pi)
 MARGIN = 0.05
-MAX_ITERATIONS = 60
+MAX_ITERATIONS = 100
+# The limits are checked again on this many instants of the result.
+FINE_SAMPLES = 2000
 
 
 @dataclass(frozen=True)
@@ -108,7 +111,19 @@ def exciting_trajectory(
         cost, x0, method="SLSQP", constraints=[{"type": "ineq", "fun": limits}],
         options={"maxiter": MAX_ITERATIONS, "ftol": 1e-6},
     )  # fmt: skip
-    x = result.x if np.all(limits(result.x) >= -1e-6) else x0
+    a, b, q0 = unpack(result.x)
+    # The limits held at TIME_SAMPLES instants (to the solver's tolerance); on a fine grid
+    # the motion is shrunk about q0 until they hold everywhere (q - q0 and dq scale alike).
+    fine = np.linspace(0.0, period, FINE_SAMPLES, endpoint=False)
+    q, dq, _ = fourier_states(a, b, q0, period, fine)
+    ratio = np.max(
+        np.concatenate([
+            np.where(q > q0, (q - q0) / np.maximum(upper - q0, 1e-12), 0.0).ravel(),
+            np.where(q < q0, (q0 - q) / np.maximum(q0 - lower, 1e-12), 0.0).ravel(),
+            (np.abs(dq) / velocity_limits).ravel(), [1.0],
+        ])
+    )  # fmt: skip
+    x = np.concatenate([(a / ratio).ravel(), (b / ratio).ravel(), q0])
     a, b, q0 = unpack(x)
     return Excitation(a, b, q0, period, float(np.exp(cost(x))), float(np.exp(cost(x0))))
 
@@ -133,3 +148,22 @@ def _start(
         0.5 * velocity_limits / np.maximum(np.abs(dq).max(axis=0), 1e-12),
     )
     return np.concatenate([(a * scale[:, None]).ravel(), (b * scale[:, None]).ravel(), middle])
+
+
+def simulated_torques(
+    model: Model,
+    q: np.ndarray,
+    dq: np.ndarray,
+    ddq: np.ndarray,
+    noise: float = 0.0,
+    seed: int = 0,
+) -> np.ndarray:
+    """``tau`` of the robot file's model along a motion (N x n), plus Gaussian noise of
+    standard deviation ``noise`` (N m or N): simulated measurements to try identification on."""
+    if any(j.link is None for j in model.robot.joints):
+        raise ParameterError(
+            f"{model.robot.name}: simulating torques needs inertial data for every link"
+        )
+    tau = generated_numpy_module(model).inverse_dynamics(q, dq, ddq, ())
+    rng = np.random.default_rng(seed)
+    return tau + noise * rng.standard_normal(tau.shape)
