@@ -76,8 +76,61 @@ def test_regressor_times_file_parameters_is_the_generated_tau(model_of, name):
         assert np.all(np.abs(Y @ np.array(full.values) - expected) <= 1e-10 * scale + 1e-12)
         Yb = Y[:, list(base.folding.kept)]
         assert np.all(np.abs(Yb @ np.array(base.values) - expected) <= 1e-9 * scale + 1e-12)
-    if name == "panda":  # the file gives viscous and Coulomb friction for every joint
-        assert {"fv1", "fc7"} <= set(full.names)
+
+
+FRICTION_ARM = """
+name = "friction_arm"
+convention = "modified"
+[[joints]]
+type = "revolute"
+[joints.link]
+mass = 2.0
+com = [0.1, 0.02, -0.05]
+inertia = {ixx = 0.02, iyy = 0.03, izz = 0.025, ixy = 0.001}
+motor_inertia = 0.4
+friction = {viscous = 0.7, coulomb = 1.2}
+[[joints]]
+type = "prismatic"
+alpha = -90
+a = 0.3
+[joints.link]
+mass = 1.5
+com = [0.0, 0.05, 0.1]
+inertia = {ixx = 0.01, iyy = 0.012, izz = 0.008, ixz = -0.002}
+friction = {viscous = 3.0, coulomb_positive = 2.0, coulomb_negative = 1.5}
+[[joints]]
+type = "revolute"
+alpha = 90
+d = 0.1
+[joints.link]
+mass = 0.8
+com = [0.03, 0.0, 0.02]
+inertia = {ixx = 0.004, iyy = 0.005, izz = 0.003}
+motor_inertia = 0.05
+"""
+
+
+def test_friction_rotor_prismatic_and_modified_dh_columns():
+    """Rotor inertia, viscous and (directional) Coulomb columns beside the link columns of a
+    modified-DH arm with a prismatic joint: Y pi and Y_b beta are the generated tau."""
+    from symkin import derive, robot_from_toml
+
+    robot = robot_from_toml(FRICTION_ARM, "friction_arm.toml")
+    model = derive(robot)
+    full = regressor(robot, model.kinematics)
+    assert {"ia1", "fv1", "fc1", "fv2", "fcp2", "fcn2", "ia3"} <= set(full.names)
+    assert "fc3" not in full.names  # joint 3 has no friction in the file
+    base = base_regressor(robot, model.kinematics)
+    evaluate = regressor_function(robot, model.kinematics)
+    tau = generated_numpy_module(model).inverse_dynamics
+    rng = np.random.default_rng(3)
+    for q, dq, ddq in zip(*random_states(rng, 6, 3), strict=True):
+        Y = evaluate(q, dq, ddq, ())
+        expected = tau(q, dq, ddq, ())
+        assert np.abs(Y @ np.array(full.values) - expected).max() < 1e-10
+        assert (
+            np.abs(Y[:, list(base.folding.kept)] @ np.array(base.values) - expected).max() < 1e-10
+        )
 
 
 @pytest.mark.slow
@@ -114,8 +167,9 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 def test_identify_json_reports_every_base_parameter(tmp_path, capsys):
     header, rows = planar_rows(30)
     write_csv(tmp_path / "log.csv", header, rows)
-    code, out, _ = run(capsys, "identify", "planar_2r", "--data", str(tmp_path / "log.csv"),
-                       "--json")  # fmt: skip
+    code, out, _ = run(
+        capsys, "identify", "planar_2r", "--data", str(tmp_path / "log.csv"), "--json"
+    )
     assert code == 0
     data = json.loads(out)
     assert {p["name"] for p in data["base_parameters"]} == {"MX2R", "MY2", "ZZ1R", "ZZ2R"}
@@ -155,8 +209,16 @@ def test_identify_from_positions_with_the_zero_phase_filter(tmp_path, capsys):
     )
     tau = planar_torques(q, dq, ddq)
     write_csv(tmp_path / "log.csv", ["t", "q1", "q2", "tau1", "tau2"], np.column_stack([t, q, tau]))
-    code, out, err = run(capsys, "identify", "planar_2r", "--data", str(tmp_path / "log.csv"),
-                         "--filter", "10", "--json")  # fmt: skip
+    code, out, err = run(
+        capsys,
+        "identify",
+        "planar_2r",
+        "--data",
+        str(tmp_path / "log.csv"),
+        "--filter",
+        "10",
+        "--json",
+    )
     assert code == 0, err
     data = json.loads(out)
     assert max(data["residual_rms"]) < 1e-3 * np.abs(tau).max()
@@ -166,8 +228,20 @@ def test_identify_from_positions_with_the_zero_phase_filter(tmp_path, capsys):
 @pytest.mark.slow
 def test_exciting_trajectory_is_better_conditioned_and_within_limits(tmp_path, capsys):
     out = tmp_path / "excite.csv"
-    code, text, err = run(capsys, "identify", "planar_2r", "--excite", "--harmonics", "3",
-                          "--period", "4", "--velocity-limit", "1.5", "--out", str(out))  # fmt: skip
+    code, text, err = run(
+        capsys,
+        "identify",
+        "planar_2r",
+        "--excite",
+        "--harmonics",
+        "3",
+        "--period",
+        "4",
+        "--velocity-limit",
+        "1.5",
+        "--out",
+        str(out),
+    )
     assert code == 0, err
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     assert np.abs(data[:, 3:5]).max() <= 1.5 + 1e-9  # dq1, dq2
@@ -180,4 +254,3 @@ def test_exciting_trajectory_is_better_conditioned_and_within_limits(tmp_path, c
 def test_identify_needs_data_or_excite(capsys):
     code, _, err = run(capsys, "identify", "planar_2r")
     assert code == 2 and "--data" in err
-

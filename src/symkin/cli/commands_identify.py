@@ -124,9 +124,12 @@ def _excite(args: argparse.Namespace, model) -> None:
     velocity = limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True)
     progress(f"optimising a {args.harmonics}-harmonic motion of period {args.period:g} s ...")
     excitation = exciting_trajectory(
-        model, args.harmonics, args.period,
-        None if velocity is None else np.array(velocity), args.seed,
-    )  # fmt: skip
+        model,
+        args.harmonics,
+        args.period,
+        None if velocity is None else np.array(velocity),
+        args.seed,
+    )
     t = np.arange(0.0, args.period, 1.0 / args.rate)
     q, dq, ddq = excitation.states(t)
     columns = [t[:, None], q, dq, ddq]
@@ -135,8 +138,9 @@ def _excite(args: argparse.Namespace, model) -> None:
         columns.append(simulated_torques(model, q, dq, ddq, args.noise, args.seed))
         header += [f"tau{i}" for i in range(1, robot.dof + 1)]
     buffer = io.StringIO()
-    np.savetxt(buffer, np.hstack(columns), delimiter=",", header=",".join(header),
-               comments="", fmt="%.17g")  # fmt: skip
+    np.savetxt(
+        buffer, np.hstack(columns), delimiter=",", header=",".join(header), comments="", fmt="%.17g"
+    )
     out = Path(args.out)
     replace_file(out.parent, out.name, buffer.getvalue())
     print(_excitation_text(excitation, len(t), out))

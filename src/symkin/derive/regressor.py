@@ -34,7 +34,6 @@ from symkin.errors import RobotError
 from symkin.robot import Link, Robot
 from symkin.symbols import joint_symbols, link_inertial_symbols
 
-
 # Columns per link in Khalil's order (Khalil & Dombre, Ch. 9): the base parameters keep the
 # earlier of dependent columns, so inertia and first moments stay and masses fold into them.
 COLUMN_ORDER = ("xx", "xy", "xz", "yy", "yz", "zz", "mx", "my", "mz", "m")

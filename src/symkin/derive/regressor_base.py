@@ -122,6 +122,6 @@ def _named_definitions(
         name = full.symbols[k].name
         stem = name.rstrip("0123456789")
         suffix = "R" if folded else ""
-        symbols.append(sp.Symbol(f"{stem.upper()}{name[len(stem):]}{suffix}", real=True))
+        symbols.append(sp.Symbol(f"{stem.upper()}{name[len(stem) :]}{suffix}", real=True))
         definitions.append(sp.expand(full.definitions[k] + sp.Add(*folded)))
     return tuple(symbols), tuple(definitions)

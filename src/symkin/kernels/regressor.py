@@ -34,22 +34,38 @@ def identification_kernels(model: Model) -> tuple[Kernel, ...]:
     )
     at = ""
     if base.parameter_values:
-        values = ", ".join(f"{name} = {v:g}" for (name, _), v in
-                           zip(robot.parameters, base.parameter_values, strict=True))
+        values = ", ".join(
+            f"{name} = {v:g}"
+            for (name, _), v in zip(robot.parameters, base.parameter_values, strict=True)
+        )
         at = f"; columns chosen at {values}"
     outputs = {
         "regressor": (
             "dynamic regressor",
-            [("Y", full.matrix, f"Y ({n}x{len(full.names)}, tau = Y pi), columns {' '.join(full.names)}",
-              "matrix", unit)],
+            [
+                (
+                    "Y",
+                    full.matrix,
+                    f"Y ({n}x{len(full.names)}, tau = Y pi), columns {' '.join(full.names)}",
+                    "matrix",
+                    unit,
+                )
+            ],
         ),
         "base_regressor": (
             "base regressor",
-            [("Y_b", base.matrix,
-              f"Y_b ({n}x{len(base.names)}, tau = Y_b beta), columns {' '.join(base.names)}{at}",
-              "matrix", unit)],
+            [
+                (
+                    "Y_b",
+                    base.matrix,
+                    f"Y_b ({n}x{len(base.names)}, tau = Y_b beta), columns "
+                    f"{' '.join(base.names)}{at}",
+                    "matrix",
+                    unit,
+                )
+            ],
         ),
-    }  # fmt: skip
+    }
     return tuple(
         kernel_from_assignments(name, description, inputs, full.assignments, output)
         for name, (description, output) in outputs.items()

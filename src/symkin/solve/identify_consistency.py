@@ -47,9 +47,17 @@ def _link_parameters(factor: np.ndarray) -> dict[str, float]:
     sigma, h, m = J[:3, :3], J[:3, 3], J[3, 3]
     inertia = np.trace(sigma) * np.eye(3) - sigma
     return {
-        "xx": inertia[0, 0], "xy": inertia[0, 1], "xz": inertia[0, 2], "yy": inertia[1, 1],
-        "yz": inertia[1, 2], "zz": inertia[2, 2], "mx": h[0], "my": h[1], "mz": h[2], "m": m,
-    }  # fmt: skip
+        "xx": inertia[0, 0],
+        "xy": inertia[0, 1],
+        "xz": inertia[0, 2],
+        "yy": inertia[1, 1],
+        "yz": inertia[1, 2],
+        "zz": inertia[2, 2],
+        "mx": h[0],
+        "my": h[1],
+        "mz": h[2],
+        "m": m,
+    }
 
 
 def _pseudo_inertia(values: dict[str, float]) -> np.ndarray:
@@ -70,8 +78,9 @@ class _Candidate:
     def __init__(self, base: BaseRegressor):
         self.full = base.full
         self.dof = max(base.full.links) + 1
-        self.drive = [k for k, s in enumerate(base.full.names) if s.rstrip("0123456789")
-                      not in LINK_NAMES]  # fmt: skip
+        self.drive = [
+            k for k, s in enumerate(base.full.names) if s.rstrip("0123456789") not in LINK_NAMES
+        ]
 
     def size(self) -> int:
         return 16 * self.dof + len(self.drive)
@@ -119,7 +128,7 @@ def physical_consistency(
     best = min(
         (least_squares(residual, x0, method="trf", max_nfev=EVALUATIONS) for x0 in starts),
         key=lambda result: np.max(np.abs(result.fun)),
-    )  # fmt: skip
+    )
     nearest = candidate.pi(best.x)
     beta = base.beta(nearest)
     misses = tuple(
@@ -130,8 +139,10 @@ def physical_consistency(
     boundary = tuple(
         i + 1
         for i in range(candidate.dof)
-        if np.linalg.eigvalsh(best.x[16 * i : 16 * i + 16].reshape(4, 4) @
-                              best.x[16 * i : 16 * i + 16].reshape(4, 4).T)[0]
+        if np.linalg.eigvalsh(
+            best.x[16 * i : 16 * i + 16].reshape(4, 4)
+            @ best.x[16 * i : 16 * i + 16].reshape(4, 4).T
+        )[0]
         <= 1e-9 * max(1.0, np.max(np.abs(nearest)))
-    )  # fmt: skip
+    )
     return Consistency(not misses, misses, boundary, nearest)

@@ -92,8 +92,11 @@ def exciting_trajectory(
 
     def unpack(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         size = n * harmonics
-        return (x[:size].reshape(n, harmonics), x[size : 2 * size].reshape(n, harmonics),
-                x[2 * size :])  # fmt: skip
+        return (
+            x[:size].reshape(n, harmonics),
+            x[size : 2 * size].reshape(n, harmonics),
+            x[2 * size :],
+        )
 
     def cost(x: np.ndarray) -> float:
         Y = stacked(*fourier_states(*unpack(x), period, t))
@@ -102,30 +105,45 @@ def exciting_trajectory(
     def limits(x: np.ndarray) -> np.ndarray:
         q, dq, _ = fourier_states(*unpack(x), period, t)
         return np.concatenate(
-            [((upper - q) / span).ravel(), ((q - lower) / span).ravel(),
-             (1.0 - (dq / velocity_limits) ** 2).ravel()]
-        )  # fmt: skip
+            [
+                ((upper - q) / span).ravel(),
+                ((q - lower) / span).ravel(),
+                (1.0 - (dq / velocity_limits) ** 2).ravel(),
+            ]
+        )
 
     x0 = _start(n, harmonics, period, (lower + upper) / 2, span, velocity_limits, seed)
     result = minimize(
-        cost, x0, method="SLSQP", constraints=[{"type": "ineq", "fun": limits}],
+        cost,
+        x0,
+        method="SLSQP",
+        constraints=[{"type": "ineq", "fun": limits}],
         options={"maxiter": MAX_ITERATIONS, "ftol": 1e-6},
-    )  # fmt: skip
+    )
     a, b, q0 = unpack(result.x)
-    # The limits held at TIME_SAMPLES instants (to the solver's tolerance); on a fine grid
-    # the motion is shrunk about q0 until they hold everywhere (q - q0 and dq scale alike).
-    fine = np.linspace(0.0, period, FINE_SAMPLES, endpoint=False)
-    q, dq, _ = fourier_states(a, b, q0, period, fine)
-    ratio = np.max(
-        np.concatenate([
-            np.where(q > q0, (q - q0) / np.maximum(upper - q0, 1e-12), 0.0).ravel(),
-            np.where(q < q0, (q0 - q) / np.maximum(q0 - lower, 1e-12), 0.0).ravel(),
-            (np.abs(dq) / velocity_limits).ravel(), [1.0],
-        ])
-    )  # fmt: skip
+    ratio = _excess(a, b, q0, period, (lower, upper), velocity_limits)
     x = np.concatenate([(a / ratio).ravel(), (b / ratio).ravel(), q0])
     a, b, q0 = unpack(x)
     return Excitation(a, b, q0, period, float(np.exp(cost(x))), float(np.exp(cost(x0))))
+
+
+def _excess(
+    a: np.ndarray,
+    b: np.ndarray,
+    q0: np.ndarray,
+    period: float,
+    bounds: tuple[np.ndarray, np.ndarray],
+    velocity_limits: np.ndarray,
+) -> float:
+    """The factor (at least 1) to shrink the motion about ``q0`` by so that the limits hold
+    on a fine grid: the solver imposed them at TIME_SAMPLES instants only, to its tolerance
+    (``q - q0`` and ``dq`` scale alike with the coefficients)."""
+    lower, upper = bounds
+    fine = np.linspace(0.0, period, FINE_SAMPLES, endpoint=False)
+    q, dq, _ = fourier_states(a, b, q0, period, fine)
+    above = np.where(q > q0, (q - q0) / np.maximum(upper - q0, 1e-12), 0.0)
+    below = np.where(q < q0, (q0 - q) / np.maximum(q0 - lower, 1e-12), 0.0)
+    return float(max(1.0, above.max(), below.max(), (np.abs(dq) / velocity_limits).max()))
 
 
 def _start(
