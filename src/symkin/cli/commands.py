@@ -24,6 +24,7 @@ from symkin.cli.report import (
     show_json,
     show_text,
 )
+from symkin.cli.commands_identify import base_parameters_json, base_parameters_text
 from symkin.cli.values import (
     joint_values,
     limit_values,
@@ -97,9 +98,11 @@ def command_show(args: argparse.Namespace) -> None:
     def report() -> str:
         model = derive(robot, budget, closed_forms)
         if args.json:
-            extra = dynamics_show_json(model) if dynamics else {}
+            extra = dynamics_show_json(model) | base_parameters_json(model) if dynamics else {}
             return json_text(show_json(model, rows) | extra)
-        return show_text(model, rows) + (dynamics_show_text(model) if dynamics else "")
+        if not dynamics:
+            return show_text(model, rows)
+        return show_text(model, rows) + dynamics_show_text(model) + base_parameters_text(model)
 
     print(remembered(command_cache(args), "show", robot, cache_options(args), report))
 

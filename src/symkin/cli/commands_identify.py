@@ -12,12 +12,13 @@ import io
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
 
 from symkin.cli.report import json_text, progress
 from symkin.cli.values import limit_values, parameter_overrides, robot_from_args
 from symkin.derive import derive
 from symkin.derive.regressor_base import base_regressor
-from symkin.errors import SymkinError
+from symkin.errors import RobotError, SymkinError
 from symkin.output_folder import replace_file
 from symkin.solve.identify import Identification, identify
 from symkin.solve.identify_consistency import Consistency, physical_consistency
@@ -55,6 +56,35 @@ def command_identify(args: argparse.Namespace) -> None:
         print(json_text(_fit_json(fit, consistency, method)))
     else:
         print(_fit_text(robot.name, fit, consistency, method))
+
+
+def base_parameters_json(model) -> dict:
+    """``{"base_parameters": [{"name", "definition", "value"}]}`` for ``show --dynamics``:
+    the base regressor's parameters, defined in the robot's inertial symbols (null value where
+    the file has no inertial data); empty when a geometry parameter has no value."""
+    try:
+        base = base_regressor(model.robot, model.kinematics)
+    except RobotError:
+        return {"base_parameters": []}
+    values = base.values or [None] * len(base.names)
+    return {
+        "base_parameters": [
+            {"name": n, "definition": sp.sstr(d), "value": v}
+            for n, d, v in zip(base.names, base.definitions, values, strict=True)
+        ]
+    }
+
+
+def base_parameters_text(model) -> str:
+    """The base parameters and their definitions, for ``show --dynamics``."""
+    rows = base_parameters_json(model)["base_parameters"]
+    if not rows:
+        return ""
+    lines = ["", f"Base parameters ({len(rows)}; tau = Y_b beta, 'symkin identify' fits them):"]
+    for row in rows:
+        value = "" if row["value"] is None else f"  [{row['value']:.6g}]"
+        lines.append(f"  {row['name']} = {row['definition']}{value}")
+    return "\n".join(lines)
 
 
 def _weights(text: str | None, dof: int) -> list[float] | str | None:

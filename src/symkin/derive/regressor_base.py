@@ -24,7 +24,6 @@ import sympy as sp
 from symkin.derive.base_parameters import (
     NEGLIGIBLE,
     Folding,
-    _coefficient,
     _shortest_decimal,
     folding_from_samples,
 )
@@ -115,7 +114,7 @@ def _named_definitions(
     symbols, definitions = [], []
     for row, k in zip(folding.matrix, folding.kept, strict=True):
         folded = [
-            _coefficient(_shortest_decimal(c, 10 * NEGLIGIBLE * abs(c))) * full.definitions[d]
+            _exact(_shortest_decimal(c, 10 * NEGLIGIBLE * abs(c))) * full.definitions[d]
             for c, d in zip(row, folding.dropped, strict=True)
             if abs(c) > noise
         ]
@@ -125,3 +124,8 @@ def _named_definitions(
         symbols.append(sp.Symbol(f"{stem.upper()}{name[len(stem) :]}{suffix}", real=True))
         definitions.append(sp.expand(full.definitions[k] + sp.Add(*folded)))
     return tuple(symbols), tuple(definitions)
+
+
+def _exact(value: float) -> sp.Number:
+    """An integer where the coefficient is one (``2*mx1`` for a unit length), else a float."""
+    return sp.Integer(int(value)) if value == int(value) else sp.Float(value)
