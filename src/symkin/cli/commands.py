@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from symkin.cache import DiskCache, remembered, user_cache
+from symkin.cli.commands_identify import base_parameters_json, base_parameters_text
 from symkin.cli.derivatives_report import derivatives_json, derivatives_text
 from symkin.cli.report import (
     dynamics_json,
@@ -25,7 +26,6 @@ from symkin.cli.report import (
     show_json,
     show_text,
 )
-from symkin.cli.commands_identify import base_parameters_json, base_parameters_text
 from symkin.cli.values import (
     joint_values,
     limit_values,
