@@ -66,6 +66,11 @@ def add_trajopt_options(trajopt: argparse.ArgumentParser) -> None:
         metavar="K",
         help=f"mesh refinements at most (default {DEFAULT_MAX_REFINEMENTS})",
     )
+    _add_path_options(trajopt)
+
+
+def _add_path_options(trajopt: argparse.ArgumentParser) -> None:
+    """Waypoints, obstacles, manipulability margin and the resampled output."""
     trajopt.add_argument(
         "--via",
         action="append",

@@ -29,6 +29,8 @@ class RobotFunctions:
     one column state), ``link_origins(q) -> list of 3 x 1``: the frame origins 0..n and the
     tool, whose consecutive pairs bound the links.  ``coulomb`` (one value per joint, or
     ``None``) adds smoothed Coulomb friction ``tau_f = F_c tanh(dq / v_s)`` to both dynamics.
+    ``forward_function`` and ``inverse_function`` are the same two as ``casadi.Function``
+    objects of one state (numeric calls return a ``DM``; fast for integrators).
     NumPy: ``numpy_forward_dynamics(q, dq, tau)`` and ``numpy_inverse_dynamics(q, dq, ddq)``
     (the generated NumPy kernels, states along the first axis).  ``lower`` and ``upper`` are
     the joint limits of the robot file (infinite where it gives none); ``task_rows`` the rows
@@ -41,6 +43,8 @@ class RobotFunctions:
     tool_position: Callable
     jacobian: Callable
     link_origins: Callable
+    forward_function: Callable
+    inverse_function: Callable
     numpy_forward_dynamics: Callable
     numpy_inverse_dynamics: Callable
     lower: np.ndarray
@@ -83,6 +87,7 @@ def robot_functions(
         return numpy_module.inverse_dynamics(q, dq, ddq, **args) + friction(dq)
 
     limits = [joint.limits or (-np.inf, np.inf) for joint in model.robot.joints]
+    q, dq, v = (casadi.SX.sym(name, n) for name in ("q", "dq", "v"))
     return RobotFunctions(
         dof=n,
         forward_dynamics=forward_dynamics,
@@ -90,6 +95,8 @@ def robot_functions(
         tool_position=lambda q: _columns(position, q, constants[0]),
         jacobian=lambda q: fk_jacobian(q, constants[0])[1],
         link_origins=_link_origins(model, constants[0]),
+        forward_function=casadi.Function("fd", [q, dq, v], [forward_dynamics(q, dq, v)]),
+        inverse_function=casadi.Function("id", [q, dq, v], [inverse_dynamics(q, dq, v)]),
         numpy_forward_dynamics=numpy_forward,
         numpy_inverse_dynamics=numpy_inverse,
         lower=np.array([lo for lo, _ in limits], dtype=float),

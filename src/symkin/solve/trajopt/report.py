@@ -97,7 +97,9 @@ def summary_text(trajectory: Trajectory) -> str:
             f"{trajectory.robot.name}: {objective}, {method}, {len(trajectory.t) - 1} intervals",
             f"IPOPT: {stats.status}, {stats.iterations} iterations",
             f"solve time: {stats.solve_time:.3f} s (IPOPT), build {stats.build_time:.3f} s, "
-            f"re-simulation {stats.check_time:.3f} s",
+            f"re-simulation {stats.check_time:.3f} s; CPU "
+            + ", ".join(f"{value:.3f}" for value in stats.cpu_times)
+            + " s",
             f"final time T = {trajectory.final_time:.6g} s",
             f"cost = {trajectory.cost:.6g} ({COST_NAMES[problem.objective]})",
             f"effort = {trajectory.effort:.6g}",

@@ -41,13 +41,15 @@ class SolverStats:
     """IPOPT's return status and iteration count (of the last round); wall times in seconds,
     summed over the refinement rounds: ``build_time`` (transcribing, constraint groups,
     first guess), ``solve_time`` (``Opti.solve``: CasADi's derivative set-up plus IPOPT) and
-    ``check_time`` (the re-simulation)."""
+    ``check_time`` (the re-simulation); ``cpu_times`` the same three phases in CPU seconds of
+    this process (what a shared machine's load does not inflate)."""
 
     status: str
     iterations: int
     solve_time: float
     build_time: float = 0.0
     check_time: float = 0.0
+    cpu_times: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -127,13 +129,13 @@ def optimal_trajectory(
         model, dict(problem.overrides), problem.coulomb_friction, problem.friction_velocity
     )
     rounds: list[Round] = []
-    times = np.zeros(3)
+    times = np.zeros((3, 2))  # build, solve, check; wall and CPU
     current, earlier = problem, initial
     while True:
         trajectory, phases = solve_once(model, current, functions, customise, earlier)
-        began = time.perf_counter()
+        began = _clock()
         report = accuracy(trajectory, functions, current)
-        times += (*phases, time.perf_counter() - began)
+        times += np.vstack([phases, _clock() - began])
         rounds.append(_round(trajectory, report))
         done = problem.tolerance is None or not report.faulty(problem.tolerance).any()
         if done or len(rounds) > problem.max_refinements:
@@ -144,8 +146,11 @@ def optimal_trajectory(
             current, mesh=tuple(mesh), intervals=len(mesh) - 1, obstacle_margin=margin
         )
         earlier = trajectory
-    build, solve, check = (float(x) for x in times)
-    stats = replace(trajectory.stats, solve_time=solve, build_time=build, check_time=check)
+    build, solve, check = (float(x) for x in times[:, 0])
+    cpu = tuple(float(x) for x in times[:, 1])
+    stats = replace(
+        trajectory.stats, solve_time=solve, build_time=build, check_time=check, cpu_times=cpu
+    )
     return replace(trajectory, stats=stats, accuracy=report, rounds=tuple(rounds))
 
 
@@ -169,8 +174,8 @@ def solve_once(
     earlier: Any = None,
 ) -> tuple[Trajectory, tuple[float, float]]:
     """One transcription and IPOPT solve on ``problem``'s mesh, no re-simulation; the
-    trajectory and the build and solve wall times."""
-    began = time.perf_counter()
+    trajectory and the build and solve times (rows; wall and CPU seconds)."""
+    began = _clock()
     program = transcribed_program(model, problem, functions)
     add_problem_extras(program)
     if customise is not None:
@@ -186,13 +191,19 @@ def solve_once(
         knots,
         earlier,
     )
-    built = time.perf_counter()
+    built = _clock()
     value, stats = _run_ipopt(program.opti)
+    solved = _clock()
     checks = [check_group(group, value) for group in program.groups]
     worst = max(c.violation for c in checks)
     if stats.status not in SOLVED or worst > FEASIBILITY_TOLERANCE:
         raise InfeasibleTrajectoryError(failure_text(stats.status, stats.iterations, checks))
-    return _trajectory(program, value, worst, stats), (built - began, stats.solve_time)
+    return _trajectory(program, value, worst, stats), np.vstack([built - began, solved - built])
+
+
+def _clock() -> np.ndarray:
+    """Wall and CPU seconds, now."""
+    return np.array([time.perf_counter(), time.process_time()])
 
 
 def _effort(program: Program, scale=None):
