@@ -192,11 +192,11 @@ def command_trajopt(args: argparse.Namespace) -> None:
     else:
         print(summary_text(trajectory))
     if args.out is not None:
-        paths = write_trajectory(trajectory, args.out, plot=args.plot)
+        functions = robot_functions(
+            model, dict(problem.overrides), problem.coulomb_friction, problem.friction_velocity
+        )
+        paths = write_trajectory(trajectory, args.out, plot=args.plot, functions=functions)
         if args.rate is not None:
-            functions = robot_functions(
-                model, dict(problem.overrides), problem.coulomb_friction, problem.friction_velocity
-            )
             paths.append(write_resampled(resampled(trajectory, functions, args.rate), args.out))
         if not args.json:
             print(f"wrote {', '.join(str(path) for path in paths)}")

@@ -68,7 +68,7 @@ def control_function(trajectory: Any, functions: RobotFunctions) -> Callable:
         a = trajectory.ddq[k]
         q = trajectory.q[k] + s * trajectory.dq[k] + s**2 / 2 * a
         dq = trajectory.dq[k] + s * a
-        return np.ravel(functions.inverse_function(q, dq, a))
+        return np.asarray(functions.inverse_function(q, dq, a)).ravel()
 
     return torque
 
@@ -82,7 +82,7 @@ def integrate_interval(
 
     def rhs(s, x):
         ddq = functions.forward_function(x[:n], x[n:], control(k, s))
-        return np.concatenate([x[n:], np.ravel(ddq)])
+        return np.concatenate([x[n:], np.asarray(ddq).ravel()])
 
     return solve_ivp(
         rhs,

@@ -12,7 +12,8 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.output_folder import replace_file
-from symkin.solve.trajopt.plot import plot_trajectory
+from symkin.solve.trajopt.functions import RobotFunctions
+from symkin.solve.trajopt.plot import plot_path, plot_trajectory
 from symkin.solve.trajopt.solve import Trajectory
 
 COST_NAMES = {"effort": "integral of tau^2", "time": "final time"}
@@ -109,8 +110,14 @@ def summary_text(trajectory: Trajectory) -> str:
     )
 
 
-def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False) -> list[Path]:
-    """``trajectory.csv``, ``trajectory.json`` and, with ``plot``, ``trajectory.png`` in ``out``."""
+def write_trajectory(
+    trajectory: Trajectory,
+    out: str | Path,
+    plot: bool = False,
+    functions: RobotFunctions | None = None,
+) -> list[Path]:
+    """``trajectory.csv``, ``trajectory.json`` and, with ``plot``, ``trajectory.png`` in ``out``
+    (and, given the robot's ``functions``, ``trajectory_path.png``, the tool path)."""
     out = Path(out)
     header, rows = trajectory_rows(trajectory)
     paths = [out / "trajectory.csv", out / "trajectory.json"]
@@ -124,6 +131,8 @@ def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False
     replace_file(out, paths[1].name, text)
     if plot:
         paths.append(plot_trajectory(trajectory, out / "trajectory.png"))
+        if functions is not None:
+            paths.append(plot_path(trajectory, functions, out / "trajectory_path.png"))
     return paths
 
 
