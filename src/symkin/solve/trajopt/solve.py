@@ -110,6 +110,7 @@ def optimal_trajectory(
     problem: TrajectoryProblem,
     customise: Callable[[Program], None] | None = None,
     initial: Any = None,
+    functions: RobotFunctions | None = None,
 ) -> Trajectory:
     """Solve ``problem`` for ``model``'s robot with CasADi ``Opti`` and IPOPT, re-simulate the
     solution and refine the mesh until every local defect is below ``problem.tolerance`` or
@@ -118,6 +119,8 @@ def optimal_trajectory(
     ``customise(program)`` is called on each round's open :class:`Program` before it is
     solved, to add one's own constraints and costs (:mod:`symkin.solve.trajopt.extras`).
     ``initial`` (an earlier :class:`Trajectory`) is the first guess instead of the line.
+    ``functions`` replaces the robot's generated functions (:func:`robot_functions`, built
+    from ``problem.overrides`` and its friction by default), e.g. to reuse them.
 
     Raises :class:`InfeasibleTrajectoryError` when a limit rules the motion out before solving
     (see :func:`check_problem`), when IPOPT stops without a solution (the message gives its
@@ -125,9 +128,10 @@ def optimal_trajectory(
     violates a constraint by more than :data:`FEASIBILITY_TOLERANCE`.
     """
     check_problem(model, problem)
-    functions = robot_functions(
-        model, dict(problem.overrides), problem.coulomb_friction, problem.friction_velocity
-    )
+    if functions is None:
+        functions = robot_functions(
+            model, dict(problem.overrides), problem.coulomb_friction, problem.friction_velocity
+        )
     rounds: list[Round] = []
     times = np.zeros((3, 2))  # build, solve, check; wall and CPU
     current, earlier = problem, initial
