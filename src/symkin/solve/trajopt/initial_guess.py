@@ -1,6 +1,8 @@
-"""The solver's starting point: the joint-space polyline from the start through the joint
-waypoints to the goal, travelled at constant speed on each piece, with the torques that hold
-that speed; or an earlier solution (a warm start: a refined mesh, a nearby problem)."""
+"""The solver's starting point: the joint-space polyline from the start through the waypoints
+to the goal, travelled at constant speed on each piece, with the torques that hold that speed;
+or an earlier solution (a warm start: a refined mesh, a nearby problem).  A tool position
+(Cartesian goal or waypoint) enters the polyline through inverse kinematics: the closed-form
+solution nearest the start where the arm has one, else the numeric solver started there."""
 
 from __future__ import annotations
 
@@ -10,6 +12,9 @@ from typing import Any
 import numpy as np
 
 from symkin.derive import Model
+from symkin.errors import SymkinError
+from symkin.solve.ik import pose_from_target, solve_ik
+from symkin.solve.ik.closed_form import closed_form_ik
 from symkin.solve.trajopt.functions import RobotFunctions
 from symkin.solve.trajopt.problem import TrajectoryProblem
 from symkin.solve.trajopt.transcription import Transcription
@@ -18,6 +23,45 @@ from symkin.solve.trajopt.transcription import Transcription
 def guess_goal(problem: TrajectoryProblem) -> np.ndarray:
     """The goal configuration of the guess: ``goal``, else (a bare Cartesian goal) the start."""
     return np.array(problem.goal if problem.goal is not None else problem.start)
+
+
+def configuration_near(
+    model: Model, position: Sequence[float], near: Sequence[float], problem: TrajectoryProblem
+) -> np.ndarray | None:
+    """Joint values that put the tool at ``position`` (metres), nearest ``near``: among the
+    closed-form solutions within the joint limits, else by the numeric solver (position only)
+    started at ``near``; ``None`` when neither reaches it."""
+    overrides = dict(problem.overrides)
+    kinematic = {k: v for k, v in overrides.items() if k in dict(model.robot.parameters)}
+    target = pose_from_target(position)
+    try:
+        solutions = [s.q for s in closed_form_ik(model, target, kinematic) if s.within_limits]
+    except SymkinError:  # no closed form for this arm
+        solutions = []
+    if solutions:
+        return min(solutions, key=lambda q: float(np.sum((q - np.array(near)) ** 2)))
+    result = solve_ik(model, target, near, position_only=True, overrides=kinematic)
+    return result.q if result.success else None
+
+
+def polyline_knots(
+    model: Model, problem: TrajectoryProblem, fractions: Sequence[float]
+) -> list[tuple[float, np.ndarray]]:
+    """The corners of the first guess: (fraction of T, joint values) for the start, each
+    waypoint (a tool position through :func:`configuration_near` the corner before) and the
+    goal (with a Cartesian goal and no joint guess, by inverse kinematics too)."""
+    knots = [(0.0, np.array(problem.start))]
+    for fraction, waypoint in zip(fractions, problem.waypoints, strict=True):
+        q = waypoint.q
+        if q is None:
+            q = configuration_near(model, waypoint.position, knots[-1][1], problem)
+        if q is not None:
+            knots.append((fraction, np.array(q)))
+    goal = problem.goal
+    if goal is None:
+        goal = configuration_near(model, problem.cartesian_goal, knots[-1][1], problem)
+    knots.append((1.0, knots[-1][1] if goal is None else np.array(goal)))
+    return knots
 
 
 def initial_final_time(
@@ -47,15 +91,15 @@ def set_initial_guess(
     transcription: Transcription,
     functions: RobotFunctions,
     final_time: float,
-    knots: Sequence[float],
+    knots: Sequence[tuple[float, np.ndarray]],
     earlier: Any = None,
 ) -> None:
-    """Start ``opti`` on the polyline (``knots``: the waypoints' fractions of T), or on
+    """Start ``opti`` on the polyline through ``knots`` (:func:`polyline_knots`), or on
     ``earlier`` (anything with ``t``, ``q``, ``dq``, ``tau`` like a
     :class:`~symkin.solve.trajopt.Trajectory`) stretched to ``final_time``: the states at
     the nodes and the transcription's further points, the controls on the intervals."""
     mesh = problem.fractions
-    path = _polyline(problem, knots) if earlier is None else _earlier(earlier)
+    path = _polyline(knots) if earlier is None else _earlier(earlier)
     opti.set_initial(transcription.X, path(mesh, final_time))
     middles = path((mesh[:-1] + mesh[1:]) / 2, final_time)
     n = len(problem.start)
@@ -70,16 +114,11 @@ def set_initial_guess(
         opti.set_initial(variable, path(fractions, final_time))
 
 
-def _polyline(problem: TrajectoryProblem, knots: Sequence[float]):
-    """``(fractions, T) -> states (2n x m)`` on the polyline start, joint waypoints, goal; dq
-    is each piece's slope."""
-    points = [(0.0, np.array(problem.start))]
-    for fraction, waypoint in zip(knots, problem.waypoints, strict=True):
-        if waypoint.q is not None:
-            points.append((fraction, np.array(waypoint.q)))
-    points.append((1.0, guess_goal(problem)))
-    s = np.array([p[0] for p in points])
-    q = np.array([p[1] for p in points])
+def _polyline(knots: Sequence[tuple[float, np.ndarray]]):
+    """``(fractions, T) -> states (2n x m)`` on the polyline through ``knots``; dq is each
+    piece's slope."""
+    s = np.array([fraction for fraction, _ in knots])
+    q = np.array([values for _, values in knots])
 
     def states(fractions, final_time):
         fractions = np.asarray(fractions)

@@ -17,7 +17,7 @@ from symkin.solve.trajopt.accuracy import Accuracy, accuracy, refined_mesh
 from symkin.solve.trajopt.constraints import check_group, failure_text
 from symkin.solve.trajopt.extras import add_problem_extras
 from symkin.solve.trajopt.functions import RobotFunctions, robot_functions
-from symkin.solve.trajopt.initial_guess import set_initial_guess
+from symkin.solve.trajopt.initial_guess import polyline_knots, set_initial_guess
 from symkin.solve.trajopt.problem import (
     FEASIBILITY_TOLERANCE,
     InfeasibleTrajectoryError,
@@ -185,7 +185,7 @@ def solve_once(
     if customise is not None:
         customise(program)
     program.opti.minimize(_objective(program))
-    knots = waypoint_fractions(problem, program.guess_time)
+    knots = polyline_knots(model, problem, waypoint_fractions(problem, program.guess_time))
     set_initial_guess(
         program.opti,
         problem,
