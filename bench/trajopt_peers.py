@@ -230,7 +230,7 @@ def main(argv: list[str] | None = None) -> int:
     text = render(results, agreement, args.repeat, (start_load, os.getloadavg()[0]))
     print(text)
     if not args.no_write:
-        write_docs(DOCS, MARKERS, text)
+        write_docs(text, DOCS, MARKERS)
     return 0
 
 

@@ -115,6 +115,7 @@ def problem(example: Example, objective: str, method: str, **changes):
         method=method,
         torque_limits=example.torque_limits,
         velocity_limits=example.velocity_limits,
+        tolerance=None,  # the fixed 40-interval mesh; bench/trajopt_peers.py times the refined
         **changes,
     )
 

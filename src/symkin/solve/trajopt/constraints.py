@@ -101,8 +101,8 @@ def impose(opti, group: Group) -> None:
     """Add ``group`` to ``opti``: an equality, or bounds on both sides."""
     import casadi
 
-    lower = casadi.DM(group.lower) if np.ndim(group.lower) else group.lower
-    upper = casadi.DM(group.upper) if np.ndim(group.upper) else group.upper
+    lower = group.lower if isinstance(group.lower, int | float) else casadi.DM(group.lower)
+    upper = group.upper if isinstance(group.upper, int | float) else casadi.DM(group.upper)
     if group.lower is group.upper:
         opti.subject_to(group.expr == lower)
     else:
