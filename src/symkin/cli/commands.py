@@ -42,6 +42,7 @@ from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
 from symkin.solve.evaluate import dynamic_state, kinematic_state
+from symkin.spatial import orientation_from_rotation
 
 # Arguments that do not shape a command's text (where it goes, how the run is shown or
 # limited); every other argument, present or future, is part of the cache key.
@@ -112,12 +113,24 @@ def command_eval(args: argparse.Namespace) -> None:
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
-    data = eval_json(state) | dynamics_json(dynamics)
+    orientation = orientation_report(state.transform, args.euler)
+    data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + dynamics_text(dynamics))
+        print(eval_text(state) + orientation[1] + dynamics_text(dynamics))
+
+
+def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
+    """``--euler KIND``: the tool orientation as JSON entries and a text line (or nothing)."""
+    if kind is None:
+        return {}, ""
+    values, singular = orientation_from_rotation(transform[:3, :3], kind)[1:]
+    values = [float(v) for v in values]
+    note = "  (singular: the first and last angles share one free sum; last set to 0)"
+    line = f"\norientation {kind} = {[round(v, 9) for v in values]}" + (note if singular else "")
+    return {"orientation": {"kind": kind, "values": values, "singular": bool(singular)}}, line
 
 
 def derive_flags(args: argparse.Namespace) -> list[str]:

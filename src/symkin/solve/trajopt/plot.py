@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from symkin.solve.plotting import pyplot, save_figure
+from symkin.solve.plotting import colour_cycle, new_figure, save_figure
 from symkin.solve.trajopt.functions import RobotFunctions
 from symkin.solve.trajopt.problem import units
 from symkin.solve.trajopt.resample import resampled
@@ -20,10 +20,10 @@ from symkin.solve.trajopt.solve import Trajectory
 
 def trajectory_figure(trajectory: Trajectory) -> object:
     """A matplotlib figure with three panels (q, dq, tau) sharing the time axis."""
-    plt = pyplot()
     robot, problem = trajectory.robot, trajectory.problem
-    figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    figure = new_figure(figsize=(8, 8))
+    top, middle, bottom = figure.subplots(3, 1, sharex=True)
+    colours = colour_cycle()
     t = trajectory.t
     tau = np.vstack([trajectory.tau, trajectory.tau[-1:]])  # the last step drawn to T
     for i, joint in enumerate(robot.joints):
@@ -76,14 +76,15 @@ def path_figure(trajectory: Trajectory, functions: RobotFunctions, rate: float =
     the waypoints as crosses; the obstacles as circles (their radius, and dashed, the radius
     plus the links' clearance)."""
     import casadi
+    from matplotlib.patches import Circle
 
-    plt = pyplot()
     problem = trajectory.problem
     samples = resampled(trajectory, functions, rate)
     q = casadi.SX.sym("q", functions.dof)
     origins = casadi.Function("origins", [q], [casadi.horzcat(*functions.link_origins(q))])
     tool = np.array([np.asarray(functions.tool_position(row)).ravel() for row in samples["q"]])
-    figure, panes = plt.subplots(1, 2, figsize=(11, 5.2))
+    figure = new_figure(figsize=(11, 5.2))
+    panes = figure.subplots(1, 2)
     instants = np.linspace(0, len(samples["t"]) - 1, ARM_POSES).astype(int)
     for axes, (i, j) in zip(panes, ((0, 1), (0, 2)), strict=True):
         axes.plot(tool[:, i], tool[:, j], color="C0", label="tool path")
@@ -92,9 +93,9 @@ def path_figure(trajectory: Trajectory, functions: RobotFunctions, rate: float =
             axes.plot(points[i], points[j], "-o", color=str(1 - shade), markersize=2.5)
         for obstacle in problem.obstacles:
             centre = (obstacle.centre[i], obstacle.centre[j])
-            axes.add_patch(plt.Circle(centre, obstacle.radius, color="C3", alpha=0.35))
+            axes.add_patch(Circle(centre, obstacle.radius, color="C3", alpha=0.35))
             reach = obstacle.radius + problem.clearance
-            axes.add_patch(plt.Circle(centre, reach, color="C3", fill=False, linestyle="--"))
+            axes.add_patch(Circle(centre, reach, color="C3", fill=False, linestyle="--"))
         for waypoint in problem.waypoints:
             where = (
                 waypoint.position
