@@ -6,6 +6,7 @@ The public API::
     model = symkin.derive(robot)               # closed-form kinematics (SymPy)
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+    d = symkin.dynamics_derivatives(model, q, dq, ddq)   # dtau/dq, dddq/dq, dJ/dt, ...
     result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
     motion = symkin.optimal_trajectory(model, symkin.TrajectoryProblem(start=..., goal=...,
                                        final_time=2.0))   # optimal control (CasADi + IPOPT)
@@ -18,6 +19,7 @@ from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.draw import arm_figure, draw_arm
 from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
 from symkin.solve.evaluate import (
@@ -43,10 +45,22 @@ from symkin.spatial import (
     transform_from_twist,
     twist_from_transform,
 )
+from symkin.spatial.inertia import (
+    RigidBody,
+    box_inertia,
+    composite_body,
+    cylinder_inertia,
+    hollow_cylinder_inertia,
+    inertia_about_com,
+    inertia_about_point,
+    rotated_inertia,
+    sphere_inertia,
+)
 from symkin.symbols import joint_symbols
 
 __all__ = [
     "DerivationError",
+    "DynamicsDerivatives",
     "Ellipsoids",
     "IKResult",
     "InfeasibleTrajectoryError",
@@ -56,6 +70,7 @@ __all__ = [
     "Model",
     "PointMotion",
     "PointState",
+    "RigidBody",
     "Robot",
     "RobotError",
     "SymkinError",
@@ -64,10 +79,17 @@ __all__ = [
     "Workspace",
     "adjoint_from_transform",
     "arm_figure",
+    "box_inertia",
     "catalogue_names",
+    "composite_body",
+    "cylinder_inertia",
     "derive",
     "draw_arm",
+    "dynamics_derivatives",
     "ellipsoids_at",
+    "hollow_cylinder_inertia",
+    "inertia_about_com",
+    "inertia_about_point",
     "joint_symbols",
     "kinematic_state",
     "load_robot",
@@ -78,10 +100,12 @@ __all__ = [
     "quaternion_product",
     "quaternion_slerp",
     "robot_from_toml",
+    "rotated_inertia",
     "rotation_from_rotation_vector",
     "rotation_vector_from_rotation",
     "sample_workspace",
     "solve_ik",
+    "sphere_inertia",
     "transform_from_twist",
     "twist_from_transform",
     "write_folder",

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from symkin.cache import DiskCache, remembered, user_cache
+from symkin.cli.derivatives_report import derivatives_json, derivatives_text
 from symkin.cli.report import (
     dynamics_json,
     dynamics_show_json,
@@ -30,8 +31,9 @@ from symkin.cli.values import (
     point_from_text,
     robot_from_args,
     task_rows_from_text,
+    wrench_from_text,
 )
-from symkin.derive import derive
+from symkin.derive import Model, derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
@@ -41,6 +43,7 @@ from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.evaluate import dynamic_state, kinematic_state
 from symkin.spatial import orientation_from_rotation
 
@@ -99,27 +102,53 @@ def command_eval(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
-    if not args.dynamics:
+    if not (args.dynamics or args.derivatives):
         robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
     ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
     q = joint_values(args.q, "--q", robot)
+    wrench = wrench_from_text(args.wrench) if args.wrench else None
+    if wrench is not None and not args.dynamics:
+        raise SymkinError("--wrench needs --dynamics (it enters the joint torques)")
     kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
     points = [point_from_text(p, robot) for p in args.point]
     with np.errstate(all="ignore"):  # an overflow is reported once, by json_text below
-        dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+        dynamics = dynamic_state(model, q, dq, ddq, overrides, wrench) if args.dynamics else None
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
+        derivatives = _eval_derivatives(args, model, q, dq, ddq, overrides)
     orientation = orientation_report(state.transform, args.euler)
     data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
+    data |= derivatives_json(derivatives)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + orientation[1] + dynamics_text(dynamics))
+        print(
+            eval_text(state)
+            + orientation[1]
+            + dynamics_text(dynamics)
+            + derivatives_text(derivatives)
+        )
+
+
+def _eval_derivatives(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> DynamicsDerivatives | None:
+    """``--derivatives``: the dynamics' and the Jacobian's derivatives at (q, dq, ddq)."""
+    if not args.derivatives:
+        return None
+    if dq is None or ddq is None:
+        raise SymkinError("--derivatives needs --dq and --ddq (the derivatives depend on both)")
+    return dynamics_derivatives(model, q, dq, ddq, overrides)
 
 
 def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
@@ -144,6 +173,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags += [word for item in args.point for word in ("--point", item)]
     flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
     flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    flags += ["--derivatives"] if args.derivatives else []
     return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
@@ -173,6 +203,7 @@ def command_derive(args: argparse.Namespace) -> None:
             budget=budget,
             closed_forms=closed_forms,
             dynamics=dynamics,
+            derivatives=args.derivatives,
         ),
     )
     out = Path(args.out)
