@@ -16,11 +16,11 @@ from symkin.cli.commands import (
     command_latex,
     command_list,
     command_show,
-    command_trajopt,
 )
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_identify import command_identify
 from symkin.cli.commands_ik import command_ik
+from symkin.cli.commands_trajopt import add_trajopt_options, command_trajopt
 from symkin.cli.parser_workspace import add_euler_option, add_workspace_commands
 from symkin.cli.values import (
     DEFAULT_TIME_LIMIT,
@@ -34,7 +34,7 @@ from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
 from symkin.generate import BACKENDS
 from symkin.solve.ik.numeric import DEFAULT_RESTARTS, DEFAULT_TOLERANCE, METHODS
-from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
+from symkin.solve.trajopt import OBJECTIVES
 
 # argparse's (private) type of the object that add_subparsers returns
 Commands = argparse._SubParsersAction
@@ -419,12 +419,7 @@ def add_trajopt(commands: Commands) -> None:
     trajopt.add_argument(
         "--objective", choices=OBJECTIVES, help="effort (the default) or time (= --min-time)"
     )
-    trajopt.add_argument(
-        "--method",
-        choices=list(TRANSCRIPTIONS),
-        default="multiple-shooting",
-        help="transcription: multiple-shooting (RK4, default) or collocation (Radau)",
-    )
+    add_trajopt_options(trajopt)
     trajopt.add_argument(
         "--velocity-limit",
         metavar="V[,V2,...]",
@@ -440,6 +435,7 @@ def add_trajopt(commands: Commands) -> None:
         "--out", metavar="DIR", help="write trajectory.csv and trajectory.json to DIR"
     )
     trajopt.add_argument("--plot", action="store_true", help="also write DIR/trajectory.png")
+    trajopt.add_argument("--json", action="store_true", help="print a JSON object")
     trajopt.set_defaults(run=command_trajopt)
 
 

@@ -58,11 +58,12 @@ def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
 
 
 def generated_point_module(
-    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]
+    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...], backend: str = "numpy"
 ) -> ModuleType:
-    """The NumPy kernels ``point1, point2, ...`` (position, velocity and acceleration of each
-    ``(link, (x, y, z))`` point), from the product form, built once per robot and point set."""
-    return _remembered(model, ("points", points), _point_module, points)
+    """The NumPy (or, with ``backend="casadi"``, CasADi) kernels ``point1, point2, ...``
+    (position, velocity and acceleration of each ``(link, (x, y, z))`` point), from the product
+    form, built once per robot, point set and backend."""
+    return _remembered(model, ("points", points, backend), _point_module, points, backend)
 
 
 # The modules of the models used last, by identity: hashing a model hashes its robot's every
@@ -111,10 +112,12 @@ def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
 
 
 @lru_cache(maxsize=32)
-def _point_module(model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]) -> ModuleType:
+def _point_module(
+    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...], backend: str
+) -> ModuleType:
     from symkin.kernels import point_kernels
 
-    return _module_from_kernels(model, "numpy", "points", point_kernels(model, points))
+    return _module_from_kernels(model, backend, "points", point_kernels(model, points))
 
 
 def _module_from_kernels(
