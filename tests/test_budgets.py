@@ -8,7 +8,9 @@ determinant on small matrices, and the arms' structure.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
+import time
 import warnings
 from pathlib import Path
 
@@ -22,7 +24,7 @@ from codegen_helpers import import_path, write_tree
 from numeric_dh import NumericRobot, function, model, robot, samples
 from symkin.cli import main
 from symkin.derive import Model
-from symkin.derive.budget import OverBudgetError, run_within
+from symkin.derive.budget import WALL_FACTOR, OverBudgetError, child_cpu_seconds, run_within
 from symkin.derive.determinant import determinant_by_minors, factored_gram_determinant
 from symkin.errors import BudgetWarning, ParameterError
 from symkin.generate import files_for_robot
@@ -128,6 +130,36 @@ def test_run_within_returns_values_raises_errors_and_stops() -> None:
         run_within(5, lambda: 1 / 0)
     with pytest.raises(OverBudgetError):
         run_within(0.2, lambda: [i for i in iter(int, 1)])  # never ends
+
+
+def _burn() -> None:
+    while True:
+        pass
+
+
+def test_a_child_burning_cpu_is_stopped_by_its_cpu_time() -> None:
+    """A wall backstop far away (1000 budgets): only the CPU measure can stop it, and it does
+    so after at least the budget of wall time (CPU time never outruns it on one thread)."""
+    start = time.monotonic()
+    with pytest.raises(OverBudgetError) as stopped:
+        run_within(0.3, _burn, wall_factor=1000)
+    assert stopped.value.clock == "cpu"
+    assert 0.3 <= time.monotonic() - start < 60
+
+
+def test_a_sleeping_child_is_not_charged_but_meets_the_wall_backstop() -> None:
+    # Sleeping 1 s uses no CPU: within a 0.5 s CPU budget (backstop 1.5 s) the value comes.
+    assert run_within(0.5, lambda: (time.sleep(1.0), 7)[1]) == 7
+    start = time.monotonic()
+    with pytest.raises(OverBudgetError) as stopped:
+        run_within(0.2, lambda: time.sleep(30))
+    assert stopped.value.clock == "wall"
+    assert 0.2 * WALL_FACTOR <= time.monotonic() - start < 20
+
+
+def test_child_cpu_seconds_reads_proc() -> None:
+    own = child_cpu_seconds(os.getpid())
+    assert own is not None and own == pytest.approx(sum(os.times()[:2]), abs=0.05)
 
 
 def test_show_json_over_budget(capsys: pytest.CaptureFixture[str]) -> None:
