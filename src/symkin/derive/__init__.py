@@ -24,7 +24,11 @@ from symkin.derive.budget import (
     closed_form_within,
     not_attempted,
 )
-from symkin.derive.determinant import factored_determinant, factored_gram_determinant
+from symkin.derive.determinant import (
+    factored_determinant,
+    factored_gram_determinant,
+    too_large_to_factor,
+)
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
@@ -230,6 +234,10 @@ class Model:
         matrix = jacobians.determinant_matrix(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
+        if rows == jacobians.ROW_NAMES:  # the middle-frame matrix, where the measure is calibrated
+            hopeless = too_large_to_factor(quantity, self.robot.name, matrix)
+            if hopeless:
+                return hopeless
         return self._within(quantity, lambda: factored_determinant(matrix, self.q))
 
     def _within(self, quantity: str, compute: Callable[[], Any]) -> ClosedForm:
