@@ -120,9 +120,10 @@ class Model:
         """The same model unsimplified (shortest generated code after CSE)."""
         return self if not self.simplified else dataclasses.replace(self, simplified=False)
 
-    @property
+    @cached_property
     def q(self) -> tuple[sp.Symbol, ...]:
-        return self.kinematics.q
+        # Not self.kinematics.q: naming the inputs must not start the readable contraction.
+        return joint_symbols(self.robot.dof)
 
     @cached_property
     def dq(self) -> tuple[sp.Symbol, ...]:
@@ -322,7 +323,7 @@ class Model:
     @derivation_step("the Newton-Euler equations of motion")
     def newton_euler(self) -> Dynamics:
         """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
-        return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
+        return newton_euler_dynamics(self.robot, self._link_kinematics, self.dq, self.ddq)
 
     @cached_property
     @derivation_step("the Newton-Euler recursion")
@@ -330,7 +331,14 @@ class Model:
         self,
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
-        return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+        return inverse_dynamics_recursion(self.robot, self._link_kinematics, self.dq, self.ddq)
+
+    @property
+    def _link_kinematics(self) -> Kinematics:
+        """The kinematics the recursions read: only the link transforms (and the base), which
+        are the same in both forms, so the product form's (built in milliseconds), and
+        dynamics alone never waits for the readable contraction of a long chain."""
+        return self.product_form.kinematics
 
     @derivation_step("the point kinematics")
     def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:
