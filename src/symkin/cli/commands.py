@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from symkin.cache import DiskCache, remembered, user_cache
+from symkin.cli.derivatives_report import derivatives_json, derivatives_text
 from symkin.cli.report import (
     dynamics_json,
     dynamics_show_json,
@@ -33,8 +34,9 @@ from symkin.cli.values import (
     seconds_from_text,
     target_from_text,
     task_rows_from_text,
+    wrench_from_text,
 )
-from symkin.derive import derive
+from symkin.derive import Model, derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
@@ -44,6 +46,7 @@ from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.evaluate import dynamic_state, kinematic_state
 from symkin.solve.trajopt import (
     TrajectoryProblem,
@@ -52,6 +55,7 @@ from symkin.solve.trajopt import (
     summary_text,
     write_trajectory,
 )
+from symkin.spatial import orientation_from_rotation
 
 # Arguments that do not shape a command's text (where it goes, how the run is shown or
 # limited); every other argument, present or future, is part of the cache key.
@@ -108,26 +112,64 @@ def command_eval(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
-    if not args.dynamics:
+    if not (args.dynamics or args.derivatives):
         robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
     ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
     q = joint_values(args.q, "--q", robot)
+    wrench = wrench_from_text(args.wrench) if args.wrench else None
+    if wrench is not None and not args.dynamics:
+        raise SymkinError("--wrench needs --dynamics (it enters the joint torques)")
     kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
     points = [point_from_text(p, robot) for p in args.point]
     with np.errstate(all="ignore"):  # an overflow is reported once, by json_text below
-        dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+        dynamics = dynamic_state(model, q, dq, ddq, overrides, wrench) if args.dynamics else None
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
-    data = eval_json(state) | dynamics_json(dynamics)
+        derivatives = _eval_derivatives(args, model, q, dq, ddq, overrides)
+    orientation = orientation_report(state.transform, args.euler)
+    data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
+    data |= derivatives_json(derivatives)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + dynamics_text(dynamics))
+        print(
+            eval_text(state)
+            + orientation[1]
+            + dynamics_text(dynamics)
+            + derivatives_text(derivatives)
+        )
+
+
+def _eval_derivatives(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> DynamicsDerivatives | None:
+    """``--derivatives``: the dynamics' and the Jacobian's derivatives at (q, dq, ddq)."""
+    if not args.derivatives:
+        return None
+    if dq is None or ddq is None:
+        raise SymkinError("--derivatives needs --dq and --ddq (the derivatives depend on both)")
+    return dynamics_derivatives(model, q, dq, ddq, overrides)
+
+
+def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
+    """``--euler KIND``: the tool orientation as JSON entries and a text line (or nothing)."""
+    if kind is None:
+        return {}, ""
+    values, singular = orientation_from_rotation(transform[:3, :3], kind)[1:]
+    values = [float(v) for v in values]
+    note = "  (singular: the first and last angles share one free sum; last set to 0)"
+    line = f"\norientation {kind} = {[round(v, 9) for v in values]}" + (note if singular else "")
+    return {"orientation": {"kind": kind, "values": values, "singular": bool(singular)}}, line
 
 
 def derive_flags(args: argparse.Namespace) -> list[str]:
@@ -141,6 +183,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags += [word for item in args.point for word in ("--point", item)]
     flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
     flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    flags += ["--derivatives"] if args.derivatives else []
     return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
@@ -170,6 +213,7 @@ def command_derive(args: argparse.Namespace) -> None:
             budget=budget,
             closed_forms=closed_forms,
             dynamics=dynamics,
+            derivatives=args.derivatives,
         ),
     )
     out = Path(args.out)

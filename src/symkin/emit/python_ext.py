@@ -10,12 +10,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from symkin.emit.layout import STATE_INPUTS, kernel_layout
+from symkin.emit.layout import kernel_layout
 from symkin.emit.render import forward_dynamics_context, preamble_lines, render
 from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}
+# The forward dynamics' derivative matrices, after ddq, as every backend names them.
+FD_DERIVATIVES = ("dddq_dq", "dddq_ddq", "dddq_dtau")
 
 
 @dataclass(frozen=True)
@@ -29,6 +31,7 @@ class Binding:
     name: str
     description: str
     states: tuple[str, ...]
+    state_sizes: tuple[int, ...]
     takes_pi: bool
     outputs: tuple[tuple[str, tuple[int, ...]], ...]
     batched: bool = True
@@ -55,21 +58,33 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
             Binding(
                 name=layout.name,
                 description=layout.description,
-                states=tuple(n for n in names if n in STATE_INPUTS),
+                states=tuple(i.name for i in layout.inputs if i.per_state),
+                state_sizes=tuple(i.size for i in layout.inputs if i.per_state),
                 takes_pi="pi" in names,
                 outputs=tuple((o.name, o.numpy_shape) for o in layout.outputs),
             )
         )
     forward = forward_dynamics_context(kernels)
-    if forward is not None:
+    if forward is None:
+        return result
+    n = robot.dof
+    composed = [("forward_dynamics", "forward dynamics ddq = M^-1 (tau - c - G - F)", ())]
+    # The forward dynamics' texts are in generated/: keep them as they are.
+    if forward["derivatives"]:
+        matrices = tuple((name, (n, n)) for name in FD_DERIVATIVES)
+        what = "ddq and d ddq/dq, d ddq/ddq, d ddq/dtau = M^-1"
+        composed.append(("forward_dynamics_derivatives", what, matrices))
+    for name, description, more in composed:
         result.append(
             Binding(
-                name="forward_dynamics",
-                description="forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky)",
+                name=name,
+                description=f"{description} (Cholesky)",
                 states=("q", "dq", "tau"),
+                state_sizes=(robot.dof,) * 3,
                 takes_pi=bool(forward["pi"]),
-                outputs=(("ddq", (robot.dof,)),),
-                batched=False,
+                outputs=(("ddq", (n,)), *more),
+                # forward_dynamics has no batched C entry point: the binding loops over states.
+                batched=bool(more),
                 if_not_finite="ddq is not finite: M(q) is not positive definite there "
                 "(non-physical inertial data?) or an input is not finite",
             )
