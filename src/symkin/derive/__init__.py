@@ -26,6 +26,7 @@ from symkin.derive.budget import (
 )
 from symkin.derive.determinant import factored_determinant, factored_gram_determinant
 from symkin.derive.dynamics import Dynamics
+from symkin.derive.elastic import MotorSide, motor_side_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
@@ -323,6 +324,14 @@ class Model:
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
         return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+
+    @cached_property
+    @derivation_step("the elastic joints' motor-side inverse dynamics")
+    def motor_side(self) -> MotorSide:
+        """``theta`` and ``tau_m`` of a robot with elastic joints (:mod:`.elastic`)."""
+        return motor_side_dynamics(
+            self.robot, self.inverse_dynamics_recursion, self.q, self.dq, self.ddq
+        )
 
     @derivation_step("the point kinematics")
     def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:

@@ -50,17 +50,23 @@ def parameter_context(
     }
 
 
-def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, int] | None:
+def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] | None:
     """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
 
     Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels;
     ``pi`` is the number of inertial symbols they take (0: the file gives all the data).
+    ``elastic``: 0-based indices of the elastic joints, whose 2n-state forward dynamics also
+    uses ``elastic_constants`` (empty for a rigid robot: no elastic code is printed).
     """
     names = {k.name: k for k in kernels}
     if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
         return None
     inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
-    return {"pi": len(inputs["pi"].symbols) if "pi" in inputs else 0}
+    elastic: list[int] = []
+    if "elastic_constants" in names:
+        stiffness = names["elastic_constants"].outputs[0].matrix
+        elastic = [i for i, k in enumerate(stiffness) if k != 0]
+    return {"pi": len(inputs["pi"].symbols) if "pi" in inputs else 0, "elastic": elastic}
 
 
 def number_text(value: sp.Expr) -> str:
