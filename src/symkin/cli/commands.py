@@ -20,6 +20,8 @@ from symkin.cli.report import (
     eval_json,
     eval_text,
     json_text,
+    motor_side_json,
+    motor_side_text,
     progress,
     show_json,
     show_text,
@@ -34,7 +36,7 @@ from symkin.cli.values import (
     target_from_text,
     task_rows_from_text,
 )
-from symkin.derive import derive
+from symkin.derive import Model, derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
@@ -44,6 +46,7 @@ from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.evaluate import dynamic_state, kinematic_state
 from symkin.solve.trajopt import (
     TrajectoryProblem,
@@ -122,12 +125,47 @@ def command_eval(args: argparse.Namespace) -> None:
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
-    data = eval_json(state) | dynamics_json(dynamics)
+    motor = _motor_side(args, model, q, dq, ddq, overrides)
+    data = eval_json(state) | dynamics_json(dynamics) | motor_side_json(motor)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + dynamics_text(dynamics))
+        print(eval_text(state) + dynamics_text(dynamics) + motor_side_text(motor))
+
+
+def _motor_side(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> MotorSideState | None:
+    """``theta`` and ``tau_motor`` of a robot with elastic joints (``--dynamics`` with
+    ``--dq --ddq --d3q --d4q``); None for a rigid robot or without ``--dynamics``."""
+    robot = model.robot
+    rates = {flag: getattr(args, flag[2:]) for flag in ("--d3q", "--d4q")}
+    given = [flag for flag, value in rates.items() if value]
+    if given and not (args.dynamics and robot.elastic_joints):
+        why = "" if robot.elastic_joints else f"; {robot.name} has none ('stiffness' on a link)"
+        raise SymkinError(
+            f"{' and '.join(given)}: only for the motor side of elastic joints, with "
+            f"--dynamics{why}"
+        )
+    if not (args.dynamics and robot.elastic_joints and ddq is not None):
+        return None
+    missing = [flag for flag, value in rates.items() if not value]
+    if missing:
+        joints = ", ".join(str(i + 1) for i in robot.elastic_joints)
+        raise SymkinError(
+            f"{robot.name} has elastic joints ({joints}): theta and tau_motor need "
+            f"{' and '.join(missing)} as well (the third and fourth time derivatives of q)"
+        )
+    d3q, d4q = (joint_values(value, flag, robot) for flag, value in rates.items())
+    assert dq is not None  # --ddq needs --dq (checked by command_eval)
+    with np.errstate(all="ignore"):
+        return motor_side_state(model, q, dq, ddq, d3q, d4q, overrides)
 
 
 def derive_flags(args: argparse.Namespace) -> list[str]:
