@@ -13,10 +13,13 @@ The public API::
 
 from symkin.derive import DerivationError, Model, PointMotion, derive
 from symkin.derive.numeric import numeric_function
+from symkin.emit.latex import jupyter as _jupyter  # noqa: F401  registers Model._repr_latex_
 from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot
+from symkin.solve.draw import arm_figure, draw_arm
+from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
 from symkin.solve.evaluate import (
     KinematicState,
     PointState,
@@ -30,6 +33,7 @@ from symkin.solve.trajopt import (
     TrajectoryProblem,
     optimal_trajectory,
 )
+from symkin.solve.workspace import Workspace, sample_workspace
 from symkin.spatial import (
     adjoint_from_transform,
     quaternion_product,
@@ -43,6 +47,7 @@ from symkin.symbols import joint_symbols
 
 __all__ = [
     "DerivationError",
+    "Ellipsoids",
     "IKResult",
     "InfeasibleTrajectoryError",
     "Joint",
@@ -56,9 +61,13 @@ __all__ = [
     "SymkinError",
     "Trajectory",
     "TrajectoryProblem",
+    "Workspace",
     "adjoint_from_transform",
+    "arm_figure",
     "catalogue_names",
     "derive",
+    "draw_arm",
+    "ellipsoids_at",
     "joint_symbols",
     "kinematic_state",
     "load_robot",
@@ -71,6 +80,7 @@ __all__ = [
     "robot_from_toml",
     "rotation_from_rotation_vector",
     "rotation_vector_from_rotation",
+    "sample_workspace",
     "solve_ik",
     "transform_from_twist",
     "twist_from_transform",

@@ -55,6 +55,7 @@ from symkin.solve.trajopt import (
     summary_text,
     write_trajectory,
 )
+from symkin.spatial import orientation_from_rotation
 
 # Arguments that do not shape a command's text (where it goes, how the run is shown or
 # limited); every other argument, present or future, is part of the cache key.
@@ -126,12 +127,14 @@ def command_eval(args: argparse.Namespace) -> None:
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
     motor = _motor_side(args, model, q, dq, ddq, overrides)
-    data = eval_json(state) | dynamics_json(dynamics) | motor_side_json(motor)
+    orientation = orientation_report(state.transform, args.euler)
+    data = eval_json(state) | dynamics_json(dynamics) | orientation[0] | motor_side_json(motor)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + dynamics_text(dynamics) + motor_side_text(motor))
+        text = eval_text(state) + orientation[1] + dynamics_text(dynamics)
+        print(text + motor_side_text(motor))
 
 
 def _motor_side(
@@ -166,6 +169,17 @@ def _motor_side(
     assert dq is not None  # --ddq needs --dq (checked by command_eval)
     with np.errstate(all="ignore"):
         return motor_side_state(model, q, dq, ddq, d3q, d4q, overrides)
+
+
+def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
+    """``--euler KIND``: the tool orientation as JSON entries and a text line (or nothing)."""
+    if kind is None:
+        return {}, ""
+    values, singular = orientation_from_rotation(transform[:3, :3], kind)[1:]
+    values = [float(v) for v in values]
+    note = "  (singular: the first and last angles share one free sum; last set to 0)"
+    line = f"\norientation {kind} = {[round(v, 9) for v in values]}" + (note if singular else "")
+    return {"orientation": {"kind": kind, "values": values, "singular": bool(singular)}}, line
 
 
 def derive_flags(args: argparse.Namespace) -> list[str]:

@@ -20,6 +20,7 @@ from symkin.cli.commands import (
 )
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
+from symkin.cli.parser_workspace import add_euler_option, add_workspace_commands
 from symkin.cli.values import (
     DEFAULT_TIME_LIMIT,
     budget_from_text,
@@ -38,6 +39,10 @@ from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
 Commands = argparse._SubParsersAction
 # Commands whose text products the derivation cache keeps (symkin.cache).
 CACHED_COMMANDS = ("show", "derive", "latex")
+IK_EULER_HELP = (
+    "how the three rotation values of a target read: an intrinsic Euler order (angles in that "
+    "order) or rotvec (axis * angle); default: rx,ry,rz of R = Rz(rz) Ry(ry) Rx(rx)"
+)
 TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
 
 
@@ -110,6 +115,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_trajopt(commands)
     add_dh(commands)
     add_urdf(commands)
+    add_workspace_commands(commands, add_robot_argument)
     for name, command in commands.choices.items():
         add_run_options(command, cached=name in CACHED_COMMANDS)
     return parser
@@ -213,6 +219,11 @@ def add_eval(commands: Commands) -> None:
         "data need --set m1=...,cx1=...",
     )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
+    add_euler_option(
+        evaluate,
+        "also the tool orientation as intrinsic Euler angles of this "
+        "order, or as the rotation vector (rotvec)",
+    )
     evaluate.set_defaults(run=command_eval)
 
 
@@ -312,6 +323,7 @@ def add_ik(commands: Commands) -> None:
     )
     add_robot_argument(ik)
     ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
+    add_euler_option(ik, IK_EULER_HELP)
     ik.add_argument(
         "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
     )

@@ -25,6 +25,7 @@ from symkin.derive.budget import (
     not_attempted,
 )
 from symkin.derive.determinant import factored_determinant, factored_gram_determinant
+from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.elastic import MotorSide, motor_side_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
@@ -92,6 +93,14 @@ class Model:
             raise ParameterError(
                 f"{{budget}} must be a positive number of seconds or None, got {self.budget!r}"
             )
+
+    def _repr_png_(self) -> bytes | None:
+        """Jupyter: the arm at its pose ``home`` (or q = 0), see :mod:`symkin.derive.display`."""
+        return rich_display("png", self)
+
+    def _repr_latex_(self) -> str | None:
+        """Jupyter: the forward kinematics ``T`` in LaTeX, see :mod:`symkin.derive.display`."""
+        return rich_display("latex", self)
 
     @cached_property
     @derivation_step("the link transforms and forward kinematics")

@@ -7,6 +7,9 @@ Conventions (see ``docs/conventions.md``):
   roll-pitch-yaw about **fixed** axes X, Y, Z (``rpy_xyz_fixed``): roll about X first, then
   pitch about Y, then yaw about Z.
 * Z-Y-Z Euler ``R = Rz(alpha) Ry(beta) Rz(gamma)``.
+* All twelve Euler/Tait-Bryan orders: intrinsic ``"abc"`` is ``R = Ra(t1) Rb(t2) Rc(t3)``;
+  extrinsic ``"abc"`` (fixed axes, a first) is the intrinsic order ``"cba"`` with the angles
+  reversed.  The rotation vector is ``w = axis * angle``.
 * Quaternions are ``(w, x, y, z)``, scalar first; conversions from rotations return ``w >= 0``.
 * Twists are ``(v, w)`` (linear first), wrenches ``(f, tau)`` (force first).
 * Homogeneous transforms are 4x4 ``[R p; 0 1]``; ``T_a_b`` is the pose of frame b in frame a.
@@ -19,7 +22,9 @@ zero?") are dispatched through :class:`symkin.spatial.backend.Backend`.
 
 The functions live in :mod:`~symkin.spatial.rotations` (elementary rotations, axis-angle),
 :mod:`~symkin.spatial.quaternions` (quaternion algebra, slerp, conversions),
-:mod:`~symkin.spatial.euler` (Z-Y-X / roll-pitch-yaw and Z-Y-Z angles),
+:mod:`~symkin.spatial.euler` (the twelve Euler/Tait-Bryan orders; Z-Y-X / roll-pitch-yaw and
+Z-Y-Z by name), :mod:`~symkin.spatial.orientation` (an Euler order or the rotation vector by
+name),
 :mod:`~symkin.spatial.transforms` (homogeneous transforms, :class:`TransformGraph`),
 :mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and :mod:`~symkin.spatial.screws`
 (screw axes, twists ``(v, w)``, wrenches ``(f, tau)``, the adjoint); all are importable from
@@ -35,11 +40,17 @@ from symkin.spatial.backend import (
     Scalar,
 )
 from symkin.spatial.euler import (
+    EULER_ORDERS,
+    PROPER_EULER_ORDERS,
     RPY,
+    TAIT_BRYAN_ORDERS,
+    EulerAngles,
     EulerZYX,
     EulerZYZ,
+    euler_from_rotation,
     euler_zyx_from_rotation,
     euler_zyz_from_rotation,
+    rotation_from_euler,
     rotation_from_euler_zyx,
     rotation_from_euler_zyz,
     rotation_from_rpy,
@@ -53,6 +64,12 @@ from symkin.spatial.lie import (
     skew,
     transform_from_twist,
     twist_from_transform,
+)
+from symkin.spatial.orientation import (
+    ORIENTATIONS,
+    Orientation,
+    orientation_from_rotation,
+    rotation_from_orientation,
 )
 from symkin.spatial.quaternions import (
     quaternion_canonical,
@@ -87,23 +104,31 @@ from symkin.spatial.transforms import (
 )
 
 __all__ = [
+    "EULER_ORDERS",
+    "ORIENTATIONS",
     "ORTHONORMAL_TOL",
+    "PROPER_EULER_ORDERS",
     "RPY",
     "SINGULAR_TOL",
+    "TAIT_BRYAN_ORDERS",
     "ZERO_NORM_TOL",
     "AxisAngle",
+    "EulerAngles",
     "EulerZYX",
     "EulerZYZ",
     "Matrix",
     "MatrixLike",
+    "Orientation",
     "RotationLog",
     "Scalar",
     "TransformGraph",
     "TransformLog",
     "adjoint_from_transform",
     "axis_angle_from_rotation",
+    "euler_from_rotation",
     "euler_zyx_from_rotation",
     "euler_zyz_from_rotation",
+    "orientation_from_rotation",
     "quaternion_canonical",
     "quaternion_conjugate",
     "quaternion_from_rotation",
@@ -114,8 +139,10 @@ __all__ = [
     "rot_y",
     "rot_z",
     "rotation_from_axis_angle",
+    "rotation_from_euler",
     "rotation_from_euler_zyx",
     "rotation_from_euler_zyz",
+    "rotation_from_orientation",
     "rotation_from_quaternion",
     "rotation_from_rotation_vector",
     "rotation_from_rpy",
