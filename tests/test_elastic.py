@@ -176,3 +176,55 @@ def test_eval_reports_theta_and_motor_torque(capsys: pytest.CaptureFixture[str])
     assert "need --d4q as well" in capsys.readouterr().err
     assert main(["eval", "planar_2r", "--q", "0,0", "--d3q", "0,0"]) == 2
     assert "planar_2r has none" in capsys.readouterr().err
+
+
+@pytest.mark.needs_cc
+@pytest.mark.slow
+def test_extension_agrees_with_numpy_on_the_elastic_model(tmp_path: Path) -> None:
+    from symkin.generate import files_for_robot
+    from symkin.output_folder import write_folder
+    from symkin.runtime.extension import build_extension, load_extension
+
+    model = example()
+    write_folder(tmp_path, files_for_robot(model.robot, ("python",)))
+    name = model.robot.name
+    extension = load_extension(
+        build_extension(tmp_path / "python" / f"{name}_ext.c", tmp_path / "c" / f"{name}.c")
+    )
+    numpy_module = generated_numpy_module(model)
+    rng = np.random.default_rng(11)
+    q, dq, theta, tau, ddq, d3q, d4q = rng.uniform(-1, 1, (7, 2))
+    for ours, theirs in zip(
+        numpy_module.elastic_forward_dynamics(q, dq, theta, tau),
+        extension.elastic_forward_dynamics(q, dq, theta, tau),
+        strict=True,
+    ):
+        np.testing.assert_allclose(theirs, ours, rtol=1e-12)
+    for ours, theirs in zip(
+        numpy_module.elastic_inverse_dynamics(q, dq, ddq, d3q, d4q),
+        extension.elastic_inverse_dynamics(q, dq, ddq, d3q, d4q),
+        strict=True,
+    ):
+        np.testing.assert_allclose(theirs, ours, rtol=1e-12)
+
+
+@pytest.mark.slow
+def test_puma_with_elastic_joints_matches_finite_differences() -> None:
+    model = derive(load_robot(Path(__file__).parent / "data" / "puma560_elastic.toml"))
+    module = generated_numpy_module(model)
+    stiffness, inertia = module.elastic_constants(np.zeros(6))
+    rng = np.random.default_rng(13)
+    path = [np.polynomial.Polynomial(rng.uniform(-1.0, 1.0, 6)) for _ in range(6)]
+
+    def state(t: float) -> list[np.ndarray]:
+        return [np.array([p.deriv(k)(t) if k else p(t) for p in path]) for k in range(5)]
+
+    def link_torque(t: float) -> np.ndarray:
+        return module.inverse_dynamics(*state(t)[:3])
+
+    h, t = 1e-3, 0.4
+    second = (link_torque(t + h) - 2 * link_torque(t) + link_torque(t - h)) / h**2
+    theta, motor = module.elastic_inverse_dynamics(*state(t))
+    np.testing.assert_allclose(theta, state(t)[0] + link_torque(t) / stiffness, rtol=1e-12)
+    expected = inertia * (state(t)[2] + second / stiffness) + link_torque(t)
+    np.testing.assert_allclose(motor, expected, rtol=1e-5, atol=1e-6)
