@@ -228,3 +228,24 @@ def test_puma_with_elastic_joints_matches_finite_differences() -> None:
     np.testing.assert_allclose(theta, state(t)[0] + link_torque(t) / stiffness, rtol=1e-12)
     expected = inertia * (state(t)[2] + second / stiffness) + link_torque(t)
     np.testing.assert_allclose(motor, expected, rtol=1e-5, atol=1e-6)
+
+
+def test_drive_keys_survive_writing_the_robot_back_to_toml(tmp_path: Path) -> None:
+    from symkin.emit.robot_toml import robot_toml
+
+    path = tmp_path / "motor.toml"
+    path.write_text(
+        'name = "motor"\n[[joints]]\ntype = "revolute"\n[joints.link]\nmass = 1\nstiffness = 90\n'
+        "friction = { coulomb = 0.7, smoothing = 0.05, stiction = 0.9 }\n"
+        "drive = { gear_ratio = 10, rotor_inertia = 1e-4, torque_constant = 0.05, "
+        "back_emf_constant = 0.05, resistance = 1.2, inductance = 2e-3 }\n"
+    )
+    robot = load_robot(path)
+    (tmp_path / "again.toml").write_text(robot_toml(robot, "test"))
+    again = load_robot(tmp_path / "again.toml")
+    link, copy = robot.joints[0].link, again.joints[0].link
+    assert float(copy.motor_inertia) == pytest.approx(10**2 * 1e-4)  # G^2 Jm, by hand
+    assert (copy.stiffness, copy.coulomb_width, copy.stiction) == (
+        link.stiffness, link.coulomb_width, link.stiction,
+    )  # fmt: skip
+    assert copy.drive.inductance == link.drive.inductance and copy.drive.gear_ratio == 10
