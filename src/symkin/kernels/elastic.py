@@ -53,9 +53,9 @@ def elastic_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel
             "joint stiffness K and motor-side inertia B (0 at rigid joints)",
             constant_inputs,
             [
-                ("K", _per_joint(model, joint_stiffness(robot)), f"K ({n}x1)", "vector",
+                ("K_spring", _per_joint(model, joint_stiffness(robot)), f"K ({n}x1)", "vector",
                  stiffness_unit),
-                ("B", _per_joint(model, motor_side_inertia(robot)), f"B ({n}x1)", "vector",
+                ("B_motor", _per_joint(model, motor_side_inertia(robot)), f"B ({n}x1)", "vector",
                  inertia_unit),
             ],
         ),
@@ -65,7 +65,7 @@ def elastic_kernels(model: Model, inputs: Sequence[KernelInput]) -> tuple[Kernel
             jerk_inputs,
             side.assignments,
             [
-                ("theta", _theta(model), f"theta = q + K^-1 tau_link ({n}x1)", "vector",
+                ("theta_m", _theta(model), f"theta = q + K^-1 tau_link ({n}x1)", "vector",
                  units.per_joint(robot, "rad", "m")),
                 ("tau_m", side.tau_motor,
                  f"tau_m = B (ddq + K^-1 d2tau_link/dt2) + tau_link ({n}x1)", "vector", force),
