@@ -104,3 +104,21 @@ def test_smooth_coulomb_friction_is_tanh_of_speed_over_width(tmp_path: Path) -> 
     for speed in (-0.2, -0.01, 0.0, 0.03, 1.0):
         torque = module.inverse_dynamics([0.3], [speed], [0.0])[0]
         assert torque == pytest.approx(0.7 * math.tanh(speed / 0.05) + 0.2 * speed, abs=1e-12)
+
+
+@pytest.mark.parametrize("inductance", ["", ", inductance = 2e-3"])
+def test_casadi_motor_dynamics_rest_at_the_hand_steady_state(
+    tmp_path: Path, inductance: str
+) -> None:
+    from symkin.solve.drives import motor_dynamics_function
+
+    g, kt, ke, r, b = MOTOR.values()
+    voltage = 12.0
+    speed = g * kt * voltage / (r * b + g**2 * kt * ke)
+    current = b * speed / (g * kt)
+    function = motor_dynamics_function(motor_arm(tmp_path, inductance))
+    ddq, di = function([0.4], [speed], [current], [voltage])
+    assert float(ddq) == pytest.approx(0.0, abs=1e-9)
+    assert float(di) == pytest.approx(0.0, abs=1e-9)
+    ddq, _ = function([0.4], [0.0], [current], [voltage])
+    assert float(ddq) > 1.0  # from rest the motor accelerates the joint

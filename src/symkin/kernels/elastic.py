@@ -1,5 +1,6 @@
 """The kernels of a robot with elastic joints (none for a rigid robot, so they cost nothing
-there): ``elastic_constants`` (K and B) and ``elastic_inverse_dynamics`` (theta and tau_m).
+there): ``elastic_constants`` (``K_spring``, ``B_motor``) and ``elastic_inverse_dynamics``
+(``theta_m``, ``tau_m``).
 
 Vectors have one entry per joint so every backend shapes them like ``q``: a rigid joint has
 ``K_i = B_i = 0``, ``theta_i = q_i`` and its joint torque as ``tau_m_i``.  The 2n-state

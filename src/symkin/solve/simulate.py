@@ -22,14 +22,13 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 from scipy.integrate import solve_ivp
 
 from symkin.derive import Model
 from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.drives import Motor, motors_of, number_from, parameter_values
 from symkin.solve.evaluate import dynamics_arguments
-from symkin.symbols import parameter_symbol
 
 Input = Callable[[float], Sequence[float]]
 
@@ -51,16 +50,6 @@ class Simulation:
 
 
 @dataclass(frozen=True)
-class _Motor:
-    joint: int
-    gear: float
-    torque_constant: float
-    back_emf: float
-    resistance: float
-    inductance: float | None
-
-
-@dataclass(frozen=True)
 class _Plant:
     """The numbers of one simulation: generated kernels and their arguments, drive data."""
 
@@ -70,37 +59,15 @@ class _Plant:
     elastic: tuple[int, ...]
     stiffness: np.ndarray
     motor_inertia: np.ndarray
-    motors: tuple[_Motor, ...]
+    motors: tuple[Motor, ...]
     coulomb: np.ndarray
     stiction: np.ndarray  # gamma_s, NaN where a joint does not stick
     tau: Input
     voltage: Input
 
     @property
-    def inductive(self) -> tuple[_Motor, ...]:
+    def inductive(self) -> tuple[Motor, ...]:
         return tuple(m for m in self.motors if m.inductance is not None)
-
-
-def _number(expr: sp.Expr | None, values: Mapping[sp.Symbol, float]) -> float | None:
-    return None if expr is None else float(sp.sympify(expr).xreplace(values))
-
-
-def _motors(model: Model, values: Mapping[sp.Symbol, float]) -> tuple[_Motor, ...]:
-    motors = []
-    for i, joint in enumerate(model.robot.joints):
-        drive = joint.link.drive if joint.link else None
-        if drive is not None and drive.has_motor:
-            motors.append(
-                _Motor(
-                    joint=i,
-                    gear=_number(drive.gear_ratio, values),  # type: ignore[arg-type]
-                    torque_constant=_number(drive.torque_constant, values),  # type: ignore[arg-type]
-                    back_emf=_number(drive.back_emf_constant, values),  # type: ignore[arg-type]
-                    resistance=_number(drive.resistance, values),  # type: ignore[arg-type]
-                    inductance=_number(drive.inductance, values),
-                )
-            )
-    return tuple(motors)
 
 
 def _plant(
@@ -108,24 +75,23 @@ def _plant(
 ) -> _Plant:
     robot = model.robot
     arguments = dynamics_arguments(model, overrides)
-    names = [name for name, _ in robot.parameters]
-    values = {parameter_symbol(n): float(v) for n, v in zip(names, arguments["p"], strict=True)}
+    values = parameter_values(robot, arguments["p"])
     module = generated_numpy_module(model)
     n = robot.dof
     stiffness = motor_inertia = np.zeros(n)
     if robot.elastic_joints:
         stiffness, motor_inertia = module.elastic_constants(np.zeros(n), arguments["p"])
     links = [j.link for j in robot.joints]
-    coulomb = np.array([_number(link.coulomb, values) if link else 0.0 for link in links])
+    coulomb = np.array([number_from(link.coulomb, values) if link else 0.0 for link in links])
     stiction = np.array(
         [
             np.nan
             if link is None or link.stiction is None or link.is_elastic
-            else _number(link.stiction, values)
+            else number_from(link.stiction, values)
             for link in links
         ]
     )
-    motors = _motors(model, values)
+    motors = motors_of(model, values)
     if motors and voltage is None:
         raise ParameterError(f"{robot.name} has DC motors: give their {{voltage}}(t)")
     zeros = np.zeros(n)
