@@ -6,6 +6,7 @@ The public API::
     model = symkin.derive(robot)               # closed-form kinematics (SymPy)
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+    d = symkin.dynamics_derivatives(model, q, dq, ddq)   # dtau/dq, dddq/dq, dJ/dt, ...
     result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
     motion = symkin.optimal_trajectory(model, symkin.TrajectoryProblem(start=..., goal=...,
                                        final_time=2.0))   # optimal control (CasADi + IPOPT)
@@ -18,6 +19,7 @@ from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Drive, Joint, Link, Robot
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.draw import arm_figure, draw_arm
 from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
@@ -60,6 +62,7 @@ from symkin.symbols import joint_symbols
 __all__ = [
     "DerivationError",
     "Drive",
+    "DynamicsDerivatives",
     "Ellipsoids",
     "IKResult",
     "InfeasibleTrajectoryError",
@@ -85,6 +88,7 @@ __all__ = [
     "cylinder_inertia",
     "derive",
     "draw_arm",
+    "dynamics_derivatives",
     "ellipsoids_at",
     "hollow_cylinder_inertia",
     "inertia_about_com",

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from symkin.cache import DiskCache, remembered, user_cache
+from symkin.cli.derivatives_report import derivatives_json, derivatives_text
 from symkin.cli.report import (
     dynamics_json,
     dynamics_show_json,
@@ -47,6 +48,7 @@ from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.evaluate import dynamic_state, kinematic_state
 from symkin.solve.trajopt import (
@@ -113,7 +115,7 @@ def command_eval(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
-    if not args.dynamics:
+    if not (args.dynamics or args.derivatives):
         robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
     ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
@@ -130,15 +132,38 @@ def command_eval(args: argparse.Namespace) -> None:
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
+        derivatives = _eval_derivatives(args, model, q, dq, ddq, overrides)
     motor = _motor_side(args, model, q, dq, ddq, overrides)
     orientation = orientation_report(state.transform, args.euler)
-    data = eval_json(state) | dynamics_json(dynamics) | orientation[0] | motor_side_json(motor)
+    data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
+    data |= derivatives_json(derivatives) | motor_side_json(motor)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        text = eval_text(state) + orientation[1] + dynamics_text(dynamics)
-        print(text + motor_side_text(motor))
+        print(
+            eval_text(state)
+            + orientation[1]
+            + dynamics_text(dynamics)
+            + derivatives_text(derivatives)
+            + motor_side_text(motor)
+        )
+
+
+def _eval_derivatives(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> DynamicsDerivatives | None:
+    """``--derivatives``: the dynamics' and the Jacobian's derivatives at (q, dq, ddq)."""
+    if not args.derivatives:
+        return None
+    if dq is None or ddq is None:
+        raise SymkinError("--derivatives needs --dq and --ddq (the derivatives depend on both)")
+    return dynamics_derivatives(model, q, dq, ddq, overrides)
 
 
 def _motor_side(
@@ -197,6 +222,7 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags += [word for item in args.point for word in ("--point", item)]
     flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
     flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    flags += ["--derivatives"] if args.derivatives else []
     return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
@@ -226,6 +252,7 @@ def command_derive(args: argparse.Namespace) -> None:
             budget=budget,
             closed_forms=closed_forms,
             dynamics=dynamics,
+            derivatives=args.derivatives,
         ),
     )
     out = Path(args.out)

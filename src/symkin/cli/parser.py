@@ -224,6 +224,12 @@ def add_eval(commands: Commands) -> None:
         help="with --dynamics: an external wrench on the tool (N, N m; base frame, at the tool "
         "point): tau includes -J^T w, and the static torque G - J^T w is printed",
     )
+    evaluate.add_argument(
+        "--derivatives",
+        action="store_true",
+        help="add dtau_dq, dtau_ddq, dddq_dq, dddq_ddq, dddq_dtau, jacobian_dot and "
+        "jacobian_dot_dq (needs --dq and --ddq; row = output index)",
+    )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
     add_euler_option(
         evaluate,
@@ -266,6 +272,12 @@ def add_derive(commands: Commands) -> None:
         help="put the parameter values (file values, or --set) into the code: no p input, "
         "constants folded, and for robots with full inertial data the dynamics run on base "
         "parameters (fewer operations)",
+    )
+    derive_parser.add_argument(
+        "--derivatives",
+        action="store_true",
+        help="also the derivative kernels: inverse_dynamics_derivatives (tau, dtau/dq, "
+        "dtau/ddq), jacobian_derivative (dJ/dt, dJ/dt dq) and forward_dynamics_derivatives",
     )
     add_set_option(derive_parser)
     add_derivation_options(derive_parser)

@@ -24,6 +24,7 @@ from symkin.derive.budget import (
     closed_form_within,
     not_attempted,
 )
+from symkin.derive.derivatives import TorqueDerivatives, torque_derivatives
 from symkin.derive.determinant import factored_determinant, factored_gram_determinant
 from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
@@ -351,6 +352,14 @@ class Model:
         return motor_side_dynamics(
             self.robot, self.inverse_dynamics_recursion, self.q, self.dq, self.ddq
         )
+
+    @cached_property
+    @derivation_step("the inverse dynamics' derivatives")
+    def inverse_dynamics_derivatives(self) -> TorqueDerivatives:
+        """``tau``, ``dtau/dq`` and ``dtau/ddq`` through the Newton–Euler recursion's named
+        intermediates (:mod:`symkin.derive.derivatives`)."""
+        assignments, torque = self.inverse_dynamics_recursion
+        return torque_derivatives(assignments, torque, self.q, self.dq)
 
     @cached_property
     def wrench(self) -> tuple[sp.Symbol, ...]:

@@ -30,15 +30,17 @@ if TYPE_CHECKING:
 # What the numeric solvers call, nothing more: the determinant, the singular set, the
 # Christoffel C and every readable (contracted) form are left out, so an arm whose determinant
 # takes minutes still gets its first IK answer in seconds.
-KINDS = ("kinematics", "dynamics")
+KINDS = ("kinematics", "dynamics", "derivatives")
 POSE_KERNELS = ("fk", "position", "fk_jacobian")
 
 
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The NumPy backend's ``kind`` kernels ("kinematics": ``fk``, ``position`` and
     ``fk_jacobian``; "dynamics": ``mass_matrix``, ``gravity``,
-    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``) rendered and imported once per
-    robot and process: the fast numeric path for solvers (IK, simulation, trajectories).
+    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``; "derivatives": those and
+    ``inverse_dynamics_derivatives``, ``jacobian_derivative``,
+    ``forward_dynamics_derivatives``) rendered and imported once per robot and process:
+    the fast numeric path for solvers (IK, simulation, trajectories).
 
     They come from the model's product form (:attr:`Model.product_form`), the form code
     generation starts from, so a simplified model shares the module of its product form and
@@ -96,6 +98,10 @@ def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
         kernels = pose_kernels(model, POSE_KERNELS)
     else:
         kernels = dynamics_kernels(model, coriolis_matrix=False) + statics_kernels(model)
+    if kind == "derivatives":  # on request only: the derivatives cost more than tau
+        from symkin.kernels.derivatives import derivative_kernels
+
+        kernels += derivative_kernels(model)
     return _module_from_kernels(model, backend, kind, kernels)
 
 
