@@ -89,7 +89,7 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 "(non-physical inertial data?) or an input is not finite",
             )
         )
-    if forward is not None and forward["elastic"]:
+    if forward["elastic"]:
         result.append(
             Binding(
                 name="elastic_forward_dynamics",
