@@ -15,6 +15,9 @@
  *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
  *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
  *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
+ *   wrench_torque: 77 ops (22 additions, 48 multiplications, 6 trig, 1 powers)
+ *   static_torque: 183 ops (66 additions, 109 multiplications, 8 trig)
+ *   energy: 574 ops (228 additions, 333 multiplications, 1 divisions, 6 trig, 6 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -1563,6 +1566,359 @@ void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q,
     size_t i;
     for (i = 0; i < count; ++i) {
         cylindrical_rtt_wrist_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, pi, tau + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
+{
+    const double q1 = q[0];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d6 = p[1];
+    const double t0 = cos(q1);
+    const double t1 = cos(q5);
+    const double t2 = sin(q1);
+    const double t3 = cos(q4);
+    const double t4 = sin(q5);
+    const double t5 = t0*t1 + t2*t3*t4;
+    const double t6 = d6*t5;
+    const double t7 = t1*t2 - t0*t3*t4;
+    const double t8 = -d6*t7;
+    const double t9 = sin(q4);
+    const double t10 = t0*t9;
+    const double t11 = d6*t4;
+    const double t12 = t2*t9;
+    const double t13 = t11*t9*t9;
+    tau_w[0] = -w_nz + w_fx*(t6 + q3*t0) + w_fy*(-t8 + q3*t2);
+    tau_w[1] = -w_fz;
+    tau_w[2] = t2*w_fx - t0*w_fy;
+    tau_w[3] = t2*w_nx + w_fz*(t0*t8 + t2*t6) - t0*w_ny + t10*t11*w_fx + t11*t12*w_fy;
+    tau_w[4] = t10*w_nx + t12*w_ny + t3*w_nz + w_fx*(-t13*t2 - t3*t6) + w_fy*(t0*t13 + t3*t8) + w_fz*(-t12*t8 + d6*t0*t5*t9);
+    tau_w[5] = t7*w_nx - t5*w_ny + t4*t9*w_nz;
+}
+
+void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 6])
+{
+    const double q1 = q[0];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d6 = p[1];
+    const double m2 = pi[10];
+    const double m3 = pi[20];
+    const double m4 = pi[30];
+    const double cx4 = pi[31];
+    const double cy4 = pi[32];
+    const double cz4 = pi[33];
+    const double m5 = pi[40];
+    const double cx5 = pi[41];
+    const double cy5 = pi[42];
+    const double cz5 = pi[43];
+    const double m6 = pi[50];
+    const double cx6 = pi[51];
+    const double cy6 = pi[52];
+    const double cz6 = pi[53];
+    const double t0 = sin(q4);
+    const double t1 = 9.81*t0;
+    const double t2 = cos(q4);
+    const double t3 = 9.81*t2;
+    const double t4 = cos(q5);
+    const double t5 = t1*t4;
+    const double t6 = sin(q5);
+    const double t7 = t1*t6;
+    const double t8 = sin(q6);
+    const double t9 = cos(q6);
+    const double t10 = t3*t8 + t5*t9;
+    const double t11 = t5*t8 - t3*t9;
+    const double t12 = t10*m6;
+    const double t13 = t11*m6;
+    const double t14 = t7*m6;
+    const double t15 = t0*t8;
+    const double t16 = cos(q1);
+    const double t17 = t6*t9;
+    const double t18 = t2*t9;
+    const double t19 = sin(q1);
+    const double t20 = t19*t4;
+    const double t21 = t15*t19 + t16*t17 - t18*t20;
+    const double t22 = t16*t4;
+    const double t23 = -t17*t19 - t18*t22 + t0*t16*t8;
+    const double t24 = t2*t8;
+    const double t25 = t0*t9;
+    const double t26 = t24 + t25*t4;
+    const double t27 = -t12 + t21*w_fy + t23*w_fx + t26*w_fz;
+    const double t28 = t2*t9 - t15*t4;
+    const double t29 = t6*t8;
+    const double t30 = t16*t25 + t19*t29 + t22*t24;
+    const double t31 = t19*t25 + t20*t24 - t16*t29;
+    const double t32 = t13 + t28*w_fz + t30*w_fx + t31*w_fy;
+    const double t33 = t0*t6;
+    const double t34 = t2*t6;
+    const double t35 = t20 - t16*t34;
+    const double t36 = t22 + t19*t34;
+    const double t37 = t21*w_ny + t23*w_nx + t26*w_nz - cy6*t14 - cz6*t13 - d6*t32;
+    const double t38 = cx6*t14 + d6*t27 + t28*w_nz + t30*w_nx + t31*w_ny - cz6*t12;
+    const double t39 = cx6*t13 + cy6*t12 + t33*w_nz + t35*w_nx - t36*w_ny;
+    const double t40 = t5*m5;
+    const double t41 = t3*m5;
+    const double t42 = t7*m5;
+    const double t43 = -t40 + t27*t9 - t32*t8;
+    const double t44 = -t14 - t42 + t33*w_fz + t35*w_fx - t36*w_fy;
+    const double t45 = cz5*t41 + t37*t9 - cy5*t42 - t38*t8;
+    const double t46 = cx5*t42 + t37*t8 + t38*t9 - cz5*t40;
+    const double t47 = t39 + cy5*t40 - cx5*t41;
+    const double t48 = t1*m4;
+    const double t49 = t3*m4;
+    const double t50 = -t48 + t4*t43 + t44*t6;
+    const double t51 = t43*t6 - t4*t44;
+    const double t52 = -t41 - t49 + t27*t8 + t32*t9;
+    const double t53 = t4*t45 + t47*t6 - cy4*t49;
+    const double t54 = cx4*t49 + t45*t6 - cz4*t48 - t4*t47;
+    const double t55 = t46 + cy4*t48;
+    const double t56 = 9.81*m3;
+    const double t57 = t2*t50 - t0*t52;
+    const double t58 = q3*t57 + t0*t53 + t2*t55;
+    const double t59 = -t56 - 9.81*m2 + t0*t50 + t2*t52;
+    tau_s[0] = -t58;
+    tau_s[1] = -t59;
+    tau_s[2] = -t51;
+    tau_s[3] = -t54;
+    tau_s[4] = t46;
+    tau_s[5] = t39;
+}
+
+void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_static_torque(q + i * 6, wrench + i * 6, p, pi, tau_s + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d1 = p[0];
+    const double d6 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double cz1 = pi[3];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double iyy2 = pi[15];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double iyy3 = pi[25];
+    const double m4 = pi[30];
+    const double cx4 = pi[31];
+    const double cy4 = pi[32];
+    const double cz4 = pi[33];
+    const double ixx4 = pi[34];
+    const double iyy4 = pi[35];
+    const double izz4 = pi[36];
+    const double ixy4 = pi[37];
+    const double ixz4 = pi[38];
+    const double iyz4 = pi[39];
+    const double m5 = pi[40];
+    const double cx5 = pi[41];
+    const double cy5 = pi[42];
+    const double cz5 = pi[43];
+    const double ixx5 = pi[44];
+    const double iyy5 = pi[45];
+    const double izz5 = pi[46];
+    const double ixy5 = pi[47];
+    const double ixz5 = pi[48];
+    const double iyz5 = pi[49];
+    const double m6 = pi[50];
+    const double cx6 = pi[51];
+    const double cy6 = pi[52];
+    const double cz6 = pi[53];
+    const double ixx6 = pi[54];
+    const double iyy6 = pi[55];
+    const double izz6 = pi[56];
+    const double ixy6 = pi[57];
+    const double ixz6 = pi[58];
+    const double iyz6 = pi[59];
+    const double t0 = cos(q4);
+    const double t1 = sin(q4);
+    const double t2 = q3*t0;
+    const double t3 = q3*t1;
+    const double t4 = cos(q5);
+    const double t5 = t1*t4;
+    const double t6 = sin(q5);
+    const double t7 = t1*t6;
+    const double t8 = t2*t4;
+    const double t9 = t2*t6;
+    const double t10 = sin(q6);
+    const double t11 = t0*t10;
+    const double t12 = cos(q6);
+    const double t13 = t11 + t12*t5;
+    const double t14 = t0*t12;
+    const double t15 = -t14 + t10*t5;
+    const double t16 = d6*t15 + t10*t3 - t12*t8;
+    const double t17 = d6*t13 + t10*t8 + t12*t3;
+    const double t18 = m6*(t16 + cy6*t7 + cz6*t15);
+    const double t19 = m6*(t17 + cz6*t13 - cx6*t7);
+    const double t20 = m6*(-t9 - cx6*t15 - cy6*t13);
+    const double t21 = cz6 + d6;
+    const double t22 = cy6*t20 + ixy6*t15 - ixz6*t7 - t13*ixx6 - t19*t21;
+    const double t23 = t15*iyy6 + t18*t21 - cx6*t20 - ixy6*t13 - iyz6*t7;
+    const double t24 = cx6*t19 + iyz6*t15 - cy6*t18 - ixz6*t13 - t7*izz6;
+    const double t25 = m5*(-t8 + cy5*t7 - cz5*t0);
+    const double t26 = m5*(t3 + cz5*t5 - cx5*t7);
+    const double t27 = m5*(-t9 + cx5*t0 - cy5*t5);
+    const double t28 = t25 + t12*t18 - t10*t19;
+    const double t29 = t20 + t27;
+    const double t30 = cy5*t27 + t12*t22 - cz5*t26 - ixy5*t0 - ixz5*t7 - t10*t23 - t5*ixx5;
+    const double t31 = cz5*t25 + t10*t22 + t12*t23 - cx5*t27 - ixy5*t5 - iyz5*t7 - t0*iyy5;
+    const double t32 = t24 + cx5*t26 - cy5*t25 - ixz5*t5 - iyz5*t0 - t7*izz5;
+    const double t33 = m4*(-t2 + cy4*t0);
+    const double t34 = m4*(cz4*t1 - cx4*t0);
+    const double t35 = m4*(t3 - cy4*t1);
+    const double t36 = t33 + t28*t4 + t29*t6;
+    const double t37 = t34 + t28*t6 - t29*t4;
+    const double t38 = t26 + t35 + t10*t18 + t12*t19;
+    const double t39 = cy4*t35 + t30*t4 + t32*t6 - cz4*t34 - ixz4*t0 - t1*ixx4;
+    const double t40 = cz4*t33 + t30*t6 - cx4*t35 - ixy4*t1 - iyz4*t0 - t32*t4;
+    const double t41 = t31 + cx4*t34 - cy4*t33 - ixz4*t1 - t0*izz4;
+    const double t42 = m3*(-cz3 - q3);
+    const double t43 = cx3*m3;
+    const double t44 = t42 + t0*t36 - t1*t38;
+    const double t45 = t0*t38 + t1*t36;
+    const double t46 = t43 - t37;
+    const double t47 = cz2*m2;
+    const double t48 = cx2*m2;
+    const double t49 = -iyy2 - iyy3 + cz3*t42 + q3*t44 + t0*t41 + t1*t39 - cx2*t48 - cx3*t43 - cz2*t47;
+    const double t50 = cy1*m1;
+    const double t51 = cx1*m1;
+    const double t52 = izz1 - t49 + cx1*t51 + cy1*t50;
+    const double t53 = t13*m6;
+    const double t54 = t15*m6;
+    const double t55 = t7*m6;
+    const double t56 = cy6*t55 + t21*t54;
+    const double t57 = cx6*t55 - t21*t53;
+    const double t58 = cx6*t54 + cy6*t53;
+    const double t59 = t5*m5;
+    const double t60 = t0*m5;
+    const double t61 = t7*m5;
+    const double t62 = t59 + t10*t54 + t12*t53;
+    const double t63 = t55 + t61;
+    const double t64 = cz5*t60 - cy5*t61 - t10*t57 - t12*t56;
+    const double t65 = cx5*t61 + t12*t57 - cz5*t59 - t10*t56;
+    const double t66 = t58 + cy5*t59 - cx5*t60;
+    const double t67 = t1*m4;
+    const double t68 = t0*m4;
+    const double t69 = t67 + t4*t62 + t6*t63;
+    const double t70 = t4*t63 - t6*t62;
+    const double t71 = -t60 - t68 + t12*t54 - t10*t53;
+    const double t72 = cx4*t68 + t6*t64 - cz4*t67 - t4*t66;
+    const double t73 = -m2 - m3 + t0*t71 - t1*t69;
+    const double t74 = t12*t6;
+    const double t75 = t10*t6;
+    const double t76 = t74*m6;
+    const double t77 = t75*m6;
+    const double t78 = t4*m6;
+    const double t79 = cy6*t78 - t21*t77;
+    const double t80 = cx6*t78 + t21*t76;
+    const double t81 = cx6*t77 + cy6*t76;
+    const double t82 = t6*m5;
+    const double t83 = t4*m5;
+    const double t84 = t82 + t10*t77 + t12*t76;
+    const double t85 = t78 + t83;
+    const double t86 = cy5*t83 + t10*t80 + t12*t79;
+    const double t87 = t10*t79 - cx5*t83 - cz5*t82 - t12*t80;
+    const double t88 = t81 + cy5*t82;
+    const double t89 = m4 + t4*t85 + t6*t84;
+    const double t90 = t6*t86 - t4*t88;
+    const double t91 = t89 + m3;
+    const double t92 = d6*t75;
+    const double t93 = d6*t74;
+    const double t94 = m6*(t92 + cz6*t75 - cy6*t4);
+    const double t95 = m6*(t93 + cx6*t4 + cz6*t74);
+    const double t96 = m6*(-cx6*t75 - cy6*t74);
+    const double t97 = cy6*t96 + ixy6*t75 + ixz6*t4 - t21*t95 - t74*ixx6;
+    const double t98 = iyz6*t4 + t21*t94 + t75*iyy6 - cx6*t96 - ixy6*t74;
+    const double t99 = cx6*t95 + iyz6*t75 + t4*izz6 - cy6*t94 - ixz6*t74;
+    const double t100 = cy5*t4*m5;
+    const double t101 = m5*(cx5*t4 + cz5*t6);
+    const double t102 = cy5*t82;
+    const double t103 = ixz5*t4 + t12*t97 - cy5*t102 - cz5*t101 - t10*t98 - t6*ixx5;
+    const double t104 = cx5*t102 + iyz5*t4 + t10*t97 + t12*t98 - cz5*t100 - ixy5*t6;
+    const double t105 = t99 + cx5*t101 + cy5*t100 + t4*izz5 - ixz5*t6;
+    const double t106 = cz4*m4;
+    const double t107 = cx4*m4;
+    const double t108 = -iyy4 + t103*t6 - cx4*t107 - cz4*t106 - t105*t4;
+    const double t109 = d6*t12;
+    const double t110 = d6*t10;
+    const double t111 = m6*(t109 + cz6*t12);
+    const double t112 = m6*(-t110 - cz6*t10);
+    const double t113 = m6*(cy6*t10 - cx6*t12);
+    const double t114 = cy6*t113 + ixy6*t12 + t10*ixx6 - t112*t21;
+    const double t115 = ixy6*t10 + t111*t21 + t12*iyy6 - cx6*t113;
+    const double t116 = cx6*t112 + ixz6*t10 + iyz6*t12 - cy6*t111;
+    const double t117 = cz5*m5;
+    const double t118 = cx5*m5;
+    const double t119 = iyy5 + cx5*t118 + cz5*t117 + t10*t114 + t115*t12;
+    const double t120 = cy6*m6;
+    const double t121 = cx6*m6;
+    const double t122 = izz6 + cx6*t121 + cy6*t120;
+    const double t123 = t119*dq5*dq5 + t122*dq6*dq6 + t52*dq1*dq1 + t91*dq3*dq3 - t108*dq4*dq4 - t73*dq2*dq2;
+    const double t124 = dq1*t24 + dq2*t58 + dq3*t81 + dq4*t99 + dq5*t116;
+    const double t125 = dq1*t31 + dq2*t65 + dq3*t87 + dq4*t104;
+    const double t126 = dq1*t40 + dq2*t72 + dq3*t90;
+    const double t127 = dq1*t46 - dq2*t70;
+    const double t128 = (1.0/2.0)*t123 + dq3*t127 + dq5*t125 + dq6*t124 - dq4*t126 - dq1*dq2*t45;
+    const double t129 = 9.81*d1;
+    const double t130 = t129 + 9.81*q2;
+    const double t131 = 9.81*t0;
+    const double t132 = m1*(-t129 - 9.81*cz1) + m2*(-t130 + 9.81*cy2) + m3*(-t130 + 9.81*cy3) + m4*(-t130 + cz4*t131 + 9.81*cx4*t1) + m5*(-t130 + cy5*t131 + 9.81*cx5*t5 + 9.81*cz5*t7) + m6*(-t130 - 9.81*cx6*(-t11 - t12*t5) - 9.81*cy6*(-t14 + t10*t5) + 9.81*cz6*t1*t6 + 9.81*d6*t1*t6);
+    kinetic[0] = t128;
+    potential[0] = -t132;
+    lagrangian[0] = t128 + t132;
+}
+
+void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_energy(q + i * 6, dq + i * 6, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

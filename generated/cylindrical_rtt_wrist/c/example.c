@@ -16,6 +16,9 @@
  *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
  *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
  *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
+ *   wrench_torque: 77 ops (22 additions, 48 multiplications, 6 trig, 1 powers)
+ *   static_torque: 183 ops (66 additions, 109 multiplications, 8 trig)
+ *   energy: 574 ops (228 additions, 333 multiplications, 1 divisions, 6 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
+  wrench_torque: 77 ops (22 additions, 48 multiplications, 6 trig, 1 powers)
+  static_torque: 183 ops (66 additions, 109 multiplications, 8 trig)
+  energy: 574 ops (228 additions, 333 multiplications, 1 divisions, 6 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d6
@@ -1492,6 +1495,383 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 4] = t91
     tau[..., 5] = t84
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 77 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d6 = p[..., 1]
+    t0 = numpy.cos(q1)
+    t1 = numpy.cos(q5)
+    t2 = numpy.sin(q1)
+    t3 = numpy.cos(q4)
+    t4 = numpy.sin(q5)
+    t5 = t0*t1 + t2*t3*t4
+    t6 = d6*t5
+    t7 = t1*t2 - t0*t3*t4
+    t8 = -d6*t7
+    t9 = numpy.sin(q4)
+    t10 = t0*t9
+    t11 = d6*t4
+    t12 = t2*t9
+    t13 = t11*t9**2
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + w_fx*(t6 + q3*t0) + w_fy*(-t8 + q3*t2)
+    tau_w[..., 1] = -w_fz
+    tau_w[..., 2] = t2*w_fx - t0*w_fy
+    tau_w[..., 3] = t2*w_nx + w_fz*(t0*t8 + t2*t6) - t0*w_ny + t10*t11*w_fx + t11*t12*w_fy
+    tau_w[..., 4] = t10*w_nx + t12*w_ny + t3*w_nz + w_fx*(-t13*t2 - t3*t6) + w_fy*(t0*t13 + t3*t8) + w_fz*(-t12*t8 + d6*t0*t5*t9)
+    tau_w[..., 5] = t7*w_nx - t5*w_ny + t4*t9*w_nz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 183 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d6 = p[..., 1]
+    m2 = pi[..., 10]
+    m3 = pi[..., 20]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    t0 = numpy.sin(q4)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q4)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q5)
+    t5 = t1*t4
+    t6 = numpy.sin(q5)
+    t7 = t1*t6
+    t8 = numpy.sin(q6)
+    t9 = numpy.cos(q6)
+    t10 = t3*t8 + t5*t9
+    t11 = t5*t8 - t3*t9
+    t12 = t10*m6
+    t13 = t11*m6
+    t14 = t7*m6
+    t15 = t0*t8
+    t16 = numpy.cos(q1)
+    t17 = t6*t9
+    t18 = t2*t9
+    t19 = numpy.sin(q1)
+    t20 = t19*t4
+    t21 = t15*t19 + t16*t17 - t18*t20
+    t22 = t16*t4
+    t23 = -t17*t19 - t18*t22 + t0*t16*t8
+    t24 = t2*t8
+    t25 = t0*t9
+    t26 = t24 + t25*t4
+    t27 = -t12 + t21*w_fy + t23*w_fx + t26*w_fz
+    t28 = t2*t9 - t15*t4
+    t29 = t6*t8
+    t30 = t16*t25 + t19*t29 + t22*t24
+    t31 = t19*t25 + t20*t24 - t16*t29
+    t32 = t13 + t28*w_fz + t30*w_fx + t31*w_fy
+    t33 = t0*t6
+    t34 = t2*t6
+    t35 = t20 - t16*t34
+    t36 = t22 + t19*t34
+    t37 = t21*w_ny + t23*w_nx + t26*w_nz - cy6*t14 - cz6*t13 - d6*t32
+    t38 = cx6*t14 + d6*t27 + t28*w_nz + t30*w_nx + t31*w_ny - cz6*t12
+    t39 = cx6*t13 + cy6*t12 + t33*w_nz + t35*w_nx - t36*w_ny
+    t40 = t5*m5
+    t41 = t3*m5
+    t42 = t7*m5
+    t43 = -t40 + t27*t9 - t32*t8
+    t44 = -t14 - t42 + t33*w_fz + t35*w_fx - t36*w_fy
+    t45 = cz5*t41 + t37*t9 - cy5*t42 - t38*t8
+    t46 = cx5*t42 + t37*t8 + t38*t9 - cz5*t40
+    t47 = t39 + cy5*t40 - cx5*t41
+    t48 = t1*m4
+    t49 = t3*m4
+    t50 = -t48 + t4*t43 + t44*t6
+    t51 = t43*t6 - t4*t44
+    t52 = -t41 - t49 + t27*t8 + t32*t9
+    t53 = t4*t45 + t47*t6 - cy4*t49
+    t54 = cx4*t49 + t45*t6 - cz4*t48 - t4*t47
+    t55 = t46 + cy4*t48
+    t56 = 9.81*m3
+    t57 = t2*t50 - t0*t52
+    t58 = q3*t57 + t0*t53 + t2*t55
+    t59 = -t56 - 9.81*m2 + t0*t50 + t2*t52
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = -t58
+    tau_s[..., 1] = -t59
+    tau_s[..., 2] = -t51
+    tau_s[..., 3] = -t54
+    tau_s[..., 4] = t46
+    tau_s[..., 5] = t39
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 574 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d1 = p[..., 0]
+    d6 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    iyy2 = pi[..., 15]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    iyy3 = pi[..., 25]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = numpy.cos(q4)
+    t1 = numpy.sin(q4)
+    t2 = q3*t0
+    t3 = q3*t1
+    t4 = numpy.cos(q5)
+    t5 = t1*t4
+    t6 = numpy.sin(q5)
+    t7 = t1*t6
+    t8 = t2*t4
+    t9 = t2*t6
+    t10 = numpy.sin(q6)
+    t11 = t0*t10
+    t12 = numpy.cos(q6)
+    t13 = t11 + t12*t5
+    t14 = t0*t12
+    t15 = -t14 + t10*t5
+    t16 = d6*t15 + t10*t3 - t12*t8
+    t17 = d6*t13 + t10*t8 + t12*t3
+    t18 = m6*(t16 + cy6*t7 + cz6*t15)
+    t19 = m6*(t17 + cz6*t13 - cx6*t7)
+    t20 = m6*(-t9 - cx6*t15 - cy6*t13)
+    t21 = cz6 + d6
+    t22 = cy6*t20 + ixy6*t15 - ixz6*t7 - t13*ixx6 - t19*t21
+    t23 = t15*iyy6 + t18*t21 - cx6*t20 - ixy6*t13 - iyz6*t7
+    t24 = cx6*t19 + iyz6*t15 - cy6*t18 - ixz6*t13 - t7*izz6
+    t25 = m5*(-t8 + cy5*t7 - cz5*t0)
+    t26 = m5*(t3 + cz5*t5 - cx5*t7)
+    t27 = m5*(-t9 + cx5*t0 - cy5*t5)
+    t28 = t25 + t12*t18 - t10*t19
+    t29 = t20 + t27
+    t30 = cy5*t27 + t12*t22 - cz5*t26 - ixy5*t0 - ixz5*t7 - t10*t23 - t5*ixx5
+    t31 = cz5*t25 + t10*t22 + t12*t23 - cx5*t27 - ixy5*t5 - iyz5*t7 - t0*iyy5
+    t32 = t24 + cx5*t26 - cy5*t25 - ixz5*t5 - iyz5*t0 - t7*izz5
+    t33 = m4*(-t2 + cy4*t0)
+    t34 = m4*(cz4*t1 - cx4*t0)
+    t35 = m4*(t3 - cy4*t1)
+    t36 = t33 + t28*t4 + t29*t6
+    t37 = t34 + t28*t6 - t29*t4
+    t38 = t26 + t35 + t10*t18 + t12*t19
+    t39 = cy4*t35 + t30*t4 + t32*t6 - cz4*t34 - ixz4*t0 - t1*ixx4
+    t40 = cz4*t33 + t30*t6 - cx4*t35 - ixy4*t1 - iyz4*t0 - t32*t4
+    t41 = t31 + cx4*t34 - cy4*t33 - ixz4*t1 - t0*izz4
+    t42 = m3*(-cz3 - q3)
+    t43 = cx3*m3
+    t44 = t42 + t0*t36 - t1*t38
+    t45 = t0*t38 + t1*t36
+    t46 = t43 - t37
+    t47 = cz2*m2
+    t48 = cx2*m2
+    t49 = -iyy2 - iyy3 + cz3*t42 + q3*t44 + t0*t41 + t1*t39 - cx2*t48 - cx3*t43 - cz2*t47
+    t50 = cy1*m1
+    t51 = cx1*m1
+    t52 = izz1 - t49 + cx1*t51 + cy1*t50
+    t53 = t13*m6
+    t54 = t15*m6
+    t55 = t7*m6
+    t56 = cy6*t55 + t21*t54
+    t57 = cx6*t55 - t21*t53
+    t58 = cx6*t54 + cy6*t53
+    t59 = t5*m5
+    t60 = t0*m5
+    t61 = t7*m5
+    t62 = t59 + t10*t54 + t12*t53
+    t63 = t55 + t61
+    t64 = cz5*t60 - cy5*t61 - t10*t57 - t12*t56
+    t65 = cx5*t61 + t12*t57 - cz5*t59 - t10*t56
+    t66 = t58 + cy5*t59 - cx5*t60
+    t67 = t1*m4
+    t68 = t0*m4
+    t69 = t67 + t4*t62 + t6*t63
+    t70 = t4*t63 - t6*t62
+    t71 = -t60 - t68 + t12*t54 - t10*t53
+    t72 = cx4*t68 + t6*t64 - cz4*t67 - t4*t66
+    t73 = -m2 - m3 + t0*t71 - t1*t69
+    t74 = t12*t6
+    t75 = t10*t6
+    t76 = t74*m6
+    t77 = t75*m6
+    t78 = t4*m6
+    t79 = cy6*t78 - t21*t77
+    t80 = cx6*t78 + t21*t76
+    t81 = cx6*t77 + cy6*t76
+    t82 = t6*m5
+    t83 = t4*m5
+    t84 = t82 + t10*t77 + t12*t76
+    t85 = t78 + t83
+    t86 = cy5*t83 + t10*t80 + t12*t79
+    t87 = t10*t79 - cx5*t83 - cz5*t82 - t12*t80
+    t88 = t81 + cy5*t82
+    t89 = m4 + t4*t85 + t6*t84
+    t90 = t6*t86 - t4*t88
+    t91 = t89 + m3
+    t92 = d6*t75
+    t93 = d6*t74
+    t94 = m6*(t92 + cz6*t75 - cy6*t4)
+    t95 = m6*(t93 + cx6*t4 + cz6*t74)
+    t96 = m6*(-cx6*t75 - cy6*t74)
+    t97 = cy6*t96 + ixy6*t75 + ixz6*t4 - t21*t95 - t74*ixx6
+    t98 = iyz6*t4 + t21*t94 + t75*iyy6 - cx6*t96 - ixy6*t74
+    t99 = cx6*t95 + iyz6*t75 + t4*izz6 - cy6*t94 - ixz6*t74
+    t100 = cy5*t4*m5
+    t101 = m5*(cx5*t4 + cz5*t6)
+    t102 = cy5*t82
+    t103 = ixz5*t4 + t12*t97 - cy5*t102 - cz5*t101 - t10*t98 - t6*ixx5
+    t104 = cx5*t102 + iyz5*t4 + t10*t97 + t12*t98 - cz5*t100 - ixy5*t6
+    t105 = t99 + cx5*t101 + cy5*t100 + t4*izz5 - ixz5*t6
+    t106 = cz4*m4
+    t107 = cx4*m4
+    t108 = -iyy4 + t103*t6 - cx4*t107 - cz4*t106 - t105*t4
+    t109 = d6*t12
+    t110 = d6*t10
+    t111 = m6*(t109 + cz6*t12)
+    t112 = m6*(-t110 - cz6*t10)
+    t113 = m6*(cy6*t10 - cx6*t12)
+    t114 = cy6*t113 + ixy6*t12 + t10*ixx6 - t112*t21
+    t115 = ixy6*t10 + t111*t21 + t12*iyy6 - cx6*t113
+    t116 = cx6*t112 + ixz6*t10 + iyz6*t12 - cy6*t111
+    t117 = cz5*m5
+    t118 = cx5*m5
+    t119 = iyy5 + cx5*t118 + cz5*t117 + t10*t114 + t115*t12
+    t120 = cy6*m6
+    t121 = cx6*m6
+    t122 = izz6 + cx6*t121 + cy6*t120
+    t123 = t119*dq5**2 + t122*dq6**2 + t52*dq1**2 + t91*dq3**2 - t108*dq4**2 - t73*dq2**2
+    t124 = dq1*t24 + dq2*t58 + dq3*t81 + dq4*t99 + dq5*t116
+    t125 = dq1*t31 + dq2*t65 + dq3*t87 + dq4*t104
+    t126 = dq1*t40 + dq2*t72 + dq3*t90
+    t127 = dq1*t46 - dq2*t70
+    t128 = (1/2)*t123 + dq3*t127 + dq5*t125 + dq6*t124 - dq4*t126 - dq1*dq2*t45
+    t129 = 9.81*d1
+    t130 = t129 + 9.81*q2
+    t131 = 9.81*t0
+    t132 = m1*(-t129 - 9.81*cz1) + m2*(-t130 + 9.81*cy2) + m3*(-t130 + 9.81*cy3) + m4*(-t130 + cz4*t131 + 9.81*cx4*t1) + m5*(-t130 + cy5*t131 + 9.81*cx5*t5 + 9.81*cz5*t7) + m6*(-t130 - 9.81*cx6*(-t11 - t12*t5) - 9.81*cy6*(-t14 + t10*t5) + 9.81*cz6*t1*t6 + 9.81*d6*t1*t6)
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t128
+    potential = numpy.zeros(batch + ())
+    potential[...] = -t132
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t128 + t132
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

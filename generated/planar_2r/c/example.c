@@ -16,6 +16,9 @@
  *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+ *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+ *   energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
  */
 #include <stdio.h>
 

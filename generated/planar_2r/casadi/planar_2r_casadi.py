@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+  wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+  static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+  energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -441,6 +444,132 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p", "pi"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (21 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.sin(t0)
+    t2 = L2*casadi.cos(t0)
+    tau_w = symbol_type.zeros(2, 1)
+    tau_w[0, 0] = -w_nz + w_fx*(L1*casadi.sin(q1) + L2*t1) + w_fy*(-t2 - L1*casadi.cos(q1))
+    tau_w[1, 0] = -w_nz - t2*w_fy + L2*t1*w_fx
+    return casadi.Function(
+        "planar_2r_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (18 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L2*t4
+    t6 = t4*casadi.cos(q2) - t3*casadi.sin(q2)
+    t7 = t5 + L1*t6
+    tau_s = symbol_type.zeros(2, 1)
+    tau_s[0, 0] = t7
+    tau_s[1, 0] = t5
+    return casadi.Function(
+        "planar_2r_static_torque",
+        [q, wrench, p, pi],
+        [tau_s],
+        ["q", "wrench", "p", "pi"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (51 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 20)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    cz1 = pi[3]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    izz2 = pi[16]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = m2*(t1 - cy2)
+    t5 = m2*(cx2 + t3)
+    t6 = L2 + cx2
+    t7 = izz2 + t5*t6 - cy2*t4
+    t8 = cy1*m1
+    t9 = m1*(L1 + cx1)
+    t10 = t9 + t0*t4 + t2*t5
+    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
+    t12 = cy2*m2
+    t13 = m2*(L2 + cx2)
+    t14 = izz2 + cy2*t12 + t13*t6
+    t15 = t11*dq1**2 + t14*dq2**2
+    t16 = (1/2)*t15 + dq1*dq2*t7
+    t17 = 9.81*cz1*m1
+    t18 = 9.81*cz2*m2
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t16
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t17 + t18
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t16 - t17 - t18
+    return casadi.Function(
+        "planar_2r_energy",
+        [q, dq, p, pi],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p", "pi"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+  wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+  static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+  energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -425,6 +428,132 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 0] = t17
     tau[..., 1] = t13
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 21 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.sin(t0)
+    t2 = L2*numpy.cos(t0)
+    tau_w = numpy.zeros(batch + (2,))
+    tau_w[..., 0] = -w_nz + w_fx*(L1*numpy.sin(q1) + L2*t1) + w_fy*(-t2 - L1*numpy.cos(q1))
+    tau_w[..., 1] = -w_nz - t2*w_fy + L2*t1*w_fx
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 18 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
+    Returns tau_s: G - J^T w (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L2*t4
+    t6 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
+    t7 = t5 + L1*t6
+    tau_s = numpy.zeros(batch + (2,))
+    tau_s[..., 0] = t7
+    tau_s[..., 1] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 51 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    izz2 = pi[..., 16]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = m2*(t1 - cy2)
+    t5 = m2*(cx2 + t3)
+    t6 = L2 + cx2
+    t7 = izz2 + t5*t6 - cy2*t4
+    t8 = cy1*m1
+    t9 = m1*(L1 + cx1)
+    t10 = t9 + t0*t4 + t2*t5
+    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
+    t12 = cy2*m2
+    t13 = m2*(L2 + cx2)
+    t14 = izz2 + cy2*t12 + t13*t6
+    t15 = t11*dq1**2 + t14*dq2**2
+    t16 = (1/2)*t15 + dq1*dq2*t7
+    t17 = 9.81*cz1*m1
+    t18 = 9.81*cz2*m2
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t16
+    potential = numpy.zeros(batch + ())
+    potential[...] = t17 + t18
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t16 - t17 - t18
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

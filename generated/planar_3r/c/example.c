@@ -16,6 +16,9 @@
  *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <stdio.h>
 

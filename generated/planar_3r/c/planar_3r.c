@@ -15,6 +15,9 @@
  *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -645,6 +648,152 @@ void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const doubl
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_3r_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+    }
+}
+
+void planar_3r_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = -w_nz;
+    const double t1 = q1 + q2;
+    const double t2 = q3 + t1;
+    const double t3 = sin(t2);
+    const double t4 = L2*sin(t1) + L3*t3;
+    const double t5 = L3*cos(t2);
+    const double t6 = t5 + L2*cos(t1);
+    tau_w[0] = t0 + w_fx*(t4 + L1*cos(q1)) + w_fy*(-t6 + L1*sin(q1));
+    tau_w[1] = t0 + t4*w_fx - t6*w_fy;
+    tau_w[2] = -w_nz - t5*w_fy + L3*t3*w_fx;
+}
+
+void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+{
+    (void)pi;
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = q1 + q2 + q3;
+    const double t1 = cos(t0);
+    const double t2 = sin(t0);
+    const double t3 = t1*w_fx + t2*w_fy;
+    const double t4 = t2*w_fx - t1*w_fy;
+    const double t5 = -w_nz + L3*t4;
+    const double t6 = cos(q3);
+    const double t7 = sin(q3);
+    const double t8 = t3*t6 + t4*t7;
+    const double t9 = t4*t6 - t3*t7;
+    const double t10 = t5 + L2*t9;
+    const double t11 = t8*cos(q2) + t9*sin(q2);
+    const double t12 = t10 + L1*t11;
+    tau_s[0] = t12;
+    tau_s[1] = t10;
+    tau_s[2] = t5;
+}
+
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+    }
+}
+
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double cz1 = pi[3];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double izz3 = pi[26];
+    const double t0 = cos(q2);
+    const double t1 = L1*t0;
+    const double t2 = sin(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t3*t5 - t1*t4;
+    const double t7 = L3 + t1*t5 + t3*t4;
+    const double t8 = m3*(t6 - cy3);
+    const double t9 = m3*(cx3 + t7);
+    const double t10 = L3 + cx3;
+    const double t11 = izz3 + t10*t9 - cy3*t8;
+    const double t12 = m2*(-cy2 - t1);
+    const double t13 = m2*(cx2 + t3);
+    const double t14 = t12 + t4*t8 - t5*t9;
+    const double t15 = t13 + t4*t9 + t5*t8;
+    const double t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12;
+    const double t17 = cy1*m1;
+    const double t18 = m1*(L1 + cx1);
+    const double t19 = t18 + t15*t2 - t0*t14;
+    const double t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17;
+    const double t21 = L2*t5;
+    const double t22 = L3 + L2*t4;
+    const double t23 = m3*(t21 - cy3);
+    const double t24 = m3*(cx3 + t22);
+    const double t25 = izz3 + t10*t24 - cy3*t23;
+    const double t26 = cy2*m2;
+    const double t27 = m2*(L2 + cx2);
+    const double t28 = t27 + t23*t5 + t24*t4;
+    const double t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26;
+    const double t30 = cy3*m3;
+    const double t31 = m3*(L3 + cx3);
+    const double t32 = izz3 + cy3*t30 + t10*t31;
+    const double t33 = t20*dq1*dq1 + t29*dq2*dq2 + t32*dq3*dq3;
+    const double t34 = dq1*t11 + dq2*t25;
+    const double t35 = (1.0/2.0)*t33 + dq3*t34 + dq1*dq2*t16;
+    const double t36 = 9.81*cz1*m1;
+    const double t37 = 9.81*cz2*m2;
+    const double t38 = 9.81*cz3*m3;
+    kinetic[0] = t35;
+    potential[0] = t36 + t37 + t38;
+    lagrangian[0] = t35 - t36 - t37 - t38;
+}
+
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+  wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+  static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+  energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2, L3) and named outputs; build it once
@@ -593,6 +596,175 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p", "pi"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (32 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = -w_nz
+    t1 = q1 + q2
+    t2 = q3 + t1
+    t3 = casadi.sin(t2)
+    t4 = L2*casadi.sin(t1) + L3*t3
+    t5 = L3*casadi.cos(t2)
+    t6 = t5 + L2*casadi.cos(t1)
+    tau_w = symbol_type.zeros(3, 1)
+    tau_w[0, 0] = t0 + w_fx*(t4 + L1*casadi.cos(q1)) + w_fy*(-t6 + L1*casadi.sin(q1))
+    tau_w[1, 0] = t0 + t4*w_fx - t6*w_fy
+    tau_w[2, 0] = -w_nz - t5*w_fy + L3*t3*w_fx
+    return casadi.Function(
+        "planar_3r_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (29 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    pi = symbol_type.sym("pi", 30)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = q1 + q2 + q3
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L3*t4
+    t6 = casadi.cos(q3)
+    t7 = casadi.sin(q3)
+    t8 = t3*t6 + t4*t7
+    t9 = t4*t6 - t3*t7
+    t10 = t5 + L2*t9
+    t11 = t8*casadi.cos(q2) + t9*casadi.sin(q2)
+    t12 = t10 + L1*t11
+    tau_s = symbol_type.zeros(3, 1)
+    tau_s[0, 0] = t12
+    tau_s[1, 0] = t10
+    tau_s[2, 0] = t5
+    return casadi.Function(
+        "planar_3r_static_torque",
+        [q, wrench, p, pi],
+        [tau_s],
+        ["q", "wrench", "p", "pi"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (117 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 3)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    cz1 = pi[3]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    izz2 = pi[16]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    izz3 = pi[26]
+    t0 = casadi.cos(q2)
+    t1 = L1*t0
+    t2 = casadi.sin(q2)
+    t3 = L2 + L1*t2
+    t4 = casadi.cos(q3)
+    t5 = casadi.sin(q3)
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
+    t8 = m3*(t6 - cy3)
+    t9 = m3*(cx3 + t7)
+    t10 = L3 + cx3
+    t11 = izz3 + t10*t9 - cy3*t8
+    t12 = m2*(-cy2 - t1)
+    t13 = m2*(cx2 + t3)
+    t14 = t12 + t4*t8 - t5*t9
+    t15 = t13 + t4*t9 + t5*t8
+    t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
+    t17 = cy1*m1
+    t18 = m1*(L1 + cx1)
+    t19 = t18 + t15*t2 - t0*t14
+    t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17
+    t21 = L2*t5
+    t22 = L3 + L2*t4
+    t23 = m3*(t21 - cy3)
+    t24 = m3*(cx3 + t22)
+    t25 = izz3 + t10*t24 - cy3*t23
+    t26 = cy2*m2
+    t27 = m2*(L2 + cx2)
+    t28 = t27 + t23*t5 + t24*t4
+    t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26
+    t30 = cy3*m3
+    t31 = m3*(L3 + cx3)
+    t32 = izz3 + cy3*t30 + t10*t31
+    t33 = t20*dq1**2 + t29*dq2**2 + t32*dq3**2
+    t34 = dq1*t11 + dq2*t25
+    t35 = (1/2)*t33 + dq3*t34 + dq1*dq2*t16
+    t36 = 9.81*cz1*m1
+    t37 = 9.81*cz2*m2
+    t38 = 9.81*cz3*m3
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t35
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t36 + t37 + t38
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t35 - t36 - t37 - t38
+    return casadi.Function(
+        "planar_3r_energy",
+        [q, dq, p, pi],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p", "pi"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+  wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+  static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+  energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -577,6 +580,175 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 1] = t25
     tau[..., 2] = t20
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 32 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    t0 = -w_nz
+    t1 = q1 + q2
+    t2 = q3 + t1
+    t3 = numpy.sin(t2)
+    t4 = L2*numpy.sin(t1) + L3*t3
+    t5 = L3*numpy.cos(t2)
+    t6 = t5 + L2*numpy.cos(t1)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = t0 + w_fx*(t4 + L1*numpy.cos(q1)) + w_fy*(-t6 + L1*numpy.sin(q1))
+    tau_w[..., 1] = t0 + t4*w_fx - t6*w_fy
+    tau_w[..., 2] = -w_nz - t5*w_fy + L3*t3*w_fx
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 29 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    t0 = q1 + q2 + q3
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L3*t4
+    t6 = numpy.cos(q3)
+    t7 = numpy.sin(q3)
+    t8 = t3*t6 + t4*t7
+    t9 = t4*t6 - t3*t7
+    t10 = t5 + L2*t9
+    t11 = t8*numpy.cos(q2) + t9*numpy.sin(q2)
+    t12 = t10 + L1*t11
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t12
+    tau_s[..., 1] = t10
+    tau_s[..., 2] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 117 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    izz2 = pi[..., 16]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    izz3 = pi[..., 26]
+    t0 = numpy.cos(q2)
+    t1 = L1*t0
+    t2 = numpy.sin(q2)
+    t3 = L2 + L1*t2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
+    t8 = m3*(t6 - cy3)
+    t9 = m3*(cx3 + t7)
+    t10 = L3 + cx3
+    t11 = izz3 + t10*t9 - cy3*t8
+    t12 = m2*(-cy2 - t1)
+    t13 = m2*(cx2 + t3)
+    t14 = t12 + t4*t8 - t5*t9
+    t15 = t13 + t4*t9 + t5*t8
+    t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
+    t17 = cy1*m1
+    t18 = m1*(L1 + cx1)
+    t19 = t18 + t15*t2 - t0*t14
+    t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17
+    t21 = L2*t5
+    t22 = L3 + L2*t4
+    t23 = m3*(t21 - cy3)
+    t24 = m3*(cx3 + t22)
+    t25 = izz3 + t10*t24 - cy3*t23
+    t26 = cy2*m2
+    t27 = m2*(L2 + cx2)
+    t28 = t27 + t23*t5 + t24*t4
+    t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26
+    t30 = cy3*m3
+    t31 = m3*(L3 + cx3)
+    t32 = izz3 + cy3*t30 + t10*t31
+    t33 = t20*dq1**2 + t29*dq2**2 + t32*dq3**2
+    t34 = dq1*t11 + dq2*t25
+    t35 = (1/2)*t33 + dq3*t34 + dq1*dq2*t16
+    t36 = 9.81*cz1*m1
+    t37 = 9.81*cz2*m2
+    t38 = 9.81*cz3*m3
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t35
+    potential = numpy.zeros(batch + ())
+    potential[...] = t36 + t37 + t38
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t35 - t36 - t37 - t38
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

@@ -15,10 +15,13 @@
  *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
  *
  * CPython extension 'planar_3r_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
- * where it needs them), each of shape (3,) or (N, 3), then optionally p (the
+ * where it needs them), each of shape (3,) or (N, 3) (the wrench: (6,) or (N, 6)), then optionally p (the
  * parameters L1, L2, L3) and the 30 inertial parameters pi the robot
  * file leaves out (required by the dynamics functions); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
@@ -35,12 +38,12 @@
 #include "../c/planar_3r.h"
 
 #define MAX_STATES 3
-#define MAX_OUTPUTS 2
+#define MAX_OUTPUTS 3
 #define NUM_INERTIAL 30
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
-#define STATE_SHAPES "every state input must be numbers of shape (3,) or (N, 3), the same for all"
+#define STATE_SHAPES "every state input must be numbers of shape (3,) or (N, 3), the same for all (the wrench: (6,) or (N, 6))"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -48,6 +51,7 @@ typedef void (*batch_kernel)(size_t count, const double *const *states, const do
 typedef struct {
     const char *usage;
     int nstates;
+    int sizes[MAX_STATES];
     int takes_pi;
     batch_kernel kernel;
     int noutputs;
@@ -150,7 +154,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
             count = batched ? PyArray_DIM(states[0], 0) : 1;
         }
         if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
-            PyArray_DIM(states[i], batched) != 3 || (batched && PyArray_DIM(states[i], 0) != count)) {
+            PyArray_DIM(states[i], batched) != b->sizes[i] || (batched && PyArray_DIM(states[i], 0) != count)) {
             PyErr_Format(PyExc_ValueError, "%s: %s", b->usage, STATE_SHAPES);
             goto done;
         }
@@ -238,7 +242,7 @@ static void fk_adapter(size_t count, const double *const *states, const double *
 }
 
 static const binding fk_binding = {
-    "fk(q, p=None)", 1, 0, fk_adapter, 1,
+    "fk(q, p=None)", 1, { 3 }, 0, fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
 NULL,
@@ -258,7 +262,7 @@ static void position_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding position_binding = {
-    "position(q, p=None)", 1, 0, position_adapter, 1,
+    "position(q, p=None)", 1, { 3 }, 0, position_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -278,7 +282,7 @@ static void jacobian_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding jacobian_binding = {
-    "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
+    "jacobian(q, p=None)", 1, { 3 }, 0, jacobian_adapter, 1,
     { 2 },
     { { 6, 3 } },
 NULL,
@@ -298,7 +302,7 @@ static void position_jacobian_adapter(size_t count, const double *const *states,
 }
 
 static const binding position_jacobian_binding = {
-    "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
+    "position_jacobian(q, p=None)", 1, { 3 }, 0, position_jacobian_adapter, 1,
     { 2 },
     { { 3, 3 } },
 NULL,
@@ -318,7 +322,7 @@ static void fk_jacobian_adapter(size_t count, const double *const *states, const
 }
 
 static const binding fk_jacobian_binding = {
-    "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
+    "fk_jacobian(q, p=None)", 1, { 3 }, 0, fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 3 } },
 NULL,
@@ -338,7 +342,7 @@ static void det_adapter(size_t count, const double *const *states, const double 
 }
 
 static const binding det_binding = {
-    "det(q, p=None)", 1, 0, det_adapter, 1,
+    "det(q, p=None)", 1, { 3 }, 0, det_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -358,7 +362,7 @@ static void manipulability_adapter(size_t count, const double *const *states, co
 }
 
 static const binding manipulability_binding = {
-    "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
+    "manipulability(q, p=None)", 1, { 3 }, 0, manipulability_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -377,7 +381,7 @@ static void mass_matrix_adapter(size_t count, const double *const *states, const
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None, pi=None)", 1, 1, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None, pi=None)", 1, { 3 }, 1, mass_matrix_adapter, 1,
     { 2 },
     { { 3, 3 } },
 NULL,
@@ -396,7 +400,7 @@ static void gravity_adapter(size_t count, const double *const *states, const dou
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None, pi=None)", 1, 1, gravity_adapter, 1,
+    "gravity(q, p=None, pi=None)", 1, { 3 }, 1, gravity_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -415,7 +419,7 @@ static void coriolis_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None, pi=None)", 2, 1, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, coriolis_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -434,7 +438,7 @@ static void coriolis_matrix_adapter(size_t count, const double *const *states, c
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None, pi=None)", 2, 1, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, coriolis_matrix_adapter, 1,
     { 2 },
     { { 3, 3 } },
 NULL,
@@ -453,7 +457,7 @@ static void inverse_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, 1, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, { 3, 3, 3 }, 1, inverse_dynamics_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -463,6 +467,64 @@ static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_s
 {
     (void)self;
     return run_binding(&inverse_dynamics_binding, args, nargs, kwnames);
+}
+
+static void wrench_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    planar_3r_wrench_torque_batch(count, states[0], states[1], p, outputs[0]);
+}
+
+static const binding wrench_torque_binding = {
+    "wrench_torque(q, wrench, p=None)", 2, { 3, 6 }, 0, wrench_torque_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+NULL,
+};
+
+static PyObject *py_wrench_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&wrench_torque_binding, args, nargs, kwnames);
+}
+
+static void static_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_static_torque_batch(count, states[0], states[1], p, pi, outputs[0]);
+}
+
+static const binding static_torque_binding = {
+    "static_torque(q, wrench, p=None, pi=None)", 2, { 3, 6 }, 1, static_torque_adapter, 1,
+    { 1 },
+    { { 3, 0 } },
+NULL,
+};
+
+static PyObject *py_static_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&static_torque_binding, args, nargs, kwnames);
+}
+
+static void energy_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    planar_3r_energy_batch(count, states[0], states[1], p, pi, outputs[0], outputs[1], outputs[2]);
+}
+
+static const binding energy_binding = {
+    "energy(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, energy_adapter, 3,
+    { 0, 0, 0 },
+    { { 0, 0 }, { 0, 0 }, { 0, 0 } },
+NULL,
+};
+
+static PyObject *py_energy(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&energy_binding, args, nargs, kwnames);
 }
 
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
@@ -475,7 +537,7 @@ static void forward_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, 1, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, { 3, 3, 3 }, 1, forward_dynamics_adapter, 1,
     { 1 },
     { { 3, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
@@ -512,6 +574,12 @@ static PyMethodDef methods[] = {
      "coriolis_matrix(q, dq, p=None, pi=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
+    {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
+     "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
+    {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
+     "static_torque(q, wrench, p=None, pi=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+    {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
+     "energy(q, dq, p=None, pi=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},

@@ -16,6 +16,9 @@
  *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
  *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
  *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
+ *   wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
+ *   static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
+ *   energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

@@ -15,6 +15,9 @@
  *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
  *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
  *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
+ *   wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
+ *   static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
+ *   energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -654,6 +657,159 @@ void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
     size_t i;
     for (i = 0; i < count; ++i) {
         rpr_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+    }
+}
+
+void rpr_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double L3 = p[0];
+    const double t0 = cos(q1);
+    const double t1 = L3*sin(q3);
+    const double t2 = sin(q1);
+    const double t3 = t2*w_fx;
+    const double t4 = cos(q3);
+    tau_w[0] = -w_nz + w_fx*(-q2*t0 - t0*t1) + w_fy*(-q2*t2 - t1*t2);
+    tau_w[1] = -t3 + t0*w_fy;
+    tau_w[2] = w_fz*(t1*t0*t0 + t1*t2*t2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy;
+}
+
+void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double L3 = p[0];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double t0 = cos(q3);
+    const double t1 = 9.81*t0;
+    const double t2 = sin(q3);
+    const double t3 = 9.81*t2;
+    const double t4 = t1*m3;
+    const double t5 = t3*m3;
+    const double t6 = cos(q1);
+    const double t7 = t6*w_fy;
+    const double t8 = sin(q1);
+    const double t9 = t8*w_fx;
+    const double t10 = t7 - t9;
+    const double t11 = t4 + t10*t2 - t0*w_fz;
+    const double t12 = -t5 + t0*t10 + t2*w_fz;
+    const double t13 = t6*w_fx + t8*w_fy;
+    const double t14 = t8*w_nx;
+    const double t15 = -t14 + t6*w_ny;
+    const double t16 = cz3*t5 + t15*t2 - t0*w_nz;
+    const double t17 = L3*t13 + cz3*t4 + t0*t15 + t2*w_nz;
+    const double t18 = L3*t12 - cx3*t5 - cy3*t4 - t6*w_nx - t8*w_ny;
+    const double t19 = t0*t12 + t11*t2;
+    const double t20 = t0*t16 - q2*t13 - t17*t2;
+    tau_s[0] = t20;
+    tau_s[1] = t19;
+    tau_s[2] = t18;
+}
+
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+    }
+}
+
+void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L3 = p[0];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double cz1 = pi[3];
+    const double iyy1 = pi[5];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double ixx2 = pi[14];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double ixx3 = pi[24];
+    const double iyy3 = pi[25];
+    const double izz3 = pi[26];
+    const double ixy3 = pi[27];
+    const double ixz3 = pi[28];
+    const double iyz3 = pi[29];
+    const double t0 = cos(q3);
+    const double t1 = sin(q3);
+    const double t2 = q2 + L3*t1;
+    const double t3 = cz3*m3;
+    const double t4 = t1*t3;
+    const double t5 = t0*t3;
+    const double t6 = m3*(t2 + cx3*t1 + cy3*t0);
+    const double t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1;
+    const double t8 = L3 + cx3;
+    const double t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8;
+    const double t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8;
+    const double t11 = cz2*m2;
+    const double t12 = m2*(cy2 + q2);
+    const double t13 = t11 + t0*t5 + t1*t4;
+    const double t14 = t12 + t6;
+    const double t15 = cz1*m1;
+    const double t16 = cx1*m1;
+    const double t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9;
+    const double t18 = t1*m3;
+    const double t19 = t0*m3;
+    const double t20 = t19*t8 - cy3*t18;
+    const double t21 = m2 + t0*t19 + t1*t18;
+    const double t22 = cy3*m3;
+    const double t23 = m3*(L3 + cx3);
+    const double t24 = izz3 + cy3*t22 + t23*t8;
+    const double t25 = t17*dq1*dq1 + t21*dq2*dq2 + t24*dq3*dq3;
+    const double t26 = dq1*t10 + dq2*t20;
+    const double t27 = (1.0/2.0)*t25 + dq3*t26 - dq1*dq2*t13;
+    const double t28 = 9.81*cx2*m2;
+    const double t29 = 9.81*cy1*m1;
+    const double t30 = 9.81*t0;
+    const double t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1);
+    kinetic[0] = t27;
+    potential[0] = t28 + t29 - t31;
+    lagrangian[0] = t27 + t31 - t28 - t29;
+}
+
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

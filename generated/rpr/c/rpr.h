@@ -15,6 +15,9 @@
  *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
  *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
  *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
+ *   wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
+ *   static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
+ *   energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -178,6 +181,45 @@ void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, 
 void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (37 operations).
+ * tau_w[3]: -J^T w (3x1)
+ *   units: N m for q1, q3; N for q2
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[1]: parameters (L3; SI units, angles in rad)
+ */
+void rpr_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (54 operations).
+ * tau_s[3]: G - J^T w (3x1)
+ *   units: N m for q1, q3; N for q2
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[1]: parameters (L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
+ */
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (109 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[1]: parameters (L3; SI units, angles in rad)
+ * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
+ */
+void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m for q1, q3; N for q2) in place of ddq.

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
+  wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
+  static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
+  energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L3
@@ -602,6 +605,183 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 1] = t36
     tau[..., 2] = t33
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 37 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    L3 = p[..., 0]
+    t0 = numpy.cos(q1)
+    t1 = L3*numpy.sin(q3)
+    t2 = numpy.sin(q1)
+    t3 = t2*w_fx
+    t4 = numpy.cos(q3)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = -w_nz + w_fx*(-q2*t0 - t0*t1) + w_fy*(-q2*t2 - t1*t2)
+    tau_w[..., 1] = -t3 + t0*w_fy
+    tau_w[..., 2] = w_fz*(t1*t0**2 + t1*t2**2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 54 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    L3 = p[..., 0]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    t0 = numpy.cos(q3)
+    t1 = 9.81*t0
+    t2 = numpy.sin(q3)
+    t3 = 9.81*t2
+    t4 = t1*m3
+    t5 = t3*m3
+    t6 = numpy.cos(q1)
+    t7 = t6*w_fy
+    t8 = numpy.sin(q1)
+    t9 = t8*w_fx
+    t10 = t7 - t9
+    t11 = t4 + t10*t2 - t0*w_fz
+    t12 = -t5 + t0*t10 + t2*w_fz
+    t13 = t6*w_fx + t8*w_fy
+    t14 = t8*w_nx
+    t15 = -t14 + t6*w_ny
+    t16 = cz3*t5 + t15*t2 - t0*w_nz
+    t17 = L3*t13 + cz3*t4 + t0*t15 + t2*w_nz
+    t18 = L3*t12 - cx3*t5 - cy3*t4 - t6*w_nx - t8*w_ny
+    t19 = t0*t12 + t11*t2
+    t20 = t0*t16 - q2*t13 - t17*t2
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t20
+    tau_s[..., 1] = t19
+    tau_s[..., 2] = t18
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 109 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L3 = p[..., 0]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    iyy1 = pi[..., 5]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    ixx2 = pi[..., 14]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    ixx3 = pi[..., 24]
+    iyy3 = pi[..., 25]
+    izz3 = pi[..., 26]
+    ixy3 = pi[..., 27]
+    ixz3 = pi[..., 28]
+    iyz3 = pi[..., 29]
+    t0 = numpy.cos(q3)
+    t1 = numpy.sin(q3)
+    t2 = q2 + L3*t1
+    t3 = cz3*m3
+    t4 = t1*t3
+    t5 = t0*t3
+    t6 = m3*(t2 + cx3*t1 + cy3*t0)
+    t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1
+    t8 = L3 + cx3
+    t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8
+    t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8
+    t11 = cz2*m2
+    t12 = m2*(cy2 + q2)
+    t13 = t11 + t0*t5 + t1*t4
+    t14 = t12 + t6
+    t15 = cz1*m1
+    t16 = cx1*m1
+    t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9
+    t18 = t1*m3
+    t19 = t0*m3
+    t20 = t19*t8 - cy3*t18
+    t21 = m2 + t0*t19 + t1*t18
+    t22 = cy3*m3
+    t23 = m3*(L3 + cx3)
+    t24 = izz3 + cy3*t22 + t23*t8
+    t25 = t17*dq1**2 + t21*dq2**2 + t24*dq3**2
+    t26 = dq1*t10 + dq2*t20
+    t27 = (1/2)*t25 + dq3*t26 - dq1*dq2*t13
+    t28 = 9.81*cx2*m2
+    t29 = 9.81*cy1*m1
+    t30 = 9.81*t0
+    t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1)
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t27
+    potential = numpy.zeros(batch + ())
+    potential[...] = t28 + t29 - t31
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t27 + t31 - t28 - t29
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

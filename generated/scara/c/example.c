@@ -16,6 +16,9 @@
  *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+ *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
+ *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

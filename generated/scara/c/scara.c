@@ -15,6 +15,9 @@
  *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+ *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
+ *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -550,6 +553,128 @@ void scara_inverse_dynamics_batch(size_t count, const double *q, const double *d
     size_t i;
     for (i = 0; i < count; ++i) {
         scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+    }
+}
+
+void scara_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = q1 + q2;
+    const double t1 = sin(t0);
+    const double t2 = L2*cos(t0);
+    tau_w[0] = -w_nz + w_fx*(L1*sin(q1) + L2*t1) + w_fy*(-t2 - L1*cos(q1));
+    tau_w[1] = -w_nz - t2*w_fy + L2*t1*w_fx;
+    tau_w[2] = -w_fz;
+}
+
+void scara_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void scara_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m3 = pi[20];
+    const double t0 = q1 + q2;
+    const double t1 = cos(t0);
+    const double t2 = sin(t0);
+    const double t3 = t1*w_fx + t2*w_fy;
+    const double t4 = t2*w_fx - t1*w_fy;
+    const double t5 = -w_fz + 9.81*m3;
+    const double t6 = -w_nz + L2*t4;
+    const double t7 = t4*cos(q2) - t3*sin(q2);
+    const double t8 = t6 + L1*t7;
+    tau_s[0] = t8;
+    tau_s[1] = t6;
+    tau_s[2] = t5;
+}
+
+void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+    }
+}
+
+void scara_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double m1 = pi[0];
+    const double cx1 = pi[1];
+    const double cy1 = pi[2];
+    const double cz1 = pi[3];
+    const double izz1 = pi[6];
+    const double m2 = pi[10];
+    const double cx2 = pi[11];
+    const double cy2 = pi[12];
+    const double cz2 = pi[13];
+    const double izz2 = pi[16];
+    const double m3 = pi[20];
+    const double cx3 = pi[21];
+    const double cy3 = pi[22];
+    const double cz3 = pi[23];
+    const double izz3 = pi[26];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = m3*(t1 - cy3);
+    const double t5 = m3*(cx3 + t3);
+    const double t6 = m2*(t1 - cy2);
+    const double t7 = m2*(cx2 + t3);
+    const double t8 = t4 + t6;
+    const double t9 = t5 + t7;
+    const double t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4;
+    const double t11 = cy1*m1;
+    const double t12 = m1*(L1 + cx1);
+    const double t13 = t12 + t0*t8 + t2*t9;
+    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11;
+    const double t15 = cy3*m3;
+    const double t16 = m3*(L2 + cx3);
+    const double t17 = cy2*m2;
+    const double t18 = m2*(L2 + cx2);
+    const double t19 = t16 + t18;
+    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15;
+    const double t21 = t14*dq1*dq1 + t20*dq2*dq2 + m3*dq3*dq3;
+    const double t22 = (1.0/2.0)*t21 + dq1*dq2*t10;
+    const double t23 = 9.81*cz1*m1;
+    const double t24 = 9.81*cz2*m2;
+    const double t25 = m3*(-9.81*cz3 - 9.81*q3);
+    kinetic[0] = t22;
+    potential[0] = t23 + t24 - t25;
+    lagrangian[0] = t22 + t25 - t23 - t24;
+}
+
+void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

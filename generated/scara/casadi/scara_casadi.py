@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+  wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+  static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
+  energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -488,6 +491,152 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p", "pi"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (22 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.sin(t0)
+    t2 = L2*casadi.cos(t0)
+    tau_w = symbol_type.zeros(3, 1)
+    tau_w[0, 0] = -w_nz + w_fx*(L1*casadi.sin(q1) + L2*t1) + w_fy*(-t2 - L1*casadi.cos(q1))
+    tau_w[1, 0] = -w_nz - t2*w_fy + L2*t1*w_fx
+    tau_w[2, 0] = -w_fz
+    return casadi.Function(
+        "scara_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (20 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    m3 = pi[20]
+    t0 = q1 + q2
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_fz + 9.81*m3
+    t6 = -w_nz + L2*t4
+    t7 = t4*casadi.cos(q2) - t3*casadi.sin(q2)
+    t8 = t6 + L1*t7
+    tau_s = symbol_type.zeros(3, 1)
+    tau_s[0, 0] = t8
+    tau_s[1, 0] = t6
+    tau_s[2, 0] = t5
+    return casadi.Function(
+        "scara_static_torque",
+        [q, wrench, p, pi],
+        [tau_s],
+        ["q", "wrench", "p", "pi"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (84 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 2)
+    pi = symbol_type.sym("pi", 30)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L1 = p[0]
+    L2 = p[1]
+    m1 = pi[0]
+    cx1 = pi[1]
+    cy1 = pi[2]
+    cz1 = pi[3]
+    izz1 = pi[6]
+    m2 = pi[10]
+    cx2 = pi[11]
+    cy2 = pi[12]
+    cz2 = pi[13]
+    izz2 = pi[16]
+    m3 = pi[20]
+    cx3 = pi[21]
+    cy3 = pi[22]
+    cz3 = pi[23]
+    izz3 = pi[26]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = m3*(t1 - cy3)
+    t5 = m3*(cx3 + t3)
+    t6 = m2*(t1 - cy2)
+    t7 = m2*(cx2 + t3)
+    t8 = t4 + t6
+    t9 = t5 + t7
+    t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
+    t11 = cy1*m1
+    t12 = m1*(L1 + cx1)
+    t13 = t12 + t0*t8 + t2*t9
+    t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11
+    t15 = cy3*m3
+    t16 = m3*(L2 + cx3)
+    t17 = cy2*m2
+    t18 = m2*(L2 + cx2)
+    t19 = t16 + t18
+    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15
+    t21 = t14*dq1**2 + t20*dq2**2 + m3*dq3**2
+    t22 = (1/2)*t21 + dq1*dq2*t10
+    t23 = 9.81*cz1*m1
+    t24 = 9.81*cz2*m2
+    t25 = m3*(-9.81*cz3 - 9.81*q3)
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t22
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = t23 + t24 - t25
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t22 + t25 - t23 - t24
+    return casadi.Function(
+        "scara_energy",
+        [q, dq, p, pi],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p", "pi"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+  wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+  static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
+  energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -472,6 +475,152 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 1] = t19
     tau[..., 2] = t13
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 22 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.sin(t0)
+    t2 = L2*numpy.cos(t0)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = -w_nz + w_fx*(L1*numpy.sin(q1) + L2*t1) + w_fy*(-t2 - L1*numpy.cos(q1))
+    tau_w[..., 1] = -w_nz - t2*w_fy + L2*t1*w_fx
+    tau_w[..., 2] = -w_fz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 20 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m3 = pi[..., 20]
+    t0 = q1 + q2
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_fz + 9.81*m3
+    t6 = -w_nz + L2*t4
+    t7 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
+    t8 = t6 + L1*t7
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t8
+    tau_s[..., 1] = t6
+    tau_s[..., 2] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 84 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    izz1 = pi[..., 6]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    izz2 = pi[..., 16]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    izz3 = pi[..., 26]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = m3*(t1 - cy3)
+    t5 = m3*(cx3 + t3)
+    t6 = m2*(t1 - cy2)
+    t7 = m2*(cx2 + t3)
+    t8 = t4 + t6
+    t9 = t5 + t7
+    t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
+    t11 = cy1*m1
+    t12 = m1*(L1 + cx1)
+    t13 = t12 + t0*t8 + t2*t9
+    t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11
+    t15 = cy3*m3
+    t16 = m3*(L2 + cx3)
+    t17 = cy2*m2
+    t18 = m2*(L2 + cx2)
+    t19 = t16 + t18
+    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15
+    t21 = t14*dq1**2 + t20*dq2**2 + m3*dq3**2
+    t22 = (1/2)*t21 + dq1*dq2*t10
+    t23 = 9.81*cz1*m1
+    t24 = 9.81*cz2*m2
+    t25 = m3*(-9.81*cz3 - 9.81*q3)
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t22
+    potential = numpy.zeros(batch + ())
+    potential[...] = t23 + t24 - t25
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t22 + t25 - t23 - t24
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

@@ -16,6 +16,9 @@
  *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
  *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
  *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+ *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+ *   static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
+ *   energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
  */
 #include <stdio.h>
 

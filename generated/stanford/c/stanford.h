@@ -15,6 +15,9 @@
  *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
  *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
  *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+ *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+ *   static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
+ *   energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -178,6 +181,45 @@ void stanford_coriolis_matrix_batch(size_t count, const double *q, const double 
 void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (122 operations).
+ * tau_w[6]: -J^T w (6x1)
+ *   units: N m for q1, q2, q4, q5, q6; N for q3
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
+ */
+void stanford_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (263 operations).
+ * tau_s[6]: G - J^T w (6x1)
+ *   units: N m for q1, q2, q4, q5, q6; N for q3
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
+ */
+void stanford_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (826 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
+ * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
+ */
+void stanford_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m for q1, q2, q4, q5, q6; N for q3) in place of ddq.

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+  wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+  static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
+  energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d2, d6
@@ -1923,6 +1926,481 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 4] = t118
     tau[..., 5] = t111
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 122 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d2 = p[..., 1]
+    d6 = p[..., 2]
+    t0 = numpy.cos(q1)
+    t1 = numpy.sin(q1)
+    t2 = numpy.sin(q2)
+    t3 = t1*t2
+    t4 = numpy.cos(q5)
+    t5 = numpy.sin(q5)
+    t6 = numpy.sin(q4)
+    t7 = t0*t6
+    t8 = numpy.cos(q2)
+    t9 = numpy.cos(q4)
+    t10 = t1*t9
+    t11 = t3*t4 + t5*(t7 + t10*t8)
+    t12 = d6*t11
+    t13 = t12 + d2*t0 + q3*t3
+    t14 = t0*t2
+    t15 = t1*t6
+    t16 = t14*t4 + t5*(-t15 + t0*t8*t9)
+    t17 = d6*t16
+    t18 = t17 + q3*t14 - d2*t1
+    t19 = -t4*t8 + t2*t5*t9
+    t20 = -t19
+    t21 = d6*t20
+    t22 = t21 + q3*t8
+    t23 = t2*t6
+    t24 = t10 + t7*t8
+    t25 = t15*t8 - t0*t9
+    t26 = -t25
+    t27 = -t24
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + t13*w_fx - t18*w_fy
+    tau_w[..., 1] = t1*w_nx + w_fz*(t0*t18 + t1*t13) - t0*w_ny - t0*t22*w_fx - t1*t22*w_fy
+    tau_w[..., 2] = -t14*w_fx - t3*w_fy - t8*w_fz
+    tau_w[..., 3] = w_fx*(t12*t8 - t21*t3) + w_fy*(-t17*t8 + d6*t0*t2*t20) + w_fz*(t17*t3 - t12*t14) - t14*w_nx - t3*w_ny - t8*w_nz
+    tau_w[..., 4] = t24*w_nx + t25*w_ny + w_fx*(t12*t23 - t21*t26) + w_fy*(-t17*t23 + d6*t20*t27) + w_fz*(t17*t26 - t12*t27) - t23*w_nz
+    tau_w[..., 5] = t19*w_nz - t11*w_ny - t16*w_nx
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 263 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d2 = p[..., 1]
+    d6 = p[..., 2]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    t0 = numpy.sin(q2)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q2)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q4)
+    t5 = t1*t4
+    t6 = numpy.sin(q4)
+    t7 = t1*t6
+    t8 = numpy.sin(q5)
+    t9 = numpy.cos(q5)
+    t10 = t3*t8 + t5*t9
+    t11 = t3*t9 - t5*t8
+    t12 = numpy.sin(q6)
+    t13 = numpy.cos(q6)
+    t14 = t12*t7 - t10*t13
+    t15 = t10*t12 + t13*t7
+    t16 = t14*m6
+    t17 = t15*m6
+    t18 = t11*m6
+    t19 = t13*t4
+    t20 = t0*t9
+    t21 = t2*t8
+    t22 = t0*t6
+    t23 = t13*t21 + t19*t20 - t12*t22
+    t24 = numpy.sin(q1)
+    t25 = t12*t4
+    t26 = t24*t25
+    t27 = t24*t6
+    t28 = t13*t9
+    t29 = numpy.cos(q1)
+    t30 = t0*t8
+    t31 = t29*t6
+    t32 = t2*t9
+    t33 = t19*t29
+    t34 = t26 + t27*t28 - t32*t33 + t12*t2*t31 + t13*t29*t30
+    t35 = t25*t29
+    t36 = t19*t24
+    t37 = t0*t13*t8 + t12*t2*t6
+    t38 = -t35 + t24*t37 - t28*t31 - t32*t36
+    t39 = t16 + t23*w_fz + t34*w_fx + t38*w_fy
+    t40 = t12*t21 + t13*t22 + t20*t25
+    t41 = t13*t2
+    t42 = t12*t9
+    t43 = t12*t30
+    t44 = t36 + t31*t41 + t32*t35 - t27*t42 - t29*t43
+    t45 = -t33 + t26*t32 + t27*t41 + t31*t42 - t24*t43
+    t46 = t17 + t44*w_fx + t45*w_fy - t40*w_fz
+    t47 = -t32 + t30*t4
+    t48 = t21*t4
+    t49 = t20 + t48
+    t50 = -t29*t49 + t24*t6*t8
+    t51 = t24*t49 + t29*t6*t8
+    t52 = cy6*t18 + t23*w_nz + t34*w_nx + t38*w_ny - cz6*t17 - d6*t46
+    t53 = cz6*t16 + d6*t39 + t44*w_nx + t45*w_ny - cx6*t18 - t40*w_nz
+    t54 = cx6*t17 + t47*w_nz + t50*w_nx - cy6*t16 - t51*w_ny
+    t55 = t10*m5
+    t56 = t7*m5
+    t57 = t11*m5
+    t58 = -t55 + t13*t39 - t12*t46
+    t59 = t18 + t57 + t47*w_fz + t50*w_fx - t51*w_fy
+    t60 = cy5*t57 + t13*t52 - cz5*t56 - t12*t53
+    t61 = t12*t52 + t13*t53 - cx5*t57 - cz5*t55
+    t62 = t54 + cx5*t56 + cy5*t55
+    t63 = t5*m4
+    t64 = t3*m4
+    t65 = t7*m4
+    t66 = -t63 + t58*t9 + t59*t8
+    t67 = -t64 + t58*t8 - t59*t9
+    t68 = t56 + t65 + t12*t39 + t13*t46
+    t69 = cy4*t65 + cz4*t64 + t60*t9 + t62*t8
+    t70 = t60*t8 - cx4*t65 - cz4*t63 - t62*t9
+    t71 = t61 + cy4*t63 - cx4*t64
+    t72 = t1*m3
+    t73 = t3*m3
+    t74 = -t72 + t4*t66 - t6*t68
+    t75 = t4*t68 + t6*t66
+    t76 = t73 - t67
+    t77 = t1*m2
+    t78 = t3*m2
+    t79 = t74 - t77
+    t80 = t76 + t78
+    t81 = cy2*t78 + cy3*t73 + d2*t80 + t4*t69 - q3*t75 - t6*t71
+    t82 = q3*t74 + t4*t71 + t6*t69 - cx2*t78 - cx3*t73 - cz2*t77 - cz3*t72
+    t83 = -t70 + cy2*t77 + cy3*t72 - d2*t79
+    t84 = t0*t81 - t2*t83
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = -t84
+    tau_s[..., 1] = t82
+    tau_s[..., 2] = t76
+    tau_s[..., 3] = -t70
+    tau_s[..., 4] = t61
+    tau_s[..., 5] = t54
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 826 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d2, d6; SI units, angles in rad), 3 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d1 = p[..., 0]
+    d2 = p[..., 1]
+    d6 = p[..., 2]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    iyy1 = pi[..., 5]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    ixx2 = pi[..., 14]
+    iyy2 = pi[..., 15]
+    izz2 = pi[..., 16]
+    ixy2 = pi[..., 17]
+    ixz2 = pi[..., 18]
+    iyz2 = pi[..., 19]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    ixx3 = pi[..., 24]
+    iyy3 = pi[..., 25]
+    izz3 = pi[..., 26]
+    ixy3 = pi[..., 27]
+    ixz3 = pi[..., 28]
+    iyz3 = pi[..., 29]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = numpy.cos(q2)
+    t1 = numpy.sin(q2)
+    t2 = d2*t0
+    t3 = d2*t1
+    t4 = q3*t1
+    t5 = numpy.cos(q4)
+    t6 = t1*t5
+    t7 = numpy.sin(q4)
+    t8 = t1*t7
+    t9 = t4*t7 - t2*t5
+    t10 = t2*t7 + t4*t5
+    t11 = numpy.sin(q5)
+    t12 = numpy.cos(q5)
+    t13 = t0*t11 + t12*t6
+    t14 = t0*t12 - t11*t6
+    t15 = t11*t3 + t12*t9
+    t16 = t11*t9 - t12*t3
+    t17 = numpy.sin(q6)
+    t18 = numpy.cos(q6)
+    t19 = t17*t8 - t13*t18
+    t20 = t13*t17 + t18*t8
+    t21 = d6*t20 + t10*t17 + t15*t18
+    t22 = t10*t18 - d6*t19 - t15*t17
+    t23 = m6*(t21 + cz6*t20 - cy6*t14)
+    t24 = m6*(t22 + cx6*t14 - cz6*t19)
+    t25 = m6*(t16 + cy6*t19 - cx6*t20)
+    t26 = cz6 + d6
+    t27 = cy6*t25 + ixy6*t20 + ixz6*t14 + t19*ixx6 - t24*t26
+    t28 = ixy6*t19 + iyz6*t14 + t20*iyy6 + t23*t26 - cx6*t25
+    t29 = cx6*t24 + ixz6*t19 + iyz6*t20 + t14*izz6 - cy6*t23
+    t30 = m5*(t15 + cz5*t8 - cy5*t14)
+    t31 = m5*(t10 + cx5*t14 + cz5*t13)
+    t32 = m5*(t16 - cx5*t8 - cy5*t13)
+    t33 = t30 + t18*t23 - t17*t24
+    t34 = t25 + t32
+    t35 = cy5*t32 + ixy5*t8 + ixz5*t14 + t18*t27 - cz5*t31 - t13*ixx5 - t17*t28
+    t36 = cz5*t30 + iyz5*t14 + t17*t27 + t18*t28 + t8*iyy5 - cx5*t32 - ixy5*t13
+    t37 = t29 + cx5*t31 + iyz5*t8 + t14*izz5 - cy5*t30 - ixz5*t13
+    t38 = m4*(t9 - cy4*t8 - cz4*t0)
+    t39 = m4*(t3 + cx4*t8 + cz4*t6)
+    t40 = m4*(t10 + cx4*t0 - cy4*t6)
+    t41 = t38 + t11*t34 + t12*t33
+    t42 = t39 + t11*t33 - t12*t34
+    t43 = t31 + t40 + t17*t23 + t18*t24
+    t44 = cy4*t40 + ixz4*t8 + t11*t37 + t12*t35 - cz4*t39 - ixy4*t0 - t6*ixx4
+    t45 = cz4*t38 + iyz4*t8 + t11*t35 - cx4*t40 - ixy4*t6 - t0*iyy4 - t12*t37
+    t46 = t36 + cx4*t39 + t8*izz4 - cy4*t38 - ixz4*t6 - iyz4*t0
+    t47 = m3*(-t2 - cy3*t0)
+    t48 = m3*(t4 + cx3*t0 + cz3*t1)
+    t49 = m3*(-t3 - cy3*t1)
+    t50 = t47 + t41*t5 - t43*t7
+    t51 = t48 + t41*t7 + t43*t5
+    t52 = t49 - t42
+    t53 = m2*(-t2 - cy2*t0)
+    t54 = m2*(cx2*t0 + cz2*t1)
+    t55 = m2*(-t3 - cy2*t1)
+    t56 = t50 + t53
+    t57 = t52 + t55
+    t58 = ixx2 + ixx3
+    t59 = ixz2 + ixz3
+    t60 = cy2*t55 + cy3*t49 + d2*t57 + t0*t59 + t44*t5 - cz2*t54 - cz3*t48 - q3*t51 - t1*t58 - t46*t7
+    t61 = ixy2 + ixy3
+    t62 = iyz2 + iyz3
+    t63 = cz2*t53 + cz3*t47 + q3*t50 + t0*t62 + t44*t7 + t46*t5 - cx2*t55 - cx3*t49 - t1*t61
+    t64 = izz2 + izz3
+    t65 = -t45 + cx2*t54 + cx3*t48 + t0*t64 - cy2*t53 - cy3*t47 - d2*t56 - t1*t59
+    t66 = cz1*m1
+    t67 = cx1*m1
+    t68 = -iyy1 + t1*t60 - cx1*t67 - cz1*t66 - t0*t65
+    t69 = q3*t5
+    t70 = q3*t7
+    t71 = t12*t7
+    t72 = t11*t7
+    t73 = t12*t69
+    t74 = t11*t69
+    t75 = t17*t5 + t18*t71
+    t76 = t18*t5 - t17*t71
+    t77 = d6*t76 + t18*t73 - t17*t70
+    t78 = d6*t75 + t17*t73 + t18*t70
+    t79 = m6*(t77 + cz6*t76 - cy6*t72)
+    t80 = m6*(-t78 + cx6*t72 - cz6*t75)
+    t81 = m6*(t74 + cy6*t75 - cx6*t76)
+    t82 = cy6*t81 + ixy6*t76 + ixz6*t72 + t75*ixx6 - t26*t80
+    t83 = ixy6*t75 + iyz6*t72 + t26*t79 + t76*iyy6 - cx6*t81
+    t84 = cx6*t80 + ixz6*t75 + iyz6*t76 + t72*izz6 - cy6*t79
+    t85 = m5*(t73 + cz5*t5 - cy5*t72)
+    t86 = m5*(-t70 + cx5*t72 - cz5*t71)
+    t87 = m5*(t74 + cy5*t71 - cx5*t5)
+    t88 = t85 + t18*t79 - t17*t80
+    t89 = t81 + t87
+    t90 = cy5*t87 + ixy5*t5 + ixz5*t72 + t18*t82 + t71*ixx5 - cz5*t86 - t17*t83
+    t91 = cz5*t85 + ixy5*t71 + iyz5*t72 + t17*t82 + t18*t83 + t5*iyy5 - cx5*t87
+    t92 = t84 + cx5*t86 + ixz5*t71 + iyz5*t5 + t72*izz5 - cy5*t85
+    t93 = m4*(t69 - cy4*t5)
+    t94 = m4*(cx4*t5 - cz4*t7)
+    t95 = m4*(-t70 + cy4*t7)
+    t96 = t93 + t11*t89 + t12*t88
+    t97 = t94 + t11*t88 - t12*t89
+    t98 = t86 + t95 + t17*t79 + t18*t80
+    t99 = cy4*t95 + ixz4*t5 + t11*t92 + t12*t90 + t7*ixx4 - cz4*t94
+    t100 = cz4*t93 + ixy4*t7 + iyz4*t5 + t11*t90 - cx4*t95 - t12*t92
+    t101 = t91 + cx4*t94 + ixz4*t7 + t5*izz4 - cy4*t93
+    t102 = m3*(cz3 + q3)
+    t103 = cx3*m3
+    t104 = t102 + t5*t96 - t7*t98
+    t105 = t103 + t97
+    t106 = cz2*m2
+    t107 = cx2*m2
+    t108 = iyy2 + iyy3 + cx2*t107 + cx3*t103 + cz2*t106 + cz3*t102 + q3*t104 + t101*t5 + t7*t99
+    t109 = t11*t18
+    t110 = t11*t17
+    t111 = t109*m6
+    t112 = t110*m6
+    t113 = t12*m6
+    t114 = cy6*t113 - t112*t26
+    t115 = cx6*t113 + t111*t26
+    t116 = cx6*t112 + cy6*t111
+    t117 = t11*m5
+    t118 = t12*m5
+    t119 = t117 + t111*t18 + t112*t17
+    t120 = t113 + t118
+    t121 = cy5*t118 + t114*t18 + t115*t17
+    t122 = t114*t17 - cx5*t118 - cz5*t117 - t115*t18
+    t123 = t116 + cy5*t117
+    t124 = m4 + t11*t119 + t12*t120
+    t125 = t11*t121 - t12*t123
+    t126 = t124 + m3
+    t127 = d6*t110
+    t128 = d6*t109
+    t129 = m6*(t127 + cz6*t110 - cy6*t12)
+    t130 = m6*(t128 + cx6*t12 + cz6*t109)
+    t131 = m6*(-cx6*t110 - cy6*t109)
+    t132 = cy6*t131 + ixy6*t110 + ixz6*t12 - t109*ixx6 - t130*t26
+    t133 = iyz6*t12 + t110*iyy6 + t129*t26 - cx6*t131 - ixy6*t109
+    t134 = cx6*t130 + iyz6*t110 + t12*izz6 - cy6*t129 - ixz6*t109
+    t135 = cy5*t12*m5
+    t136 = m5*(cx5*t12 + cz5*t11)
+    t137 = cy5*t117
+    t138 = ixz5*t12 + t132*t18 - cy5*t137 - cz5*t136 - t11*ixx5 - t133*t17
+    t139 = cx5*t137 + iyz5*t12 + t132*t17 + t133*t18 - cz5*t135 - ixy5*t11
+    t140 = t134 + cx5*t136 + cy5*t135 + t12*izz5 - ixz5*t11
+    t141 = cz4*m4
+    t142 = cx4*m4
+    t143 = -iyy4 + t11*t138 - cx4*t142 - cz4*t141 - t12*t140
+    t144 = d6*t18
+    t145 = d6*t17
+    t146 = m6*(t144 + cz6*t18)
+    t147 = m6*(-t145 - cz6*t17)
+    t148 = m6*(cy6*t17 - cx6*t18)
+    t149 = cy6*t148 + ixy6*t18 + t17*ixx6 - t147*t26
+    t150 = ixy6*t17 + t146*t26 + t18*iyy6 - cx6*t148
+    t151 = cx6*t147 + ixz6*t17 + iyz6*t18 - cy6*t146
+    t152 = cz5*m5
+    t153 = cx5*m5
+    t154 = iyy5 + cx5*t153 + cz5*t152 + t149*t17 + t150*t18
+    t155 = cy6*m6
+    t156 = cx6*m6
+    t157 = izz6 + cx6*t156 + cy6*t155
+    t158 = t108*dq2**2 + t126*dq3**2 + t154*dq5**2 + t157*dq6**2 - t143*dq4**2 - t68*dq1**2
+    t159 = dq1*t29 + dq2*t84 + dq3*t116 + dq4*t134 + dq5*t151
+    t160 = dq1*t36 + dq2*t91 + dq3*t122 + dq4*t139
+    t161 = dq1*t45 + dq2*t100 + dq3*t125
+    t162 = dq1*t52 - dq2*t105
+    t163 = (1/2)*t158 + dq3*t162 + dq5*t160 + dq6*t159 - dq4*t161 + dq1*dq2*t63
+    t164 = 9.81*d1
+    t165 = 9.81*t0
+    t166 = t164 + q3*t165
+    t167 = 9.81*t8
+    t168 = t12*t6
+    t169 = 9.81*t14
+    t170 = m1*(-t164 + 9.81*cy1) + m2*(-t164 - cz2*t165 + 9.81*cx2*t1) + m3*(-t166 - cz3*t165 + 9.81*cx3*t1) + m4*(-t166 - cz4*t167 + 9.81*cy4*t0 + 9.81*cx4*t1*t5) + m5*(-t166 - cy5*t167 - cz5*t169 - 9.81*cx5*(-t168 - t0*t11)) + m6*(-t166 - cz6*t169 - 9.81*cx6*(-t0*t109 - t168*t18 + t1*t17*t7) - 9.81*cy6*(t0*t110 + t168*t17 + t18*t8) - 9.81*d6*t0*t12 + 9.81*d6*t1*t11*t5)
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t163
+    potential = numpy.zeros(batch + ())
+    potential[...] = -t170
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t163 + t170
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

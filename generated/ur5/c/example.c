@@ -16,6 +16,9 @@
  *   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
  *   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
+ *   wrench_torque: 157 ops (53 additions, 94 multiplications, 10 trig)
+ *   static_torque: 248 ops (93 additions, 141 multiplications, 14 trig)
+ *   energy: 932 ops (389 additions, 522 multiplications, 1 divisions, 14 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
+  wrench_torque: 157 ops (53 additions, 94 multiplications, 10 trig)
+  static_torque: 248 ops (93 additions, 141 multiplications, 14 trig)
+  energy: 932 ops (389 additions, 522 multiplications, 1 divisions, 14 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, a2, a3, d4, d5, d6
@@ -2159,6 +2162,528 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     tau[..., 4] = -t143
     tau[..., 5] = t135
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 157 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    t0 = numpy.sin(q1)
+    t1 = numpy.cos(q2)
+    t2 = a2*t1
+    t3 = numpy.cos(q3)
+    t4 = t1*t3
+    t5 = numpy.sin(q2)
+    t6 = numpy.sin(q3)
+    t7 = t5*t6
+    t8 = t0*t7
+    t9 = numpy.cos(q1)
+    t10 = numpy.sin(q4)
+    t11 = -t8 + t0*t1*t3
+    t12 = numpy.cos(q4)
+    t13 = t3*t5
+    t14 = t1*t6
+    t15 = -t0*t13 - t0*t14
+    t16 = t10*t11 - t12*t15
+    t17 = numpy.cos(q5)
+    t18 = numpy.sin(q5)
+    t19 = t17*t9 + t18*(t10*t15 + t11*t12)
+    t20 = d5*t16 - d6*t19
+    t21 = t20 - d4*t9
+    t22 = t21 - a3*t8 + a3*t0*t4
+    t23 = t22 + t0*t2
+    t24 = t7*t9
+    t25 = -t24 + t1*t3*t9
+    t26 = -t13*t9 - t14*t9
+    t27 = t10*t25 - t12*t26
+    t28 = t18*(t10*t26 + t12*t25) - t0*t17
+    t29 = d5*t27 - d6*t28
+    t30 = t29 + d4*t0
+    t31 = t30 - a3*t24 + a3*t4*t9
+    t32 = t31 + t2*t9
+    t33 = -t7 + t1*t3
+    t34 = t13 + t14
+    t35 = t12*t33 - t10*t34
+    t36 = -t35
+    t37 = t18*(t10*t33 + t12*t34)
+    t38 = d5*t36 - d6*t37
+    t39 = t38 + a3*t13 + a3*t14
+    t40 = t39 + a2*t5
+    t41 = t9*w_fx
+    t42 = t0*w_fy
+    t43 = t9*w_ny - t0*w_nx
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + t23*w_fx - t32*w_fy
+    tau_w[..., 1] = t43 + t40*t41 + t40*t42 + w_fz*(-t0*t23 - t32*t9)
+    tau_w[..., 2] = t43 + t39*t41 + t39*t42 + w_fz*(-t0*t22 - t31*t9)
+    tau_w[..., 3] = t43 + t38*t41 + t38*t42 + w_fz*(-t0*t21 - t30*t9)
+    tau_w[..., 4] = t35*w_nz + w_fx*(t20*t36 - t16*t38) + w_fy*(t27*t38 - t29*t36) + w_fz*(t16*t29 - t20*t27) - t16*w_ny - t27*w_nx
+    tau_w[..., 5] = t19*w_ny + t28*w_nx + t37*w_nz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+    """Static torques holding the arm against gravity and an external wrench: 248 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    t0 = numpy.sin(q2)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q2)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t1*t4 + t3*t5
+    t7 = t3*t4 - t1*t5
+    t8 = numpy.cos(q4)
+    t9 = numpy.sin(q4)
+    t10 = t6*t8 + t7*t9
+    t11 = t6*t9 - t7*t8
+    t12 = numpy.cos(q5)
+    t13 = t10*t12
+    t14 = numpy.sin(q5)
+    t15 = t10*t14
+    t16 = numpy.sin(q6)
+    t17 = numpy.cos(q6)
+    t18 = t13*t17 - t11*t16
+    t19 = t11*t17 + t13*t16
+    t20 = t18*m6
+    t21 = t19*m6
+    t22 = t15*m6
+    t23 = q2 + q3 + q4
+    t24 = numpy.cos(t23)
+    t25 = t16*t24
+    t26 = numpy.sin(t23)
+    t27 = t17*t26
+    t28 = t25 + t12*t27
+    t29 = numpy.cos(q1)
+    t30 = t14*t17
+    t31 = numpy.sin(q1)
+    t32 = t16*t26
+    t33 = t17*t24
+    t34 = t12*t31
+    t35 = t29*t30 + t31*t32 - t33*t34
+    t36 = t12*t29
+    t37 = -t30*t31 - t33*t36 + t16*t26*t29
+    t38 = t20 + t35*w_fy + t37*w_fx - t28*w_fz
+    t39 = -t33 + t12*t32
+    t40 = t14*t16
+    t41 = t25*t36 + t27*t29 + t31*t40
+    t42 = t25*t34 + t27*t31 - t29*t40
+    t43 = -t21 + t39*w_fz + t41*w_fx + t42*w_fy
+    t44 = t14*t26
+    t45 = t36 + t14*t24*t31
+    t46 = -t34 + t14*t24*t29
+    t47 = cz6*t21 + t35*w_ny + t37*w_nx - cy6*t22 - d6*t43 - t28*w_nz
+    t48 = cx6*t22 + cz6*t20 + d6*t38 + t39*w_nz + t41*w_nx + t42*w_ny
+    t49 = t44*w_nz + t45*w_ny + t46*w_nx - cx6*t21 - cy6*t20
+    t50 = t13*m5
+    t51 = t11*m5
+    t52 = t15*m5
+    t53 = t50 + t17*t38 - t16*t43
+    t54 = -t51 + t16*t38 + t17*t43
+    t55 = -t22 - t52 + t44*w_fz + t45*w_fy + t46*w_fx
+    t56 = cz5*t51 + t17*t47 - cy5*t52 - d5*t55 - t16*t48
+    t57 = cx5*t52 + cz5*t50 + t16*t47 + t17*t48
+    t58 = t49 + d5*t53 - cx5*t51 - cy5*t50
+    t59 = t10*m4
+    t60 = t11*m4
+    t61 = t59 + t12*t53 - t14*t55
+    t62 = t12*t55 + t14*t53
+    t63 = t60 - t54
+    t64 = cy4*t60 + d4*t63 + t12*t56 - t14*t58
+    t65 = cz4*t59 + t12*t58 + t14*t56 - cx4*t60
+    t66 = t57 + cy4*t59 + d4*t61
+    t67 = t6*m3
+    t68 = t7*m3
+    t69 = t67 + t61*t8 + t63*t9
+    t70 = t68 + t61*t9 - t63*t8
+    t71 = t64*t8 - cz3*t68 - t66*t9
+    t72 = cz3*t67 + t64*t9 + t66*t8 - a3*t62
+    t73 = t65 + a3*t70 + cx3*t68 - cy3*t67
+    t74 = t1*m2
+    t75 = t3*m2
+    t76 = t75 + t4*t70 + t5*t69
+    t77 = t4*t71 - cz2*t75 - t5*t72
+    t78 = cz2*t74 + t4*t72 + t5*t71 - a2*t62
+    t79 = t73 + a2*t76 + cx2*t75 - cy2*t74
+    t80 = t0*t77 + t2*t78
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = t80
+    tau_s[..., 1] = t79
+    tau_s[..., 2] = t73
+    tau_s[..., 3] = t65
+    tau_s[..., 4] = -t57
+    tau_s[..., 5] = t49
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
+    """Kinetic and potential energy and the lagrangian: 932 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 60 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    if pi is None:
+        raise ValueError("pi: give the 60 inertial parameters the robot file leaves out")
+    pi = numpy.asarray(pi, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d1 = p[..., 0]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    m1 = pi[..., 0]
+    cx1 = pi[..., 1]
+    cy1 = pi[..., 2]
+    cz1 = pi[..., 3]
+    iyy1 = pi[..., 5]
+    m2 = pi[..., 10]
+    cx2 = pi[..., 11]
+    cy2 = pi[..., 12]
+    cz2 = pi[..., 13]
+    ixx2 = pi[..., 14]
+    iyy2 = pi[..., 15]
+    izz2 = pi[..., 16]
+    ixy2 = pi[..., 17]
+    ixz2 = pi[..., 18]
+    iyz2 = pi[..., 19]
+    m3 = pi[..., 20]
+    cx3 = pi[..., 21]
+    cy3 = pi[..., 22]
+    cz3 = pi[..., 23]
+    ixx3 = pi[..., 24]
+    iyy3 = pi[..., 25]
+    izz3 = pi[..., 26]
+    ixy3 = pi[..., 27]
+    ixz3 = pi[..., 28]
+    iyz3 = pi[..., 29]
+    m4 = pi[..., 30]
+    cx4 = pi[..., 31]
+    cy4 = pi[..., 32]
+    cz4 = pi[..., 33]
+    ixx4 = pi[..., 34]
+    iyy4 = pi[..., 35]
+    izz4 = pi[..., 36]
+    ixy4 = pi[..., 37]
+    ixz4 = pi[..., 38]
+    iyz4 = pi[..., 39]
+    m5 = pi[..., 40]
+    cx5 = pi[..., 41]
+    cy5 = pi[..., 42]
+    cz5 = pi[..., 43]
+    ixx5 = pi[..., 44]
+    iyy5 = pi[..., 45]
+    izz5 = pi[..., 46]
+    ixy5 = pi[..., 47]
+    ixz5 = pi[..., 48]
+    iyz5 = pi[..., 49]
+    m6 = pi[..., 50]
+    cx6 = pi[..., 51]
+    cy6 = pi[..., 52]
+    cz6 = pi[..., 53]
+    ixx6 = pi[..., 54]
+    iyy6 = pi[..., 55]
+    izz6 = pi[..., 56]
+    ixy6 = pi[..., 57]
+    ixz6 = pi[..., 58]
+    iyz6 = pi[..., 59]
+    t0 = numpy.sin(q2)
+    t1 = numpy.cos(q2)
+    t2 = a2*t1
+    t3 = numpy.cos(q3)
+    t4 = numpy.sin(q3)
+    t5 = t0*t3 + t1*t4
+    t6 = t1*t3 - t0*t4
+    t7 = t2 + a3*t6
+    t8 = numpy.cos(q4)
+    t9 = numpy.sin(q4)
+    t10 = t5*t8 + t6*t9
+    t11 = t5*t9 - t6*t8
+    t12 = d4*t11
+    t13 = d4*t10
+    t14 = numpy.cos(q5)
+    t15 = t10*t14
+    t16 = numpy.sin(q5)
+    t17 = t10*t16
+    t18 = d5*t17 + t12*t14 + t16*t7
+    t19 = t12*t16 - d5*t15 - t14*t7
+    t20 = numpy.sin(q6)
+    t21 = numpy.cos(q6)
+    t22 = t15*t21 - t11*t20
+    t23 = t11*t21 + t15*t20
+    t24 = d6*t23 + t13*t20 + t18*t21
+    t25 = t18*t20 - d6*t22 - t13*t21
+    t26 = m6*(-t24 + cy6*t17 - cz6*t23)
+    t27 = m6*(t25 - cx6*t17 - cz6*t22)
+    t28 = m6*(t19 + cx6*t23 + cy6*t22)
+    t29 = cz6 + d6
+    t30 = cy6*t28 + t22*ixx6 - ixy6*t23 - ixz6*t17 - t27*t29
+    t31 = ixy6*t22 + t26*t29 - cx6*t28 - iyz6*t17 - t23*iyy6
+    t32 = cx6*t27 + ixz6*t22 - cy6*t26 - iyz6*t23 - t17*izz6
+    t33 = m5*(-t18 + cy5*t17 - cz5*t11)
+    t34 = m5*(-t13 - cx5*t17 - cz5*t15)
+    t35 = m5*(t19 + cx5*t11 + cy5*t15)
+    t36 = t33 + t21*t26 - t20*t27
+    t37 = t34 + t20*t26 + t21*t27
+    t38 = t28 + t35
+    t39 = cy5*t35 + t15*ixx5 + t21*t30 - cz5*t34 - d5*t38 - ixy5*t11 - ixz5*t17 - t20*t31
+    t40 = cz5*t33 + ixy5*t15 + t20*t30 + t21*t31 - cx5*t35 - iyz5*t17 - t11*iyy5
+    t41 = t32 + cx5*t34 + d5*t36 + ixz5*t15 - cy5*t33 - iyz5*t11 - t17*izz5
+    t42 = m4*(-t12 - cy4*t11)
+    t43 = m4*(-t7 + cx4*t11 - cz4*t10)
+    t44 = m4*(t13 + cy4*t10)
+    t45 = t42 + t14*t36 - t16*t38
+    t46 = t44 - t37
+    t47 = cy4*t44 + d4*t46 + ixz4*t11 + t10*ixx4 + t14*t39 - cz4*t43 - t16*t41
+    t48 = cz4*t42 + ixy4*t10 + iyz4*t11 + t14*t41 + t16*t39 - cx4*t44
+    t49 = -t40 + cx4*t43 + ixz4*t10 + t11*izz4 - cy4*t42 - d4*t45
+    t50 = cz3*m3
+    t51 = t50*t6
+    t52 = t5*t50
+    t53 = m3*(-t7 + cy3*t5 - cx3*t6)
+    t54 = t51 + t45*t8 + t46*t9
+    t55 = -t52 + t45*t9 - t46*t8
+    t56 = t43 + t53 + t14*t38 + t16*t36
+    t57 = cy3*t53 + cz3*t52 + ixy3*t6 + t47*t8 + t49*t9 + t5*ixx3
+    t58 = cz3*t51 + ixy3*t5 + t47*t9 + t6*iyy3 - a3*t56 - cx3*t53 - t49*t8
+    t59 = t48 + a3*t55 + ixz3*t5 + iyz3*t6 - cx3*t52 - cy3*t51
+    t60 = cz2*m2
+    t61 = t1*t60
+    t62 = t0*t60
+    t63 = m2*(-t2 + cy2*t0 - cx2*t1)
+    t64 = -t62 + t3*t55 + t4*t54
+    t65 = t56 + t63
+    t66 = cy2*t63 + cz2*t62 + ixy2*t1 + t0*ixx2 + t3*t57 - t4*t58
+    t67 = cz2*t61 + ixy2*t0 + t1*iyy2 + t3*t58 + t4*t57 - a2*t65 - cx2*t63
+    t68 = t59 + a2*t64 + ixz2*t0 + iyz2*t1 - cx2*t62 - cy2*t61
+    t69 = cz1*m1
+    t70 = cx1*m1
+    t71 = iyy1 + cx1*t70 + cz1*t69 + t0*t66 + t1*t67
+    t72 = a2*t4
+    t73 = a3 + a2*t3
+    t74 = t72*t8 + t73*t9
+    t75 = t72*t9 - t73*t8
+    t76 = d5 + t74
+    t77 = t14*t76
+    t78 = t16*t76
+    t79 = t16*t21
+    t80 = t16*t20
+    t81 = t21*t77 - d6*t80 - t20*t75
+    t82 = d6*t79 + t20*t77 + t21*t75
+    t83 = m6*(t81 - cy6*t14 - cz6*t80)
+    t84 = m6*(-t82 + cx6*t14 - cz6*t79)
+    t85 = m6*(-t78 + cx6*t80 + cy6*t79)
+    t86 = cy6*t85 + ixz6*t14 + t79*ixx6 - ixy6*t80 - t29*t84
+    t87 = ixy6*t79 + iyz6*t14 + t29*t83 - cx6*t85 - t80*iyy6
+    t88 = cx6*t84 + ixz6*t79 + t14*izz6 - cy6*t83 - iyz6*t80
+    t89 = m5*(t77 - cy5*t14)
+    t90 = m5*(-t75 + cx5*t14 - cz5*t16)
+    t91 = m5*(-t78 + cy5*t16)
+    t92 = t89 + t21*t83 - t20*t84
+    t93 = t90 + t20*t83 + t21*t84
+    t94 = t85 + t91
+    t95 = cy5*t91 + ixz5*t14 + t16*ixx5 + t21*t86 - cz5*t90 - d5*t94 - t20*t87
+    t96 = cz5*t89 + ixy5*t16 + iyz5*t14 + t20*t86 + t21*t87 - cx5*t91
+    t97 = t88 + cx5*t90 + d5*t92 + ixz5*t16 + t14*izz5 - cy5*t89
+    t98 = m4*(cz4 + t74)
+    t99 = m4*(t75 - cx4)
+    t100 = t98 + t14*t92 - t16*t94
+    t101 = t99 - t93
+    t102 = iyy4 + cz4*t98 + t14*t97 + t16*t95 - cx4*t99
+    t103 = m3*(t72 - cy3)
+    t104 = m3*(cx3 + t73)
+    t105 = t103 + t100*t8 + t101*t9
+    t106 = t104 + t100*t9 - t101*t8
+    t107 = t102 + izz3 + a3*t106 + cx3*t104 - cy3*t103
+    t108 = cy2*m2
+    t109 = m2*(a2 + cx2)
+    t110 = t109 + t105*t4 + t106*t3
+    t111 = t107 + izz2 + a2*t110 + cx2*t109 + cy2*t108
+    t112 = a3*t9
+    t113 = a3*t8
+    t114 = d5 + t112
+    t115 = t114*t14
+    t116 = t114*t16
+    t117 = t113*t20 + t115*t21 - d6*t80
+    t118 = t113*t21 - d6*t79 - t115*t20
+    t119 = m6*(t117 - cy6*t14 - cz6*t80)
+    t120 = m6*(t118 + cx6*t14 - cz6*t79)
+    t121 = m6*(-t116 + cx6*t80 + cy6*t79)
+    t122 = cy6*t121 + ixz6*t14 + t79*ixx6 - ixy6*t80 - t120*t29
+    t123 = ixy6*t79 + iyz6*t14 + t119*t29 - cx6*t121 - t80*iyy6
+    t124 = cx6*t120 + ixz6*t79 + t14*izz6 - cy6*t119 - iyz6*t80
+    t125 = m5*(t115 - cy5*t14)
+    t126 = m5*(t113 + cx5*t14 - cz5*t16)
+    t127 = m5*(-t116 + cy5*t16)
+    t128 = t125 + t119*t21 - t120*t20
+    t129 = t126 + t119*t20 + t120*t21
+    t130 = t121 + t127
+    t131 = cy5*t127 + ixz5*t14 + t122*t21 + t16*ixx5 - cz5*t126 - d5*t130 - t123*t20
+    t132 = cz5*t125 + ixy5*t16 + iyz5*t14 + t122*t20 + t123*t21 - cx5*t127
+    t133 = t124 + cx5*t126 + d5*t128 + ixz5*t16 + t14*izz5 - cy5*t125
+    t134 = m4*(cz4 + t112)
+    t135 = m4*(-cx4 - t113)
+    t136 = t134 + t128*t14 - t130*t16
+    t137 = t135 - t129
+    t138 = iyy4 + cz4*t134 + t131*t16 + t133*t14 - cx4*t135
+    t139 = cy3*m3
+    t140 = m3*(a3 + cx3)
+    t141 = t140 + t136*t9 - t137*t8
+    t142 = t138 + izz3 + a3*t141 + cx3*t140 + cy3*t139
+    t143 = d5*t14
+    t144 = d5*t16
+    t145 = t143*t21 - d6*t80
+    t146 = d6*t79 + t143*t20
+    t147 = m6*(t145 - cy6*t14 - cz6*t80)
+    t148 = m6*(-t146 + cx6*t14 - cz6*t79)
+    t149 = m6*(-t144 + cx6*t80 + cy6*t79)
+    t150 = cy6*t149 + ixz6*t14 + t79*ixx6 - ixy6*t80 - t148*t29
+    t151 = ixy6*t79 + iyz6*t14 + t147*t29 - cx6*t149 - t80*iyy6
+    t152 = cx6*t148 + ixz6*t79 + t14*izz6 - cy6*t147 - iyz6*t80
+    t153 = m5*(t143 - cy5*t14)
+    t154 = m5*(cx5*t14 - cz5*t16)
+    t155 = m5*(-t144 + cy5*t16)
+    t156 = t153 + t147*t21 - t148*t20
+    t157 = t149 + t155
+    t158 = cy5*t155 + ixz5*t14 + t150*t21 + t16*ixx5 - cz5*t154 - d5*t157 - t151*t20
+    t159 = cz5*t153 + ixy5*t16 + iyz5*t14 + t150*t20 + t151*t21 - cx5*t155
+    t160 = t152 + cx5*t154 + d5*t156 + ixz5*t16 + t14*izz5 - cy5*t153
+    t161 = cz4*m4
+    t162 = cx4*m4
+    t163 = iyy4 + cx4*t162 + cz4*t161 + t14*t160 + t158*t16
+    t164 = d6*t21
+    t165 = d6*t20
+    t166 = m6*(-t164 - cz6*t21)
+    t167 = m6*(t165 + cz6*t20)
+    t168 = m6*(cx6*t21 - cy6*t20)
+    t169 = cy6*t168 - ixy6*t21 - t167*t29 - t20*ixx6
+    t170 = t166*t29 - cx6*t168 - ixy6*t20 - t21*iyy6
+    t171 = cx6*t167 - cy6*t166 - ixz6*t20 - iyz6*t21
+    t172 = cz5*m5
+    t173 = cx5*m5
+    t174 = -iyy5 + t169*t20 + t170*t21 - cx5*t173 - cz5*t172
+    t175 = cy6*m6
+    t176 = cx6*m6
+    t177 = izz6 + cx6*t176 + cy6*t175
+    t178 = t111*dq2**2 + t142*dq3**2 + t163*dq4**2 + t177*dq6**2 + t71*dq1**2 - t174*dq5**2
+    t179 = dq1*t32 + dq2*t88 + dq3*t124 + dq4*t152 + dq5*t171
+    t180 = dq1*t40 + dq2*t96 + dq3*t132 + dq4*t159
+    t181 = dq1*t48 + dq2*t102 + dq3*t138
+    t182 = dq1*t59 + dq2*t107
+    t183 = (1/2)*t178 + dq3*t182 + dq4*t181 + dq6*t179 - dq5*t180 + dq1*dq2*t68
+    t184 = 9.81*d1
+    t185 = 9.81*t0
+    t186 = t184 + a2*t185
+    t187 = q2 + q3
+    t188 = 9.81*numpy.sin(t187)
+    t189 = t186 + a3*t188
+    t190 = q4 + t187
+    t191 = numpy.sin(t190)
+    t192 = 9.81*t191
+    t193 = numpy.cos(t190)
+    t194 = t189 - 9.81*d5*t193
+    t195 = t14*t191
+    t196 = m1*(-t184 - 9.81*cy1) + m2*(-t186 - cx2*t185 - 9.81*cy2*t1) + m3*(-t189 - cx3*t188 - 9.81*cy3*numpy.cos(t187)) + m4*(-t189 - cx4*t192 + 9.81*cz4*t193) + m5*(-t194 - 9.81*cy5*t193 - cx5*t14*t192 + 9.81*cz5*t16*t191) + m6*(-t194 - 9.81*cx6*(t193*t20 + t195*t21) - 9.81*cy6*(t193*t21 - t195*t20) + 9.81*cz6*t16*t191 + 9.81*d6*t16*t191)
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t183
+    potential = numpy.zeros(batch + ())
+    potential[...] = -t196
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t183 + t196
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):

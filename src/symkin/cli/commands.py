@@ -33,6 +33,7 @@ from symkin.cli.values import (
     seconds_from_text,
     target_from_text,
     task_rows_from_text,
+    wrench_from_text,
 )
 from symkin.derive import derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
@@ -116,10 +117,13 @@ def command_eval(args: argparse.Namespace) -> None:
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
     q = joint_values(args.q, "--q", robot)
+    wrench = wrench_from_text(args.wrench) if args.wrench else None
+    if wrench is not None and not args.dynamics:
+        raise SymkinError("--wrench needs --dynamics (it enters the joint torques)")
     kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
     points = [point_from_text(p, robot) for p in args.point]
     with np.errstate(all="ignore"):  # an overflow is reported once, by json_text below
-        dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+        dynamics = dynamic_state(model, q, dq, ddq, overrides, wrench) if args.dynamics else None
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )

@@ -208,8 +208,14 @@ def add_eval(commands: Commands) -> None:
     evaluate.add_argument(
         "--dynamics",
         action="store_true",
-        help="add M, c, G and tau (c needs --dq, tau --dq and --ddq); links without inertial "
-        "data need --set m1=...,cx1=...",
+        help="add M, c, G, tau and the energies T, V, L (c, T and L need --dq, tau --dq and "
+        "--ddq); links without inertial data need --set m1=...,cx1=...",
+    )
+    evaluate.add_argument(
+        "--wrench",
+        metavar="FX,FY,FZ,MX,MY,MZ",
+        help="with --dynamics: an external wrench on the tool (N, N m; base frame, at the tool "
+        "point): tau includes -J^T w, and the static torque G - J^T w is printed",
     )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
     add_euler_option(

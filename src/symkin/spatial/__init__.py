@@ -26,7 +26,9 @@ The functions live in :mod:`~symkin.spatial.rotations` (elementary rotations, ax
 Z-Y-Z by name), :mod:`~symkin.spatial.orientation` (an Euler order or the rotation vector by
 name),
 :mod:`~symkin.spatial.transforms` (homogeneous transforms, :class:`TransformGraph`),
-:mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and :mod:`~symkin.spatial.screws`
+:mod:`~symkin.spatial.inertia` (inertia tensors: rotation, Steiner, composite bodies,
+simple solids), :mod:`~symkin.spatial.lie` (exp/log of SO(3) and SE(3)) and
+:mod:`~symkin.spatial.screws`
 (screw axes, twists ``(v, w)``, wrenches ``(f, tau)``, the adjoint); all are importable from
 here.
 """
@@ -55,6 +57,20 @@ from symkin.spatial.euler import (
     rotation_from_euler_zyz,
     rotation_from_rpy,
     rpy_from_rotation,
+)
+from symkin.spatial.inertia import (
+    RigidBody,
+    box_inertia,
+    box_volume,
+    composite_body,
+    cylinder_inertia,
+    cylinder_volume,
+    hollow_cylinder_inertia,
+    inertia_about_com,
+    inertia_about_point,
+    rotated_inertia,
+    sphere_inertia,
+    sphere_volume,
 )
 from symkin.spatial.lie import (
     RotationLog,
@@ -119,15 +135,24 @@ __all__ = [
     "Matrix",
     "MatrixLike",
     "Orientation",
+    "RigidBody",
     "RotationLog",
     "Scalar",
     "TransformGraph",
     "TransformLog",
     "adjoint_from_transform",
     "axis_angle_from_rotation",
+    "box_inertia",
+    "box_volume",
+    "composite_body",
+    "cylinder_inertia",
+    "cylinder_volume",
     "euler_from_rotation",
     "euler_zyx_from_rotation",
     "euler_zyz_from_rotation",
+    "hollow_cylinder_inertia",
+    "inertia_about_com",
+    "inertia_about_point",
     "orientation_from_rotation",
     "quaternion_canonical",
     "quaternion_conjugate",
@@ -138,6 +163,7 @@ __all__ = [
     "rot_x",
     "rot_y",
     "rot_z",
+    "rotated_inertia",
     "rotation_from_axis_angle",
     "rotation_from_euler",
     "rotation_from_euler_zyx",
@@ -150,6 +176,8 @@ __all__ = [
     "rpy_from_rotation",
     "screw_axis_from_line",
     "skew",
+    "sphere_inertia",
+    "sphere_volume",
     "transform_from_rotation_translation",
     "transform_from_twist",
     "transform_inverse",
