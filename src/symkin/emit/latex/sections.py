@@ -425,6 +425,24 @@ class SectionWriter:
         quantity = Quantity("inverse-jacobian", "InverseJacobian", "the inverse Jacobian", body)
         return Section("inverse", t["inverse"], t["inverse_intro"], (quantity,))
 
+    def wrench_and_energies(self) -> Quantity:
+        """``tau`` with the external wrench, the statics and ``T``, ``V``, ``L`` (general)."""
+        body = align(
+            [
+                r"\tau &= M(q)\, \ddot{q} + C(q, \dot{q})\, \dot{q} + G(q) + F(\dot{q}) - J^{T} w, "
+                r"\qquad \tau_{s} = G(q) - J^{T} w",
+                r"T &= \frac{1}{2} \dot{q}^{T} M(q)\, \dot{q}, \qquad "
+                r"V = -\sum_{i=1}^{n} m_{i}\, g^{T} r_{c,i}, \qquad L = T - V",
+            ]
+        )
+        return Quantity(
+            "wrench-energies",
+            "WrenchEnergies",
+            "the external wrench and the energies",
+            body,
+            self.t["dynamics_wrench_energies"],
+        )
+
     def section_dynamics(self, dynamics: DynamicsContent) -> Section:
         t = self.t
         n = self.content.model.robot.dof
@@ -444,26 +462,12 @@ class SectionWriter:
                 r" - \frac{\partial M_{ij}}{\partial q_{k}} \right) \dot{q}_{i}"
             ]
         )
-        wrench_energies = align(
-            [
-                r"\tau &= M(q)\, \ddot{q} + C(q, \dot{q})\, \dot{q} + G(q) + F(\dot{q}) - J^{T} w, "
-                r"\qquad \tau_{s} = G(q) - J^{T} w",
-                r"T &= \frac{1}{2} \dot{q}^{T} M(q)\, \dot{q}, \qquad "
-                r"V = -\sum_{i=1}^{n} m_{i}\, g^{T} r_{c,i}, \qquad L = T - V",
-            ]
-        )
         quantities = [
             Quantity("lagrange", "Lagrange", "M and G by Lagrange", lagrange),
             Quantity(
                 "christoffel", "Christoffel", "C from M", christoffel, t["dynamics_christoffel"]
             ),
-            Quantity(
-                "wrench-energies",
-                "WrenchEnergies",
-                "the external wrench and the energies",
-                wrench_energies,
-                t["dynamics_wrench_energies"],
-            ),
+            self.wrench_and_energies(),
         ]
         # Without terms (beyond READABLE_DOF joints) the section says how the generated code
         # computes them.
