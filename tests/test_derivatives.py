@@ -220,3 +220,9 @@ def test_eval_derivatives_without_rates_is_one_message(capsys):
     err = capsys.readouterr().err
     assert "--derivatives needs --dq and --ddq" in err
     assert "Traceback" not in err
+
+
+def test_derive_derivatives_without_dynamics_is_one_message(capsys, tmp_path):
+    arguments = ["derive", "planar_2r", "--out", str(tmp_path), "--derivatives"]
+    assert main([*arguments, "--kinematics-only"]) == 2
+    assert "--derivatives needs the dynamics" in capsys.readouterr().err
