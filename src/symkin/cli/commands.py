@@ -276,4 +276,3 @@ def command_latex(args: argparse.Namespace) -> None:
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
-
