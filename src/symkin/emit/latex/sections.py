@@ -93,6 +93,11 @@ class SectionWriter:
             "inverse": lambda: None if c.inverse is None else self.section_inverse(c.inverse),
             "dynamics": lambda: self.section_dynamics(c.dynamics),
         }
+        # Imported here: the frame sections build on this module's Quantity and Section.
+        from symkin.emit.latex.sections_frames import section_graph, section_points
+
+        builders["graph"] = lambda: section_graph(c.graph, self.t)
+        builders["points"] = lambda: section_points(self, c.points)
         sections = (builders[key]() for key in c.sections)
         return [section for section in sections if section is not None]
 
