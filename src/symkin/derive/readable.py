@@ -15,8 +15,9 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
   :func:`~symkin.derive.budget.run_within`); past the budget one
   :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
   model keeps the product form;
-* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046) it is not attempted under a
-  budget: one warning says so at once, where the child would only have spent the budget.
+* past :data:`MAX_TERMS` terms on a chain with parallel axes (a random 12R arm: 3,046) it
+  is not attempted under a budget: one warning says so at once, where the child would
+  only have spent the budget.
 """
 
 from __future__ import annotations
@@ -28,7 +29,12 @@ import sympy as sp
 
 from symkin.derive import jacobians
 from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
-from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
+from symkin.derive.kinematics import (
+    Kinematics,
+    has_parallel_revolute_axes,
+    kinematics_from_robot,
+    link_transform,
+)
 from symkin.errors import BudgetWarning
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
@@ -38,9 +44,10 @@ from symkin.symbols import joint_symbols
 # with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
 # (9 s), a random 12R 3,046 (over 80 s).
 INLINE_TERMS = 200
-# Past this many terms the contraction is not attempted under a budget (the time grows about
-# as the square of the terms: 404 terms 9 s, so 1,000 terms about a minute); with no budget
-# (``budget=None``) it is.
+# Past this many terms a chain with parallel axes is not contracted under a budget (TR10i's
+# pairwise search grows about as the square of the terms: 404 terms 9 s, 1,000 about a
+# minute); without parallel axes the contraction only expands (a generic 6R arm: 1,511 terms,
+# 1 s) and is attempted; with no budget (``budget=None``) it always is.
 MAX_TERMS = 1000
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
@@ -75,7 +82,7 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         return kinematics, jacobians.geometric_jacobian(robot, kinematics)
 
     size = expanded_size(robot)
-    if budget is not None and size > MAX_TERMS:
+    if budget is not None and size > MAX_TERMS and has_parallel_revolute_axes(robot):
         note = (
             f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
             f"(more than {MAX_TERMS:,}, minutes of work); {FALLBACK}"
