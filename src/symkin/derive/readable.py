@@ -15,8 +15,8 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
   :func:`~symkin.derive.budget.run_within`); past the budget one
   :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
   model keeps the product form;
-* past :data:`MAX_TERMS` terms on a chain with parallel axes (a random 12R arm: 3,046) it
-  is not attempted under a budget: one warning says so at once, where the child would
+* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046; a generic-twist 6R: 1,511) it is
+  not attempted under a budget: one warning says so at once, where the child would
   only have spent the budget.
 """
 
@@ -29,12 +29,7 @@ import sympy as sp
 
 from symkin.derive import jacobians
 from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
-from symkin.derive.kinematics import (
-    Kinematics,
-    has_parallel_revolute_axes,
-    kinematics_from_robot,
-    link_transform,
-)
+from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
 from symkin.errors import BudgetWarning
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
@@ -44,10 +39,11 @@ from symkin.symbols import joint_symbols
 # with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
 # (9 s), a random 12R 3,046 (over 80 s).
 INLINE_TERMS = 200
-# Past this many terms a chain with parallel axes is not contracted under a budget (TR10i's
-# pairwise search grows about as the square of the terms: 404 terms 9 s, 1,000 about a
-# minute); without parallel axes the contraction only expands (a generic 6R arm: 1,511 terms,
-# 1 s) and is attempted; with no budget (``budget=None``) it always is.
+# Past this many terms the contraction is not attempted under a budget: with parallel axes
+# TR10i's search grows about as the square of the terms (404 terms 9 s, 1,000 about a
+# minute); without, the "readable" form is the plain expansion (a generic 6R: 1,511 terms),
+# unreadable, and as a kernel candidate it about doubled the CPU time of a 6R's derive
+# (measured 14.5 s without it).  With no budget (``budget=None``) it is attempted.
 MAX_TERMS = 1000
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
@@ -82,7 +78,7 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         return kinematics, jacobians.geometric_jacobian(robot, kinematics)
 
     size = expanded_size(robot)
-    if budget is not None and size > MAX_TERMS and has_parallel_revolute_axes(robot):
+    if budget is not None and size > MAX_TERMS:
         note = (
             f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
             f"(more than {MAX_TERMS:,}, minutes of work); {FALLBACK}"
