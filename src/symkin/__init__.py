@@ -14,13 +14,16 @@ The public API::
 
 from symkin.derive import DerivationError, Model, PointMotion, derive
 from symkin.derive.numeric import numeric_function
+from symkin.derive.regressor import Regressor, regressor
+from symkin.derive.regressor_base import BaseRegressor, base_regressor
 from symkin.emit.latex import jupyter as _jupyter  # noqa: F401  registers Model._repr_latex_
 from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
-from symkin.robot import Joint, Link, Robot
+from symkin.robot import Drive, Joint, Link, Robot
 from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.draw import arm_figure, draw_arm
+from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
 from symkin.solve.evaluate import (
     KinematicState,
@@ -28,6 +31,9 @@ from symkin.solve.evaluate import (
     kinematic_state,
     operational_space_inertia,
 )
+from symkin.solve.identify import Identification, identify
+from symkin.solve.identify_consistency import Consistency, physical_consistency
+from symkin.solve.identify_excite import Excitation, exciting_trajectory
 from symkin.solve.ik import IKResult, pose_from_target, solve_ik
 from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
@@ -59,17 +65,24 @@ from symkin.spatial.inertia import (
 from symkin.symbols import joint_symbols
 
 __all__ = [
+    "BaseRegressor",
+    "Consistency",
     "DerivationError",
+    "Drive",
     "DynamicsDerivatives",
     "Ellipsoids",
+    "Excitation",
     "IKResult",
+    "Identification",
     "InfeasibleTrajectoryError",
     "Joint",
     "KinematicState",
     "Link",
     "Model",
+    "MotorSideState",
     "PointMotion",
     "PointState",
+    "Regressor",
     "RigidBody",
     "Robot",
     "RobotError",
@@ -79,6 +92,7 @@ __all__ = [
     "Workspace",
     "adjoint_from_transform",
     "arm_figure",
+    "base_regressor",
     "box_inertia",
     "catalogue_names",
     "composite_body",
@@ -87,18 +101,23 @@ __all__ = [
     "draw_arm",
     "dynamics_derivatives",
     "ellipsoids_at",
+    "exciting_trajectory",
     "hollow_cylinder_inertia",
+    "identify",
     "inertia_about_com",
     "inertia_about_point",
     "joint_symbols",
     "kinematic_state",
     "load_robot",
+    "motor_side_state",
     "numeric_function",
     "operational_space_inertia",
     "optimal_trajectory",
+    "physical_consistency",
     "pose_from_target",
     "quaternion_product",
     "quaternion_slerp",
+    "regressor",
     "robot_from_toml",
     "rotated_inertia",
     "rotation_from_rotation_vector",

@@ -31,6 +31,7 @@ from symkin.kernels import (
     statics_kernels,
 )
 from symkin.kernels.derivatives import derivative_kernels
+from symkin.kernels.regressor import identification_kernels
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,
@@ -90,6 +91,7 @@ def files_for_robot(
     closed_forms: bool = True,
     dynamics: bool = True,
     derivatives: bool = False,
+    regressor: bool = False,
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot.
 
@@ -98,7 +100,9 @@ def files_for_robot(
     ``budget`` and ``closed_forms`` as for :func:`~symkin.derive.derive` (without a closed
     form, ``det`` and ``manipulability`` are computed numerically from the Jacobian);
     ``dynamics=False`` leaves the dynamics kernels out; ``derivatives=True`` adds the
-    derivative kernels (and the forward dynamics' derivatives) to them.
+    derivative kernels (and the forward dynamics' derivatives) to them; ``regressor=True``
+    adds the identification kernels ``regressor`` and ``base_regressor`` (opt-in: they cost
+    derivation time no other kernel needs).
     """
     if precision not in PRECISIONS:
         raise ParameterError(
@@ -107,9 +111,12 @@ def files_for_robot(
 
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     model = derive(robot, budget, closed_forms)
-    kernels = functools.cache(
-        lambda: robot_kernels(model, dynamics, derivatives) + point_kernels(model, points)
-    )
+
+    def all_kernels() -> tuple[Kernel, ...]:
+        extra = identification_kernels(model) if regressor else ()
+        return robot_kernels(model, dynamics, derivatives) + point_kernels(model, points) + extra
+
+    kernels = functools.cache(all_kernels)
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),

@@ -18,6 +18,7 @@ from symkin.cli.commands import (
     command_show,
 )
 from symkin.cli.commands_geometry import command_dh, command_urdf
+from symkin.cli.commands_identify import command_identify
 from symkin.cli.commands_ik import command_ik
 from symkin.cli.commands_trajopt import add_trajopt_options, command_trajopt
 from symkin.cli.parser_workspace import add_euler_option, add_workspace_commands
@@ -113,6 +114,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_generate(commands)
     add_ik(commands)
     add_trajopt(commands)
+    add_identify(commands)
     add_dh(commands)
     add_urdf(commands)
     add_workspace_commands(commands, add_robot_argument)
@@ -196,6 +198,13 @@ def add_eval(commands: Commands) -> None:
     evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
     evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
     evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
+    for order in ("d3q", "d4q"):
+        evaluate.add_argument(
+            f"--{order}",
+            metavar="V1,V2,...",
+            help=f"{'third' if order == 'd3q' else 'fourth'} time derivatives of q (with "
+            "--dynamics, a robot with elastic joints: theta and tau_motor)",
+        )
     add_set_option(evaluate)
     evaluate.add_argument(
         "--point",
@@ -265,6 +274,12 @@ def add_derive(commands: Commands) -> None:
         help="put the parameter values (file values, or --set) into the code: no p input, "
         "constants folded, and for robots with full inertial data the dynamics run on base "
         "parameters (fewer operations)",
+    )
+    derive_parser.add_argument(
+        "--regressor",
+        action="store_true",
+        help="also the identification kernels: regressor (tau = Y pi) and base_regressor "
+        "(tau = Y_b beta); see docs/identification.md",
     )
     derive_parser.add_argument(
         "--derivatives",
@@ -429,3 +444,62 @@ def add_trajopt(commands: Commands) -> None:
     trajopt.add_argument("--plot", action="store_true", help="also write DIR/trajectory.png")
     trajopt.add_argument("--json", action="store_true", help="print a JSON object")
     trajopt.set_defaults(run=command_trajopt)
+
+
+def add_identify(commands: Commands) -> None:
+    """``symkin identify ROBOT --data FILE.csv`` or ``--excite --out FILE.csv``."""
+    identify = commands.add_parser(
+        "identify",
+        help="base inertial parameters from logged data, or an exciting trajectory",
+        description="Fit the base parameters (least squares on the base regressor) to logged "
+        "joint states and torques, or (--excite) design a periodic Fourier-series motion "
+        "that makes the fit well conditioned. See docs/identification.md.",
+    )
+    add_robot_argument(identify)
+    identify.add_argument(
+        "--data",
+        metavar="FILE.csv",
+        help="columns q1..qn, dq1..dqn, ddq1..ddqn, tau1..taun by header name (with --filter: "
+        "t, q1..qn, tau1..taun)",
+    )
+    identify.add_argument(
+        "--filter",
+        type=float,
+        metavar="HZ",
+        help="velocities and accelerations from q: 4th-order Butterworth low-pass at HZ, "
+        "zero phase (filtfilt), then central differences; tau filtered alike",
+    )
+    identify.add_argument(
+        "--weights",
+        metavar="W1,...,Wn|auto",
+        help="weighted least squares: one weight per joint, or auto (each joint by the "
+        "inverse variance of its residual in a first fit)",
+    )
+    identify.add_argument("--json", action="store_true", help="print a JSON object")
+    identify.add_argument(
+        "--excite", action="store_true", help="write an exciting trajectory instead of fitting"
+    )
+    identify.add_argument("--harmonics", type=int, default=5, help="Fourier harmonics (default 5)")
+    identify.add_argument(
+        "--period", type=float, default=10.0, metavar="SECONDS", help="period (default 10)"
+    )
+    identify.add_argument(
+        "--rate", type=float, default=100.0, metavar="HZ", help="samples per second (default 100)"
+    )
+    identify.add_argument(
+        "--velocity-limit",
+        metavar="V[,V2,...]",
+        help="|dq| limit (default: the robot file's max_velocity, else 1 rad/s or m/s)",
+    )
+    identify.add_argument(
+        "--simulate",
+        action="store_true",
+        help="also columns tau1..taun from the robot file's model (simulated measurements)",
+    )
+    identify.add_argument(
+        "--noise", type=float, default=0.0, metavar="SIGMA", help="with --simulate: torque noise"
+    )
+    identify.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    identify.add_argument("--out", metavar="FILE.csv", help="with --excite: the trajectory file")
+    add_set_option(identify)
+    identify.set_defaults(run=command_identify)

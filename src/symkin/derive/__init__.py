@@ -25,9 +25,14 @@ from symkin.derive.budget import (
     not_attempted,
 )
 from symkin.derive.derivatives import TorqueDerivatives, torque_derivatives
-from symkin.derive.determinant import factored_determinant, factored_gram_determinant
+from symkin.derive.determinant import (
+    factored_determinant,
+    factored_gram_determinant,
+    too_large_to_factor,
+)
 from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
+from symkin.derive.elastic import MotorSide, motor_side_dynamics
 from symkin.derive.energy import Energies, energies_from_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
@@ -136,9 +141,10 @@ class Model:
         """The same model unsimplified (shortest generated code after CSE)."""
         return self if not self.simplified else dataclasses.replace(self, simplified=False)
 
-    @property
+    @cached_property
     def q(self) -> tuple[sp.Symbol, ...]:
-        return self.kinematics.q
+        # Not self.kinematics.q: naming the inputs must not start the readable contraction.
+        return joint_symbols(self.robot.dof)
 
     @cached_property
     def dq(self) -> tuple[sp.Symbol, ...]:
@@ -250,6 +256,10 @@ class Model:
         matrix = jacobians.determinant_matrix(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
+        if rows == jacobians.ROW_NAMES:  # the middle-frame matrix, where the measure is calibrated
+            hopeless = too_large_to_factor(quantity, self.robot.name, matrix)
+            if hopeless:
+                return hopeless
         return self._within(quantity, lambda: factored_determinant(matrix, self.q))
 
     def _within(self, quantity: str, compute: Callable[[], Any]) -> ClosedForm:
@@ -334,7 +344,7 @@ class Model:
     @derivation_step("the Newton-Euler equations of motion")
     def newton_euler(self) -> Dynamics:
         """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
-        return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
+        return newton_euler_dynamics(self.robot, self._link_kinematics, self.dq, self.ddq)
 
     @cached_property
     @derivation_step("the Newton-Euler recursion")
@@ -342,7 +352,22 @@ class Model:
         self,
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
-        return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+        return inverse_dynamics_recursion(self.robot, self._link_kinematics, self.dq, self.ddq)
+
+    @property
+    def _link_kinematics(self) -> Kinematics:
+        """The kinematics the recursions read: only the link transforms (and the base), which
+        are the same in both forms, so the product form's (built in milliseconds), and
+        dynamics alone never waits for the readable contraction of a long chain."""
+        return self.product_form.kinematics
+
+    @cached_property
+    @derivation_step("the elastic joints' motor-side inverse dynamics")
+    def motor_side(self) -> MotorSide:
+        """``theta`` and ``tau_m`` of a robot with elastic joints (:mod:`.elastic`)."""
+        return motor_side_dynamics(
+            self.robot, self.inverse_dynamics_recursion, self.q, self.dq, self.ddq
+        )
 
     @cached_property
     @derivation_step("the inverse dynamics' derivatives")

@@ -14,17 +14,22 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
 * above it, the contraction runs under the model's budget (a forked child, see
   :func:`~symkin.derive.budget.run_within`); past the budget one
   :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
-  model keeps the product form.
+  model keeps the product form;
+* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046) it is not attempted under a
+  budget: one warning says so at once, where the child would only have spent the budget.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import symengine as se
 import sympy as sp
 
 from symkin.derive import jacobians
-from symkin.derive.budget import ClosedForm, closed_form_within
+from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
 from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
+from symkin.errors import BudgetWarning
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
 
@@ -33,6 +38,10 @@ from symkin.symbols import joint_symbols
 # with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
 # (9 s), a random 12R 3,046 (over 80 s).
 INLINE_TERMS = 200
+# Past this many terms the contraction is not attempted under a budget (the time grows about
+# as the square of the terms: 404 terms 9 s, so 1,000 terms about a minute); with no budget
+# (``budget=None``) it is.
+MAX_TERMS = 1000
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
 FALLBACK = "they keep their product form (same values, longer expressions)"
@@ -65,5 +74,13 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         kinematics = kinematics_from_robot(robot)
         return kinematics, jacobians.geometric_jacobian(robot, kinematics)
 
-    within = None if expanded_size(robot) <= INLINE_TERMS else budget
+    size = expanded_size(robot)
+    if budget is not None and size > MAX_TERMS:
+        note = (
+            f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
+            f"(more than {MAX_TERMS:,}, minutes of work); {FALLBACK}"
+        )
+        warnings.warn(BudgetWarning(note), stacklevel=4)
+        return ClosedForm(QUANTITY, OVER_BUDGET, None, note)
+    within = None if size <= INLINE_TERMS else budget
     return closed_form_within(QUANTITY, robot.name, within, contracted, FALLBACK)

@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 # What the numeric solvers call, nothing more: the determinant, the singular set, the
 # Christoffel C and every readable (contracted) form are left out, so an arm whose determinant
 # takes minutes still gets its first IK answer in seconds.
-KINDS = ("kinematics", "dynamics", "derivatives")
+KINDS = ("kinematics", "dynamics", "derivatives", "identification")
 POSE_KERNELS = ("fk", "position", "fk_jacobian")
 
 
@@ -39,7 +39,8 @@ def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     ``fk_jacobian``; "dynamics": ``mass_matrix``, ``gravity``,
     ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``; "derivatives": those and
     ``inverse_dynamics_derivatives``, ``jacobian_derivative``,
-    ``forward_dynamics_derivatives``) rendered and imported once per robot and process:
+    ``forward_dynamics_derivatives``; "identification": ``regressor`` and
+    ``base_regressor``) rendered and imported once per robot and process:
     the fast numeric path for solvers (IK, simulation, trajectories).
 
     They come from the model's product form (:attr:`Model.product_form`), the form code
@@ -97,6 +98,10 @@ def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
         raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(KINDS)}")
     if kind == "kinematics":
         kernels = pose_kernels(model, POSE_KERNELS)
+    elif kind == "identification":
+        from symkin.kernels.regressor import identification_kernels
+
+        kernels = identification_kernels(model)
     else:
         kernels = dynamics_kernels(model, coriolis_matrix=False) + statics_kernels(model)
     if kind == "derivatives":  # on request only: the derivatives cost more than tau
