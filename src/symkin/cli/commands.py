@@ -232,6 +232,10 @@ def command_derive(args: argparse.Namespace) -> None:
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
     budget, closed_forms, dynamics = derivation_options(args)
+    if args.derivatives and not dynamics:
+        raise SymkinError(
+            "--derivatives needs the dynamics: drop --skip dynamics/--kinematics-only"
+        )
     files = remembered(
         command_cache(args),
         "derive",
@@ -311,4 +315,3 @@ def command_latex(args: argparse.Namespace) -> None:
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
-
