@@ -343,6 +343,14 @@ def add_ik(commands: Commands) -> None:
         action="store_true",
         help="the lecture's scheme: one Newton step per waypoint from (--path-from, --q0)",
     )
+    ik.add_argument(
+        "--latex",
+        action="store_true",
+        help="with --table: print the table as a standalone LaTeX document (the lecture's columns)",
+    )
+    ik.add_argument(
+        "--lang", choices=LANGUAGES, default="en", help="language of --latex (default: en)"
+    )
     add_set_option(ik)
     ik.add_argument("--json", action="store_true", help="print a JSON object")
     ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")

@@ -166,7 +166,25 @@ def plot_path(
         arms, ("--", "-"), ("arm at the start", "arm at the end"), strict=True
     ):
         _draw(axes, arm, planar, marker="o", linestyle=style, color="grey", alpha=0.7, label=label)
-    _draw(axes, target_points, planar, marker="x", color="tab:blue", label="targets X_i")
+    # Bild 14-10 of the lecture: the straight line, the targets on it, the points reached.
+    _draw(
+        axes,
+        target_points[[0, -1]],
+        planar,
+        linestyle="-",
+        linewidth=0.8,
+        color="tab:blue",
+        label="straight line X_0 to X_end",
+    )
+    _draw(
+        axes,
+        target_points,
+        planar,
+        marker="x",
+        linestyle="none",
+        color="tab:blue",
+        label="targets X_i",
+    )
     _draw(
         axes,
         reached_points,
