@@ -17,6 +17,7 @@ from symkin.derive import Model
 from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET, ClosedForm
 from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
+from symkin.emit.formula_text import formula_text
 from symkin.errors import BudgetWarning, ParameterError, SymkinError
 from symkin.progress import note
 from symkin.robot import Robot
@@ -106,12 +107,12 @@ def json_text(data: dict) -> str:
 def text_matrix(matrix: sp.MatrixBase) -> str:
     """One line per row, entries in SymPy syntax."""
     return "\n".join(
-        "  [" + ", ".join(sp.sstr(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)
+        "  [" + ", ".join(formula_text(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)
     )
 
 
 def condition_text(condition: sp.Eq) -> str:
-    return f"{sp.sstr(condition.lhs)} = {sp.sstr(condition.rhs)}"
+    return f"{formula_text(condition.lhs)} = {formula_text(condition.rhs)}"
 
 
 def dh_table_text(model: Model) -> str:
@@ -120,7 +121,9 @@ def dh_table_text(model: Model) -> str:
     lines = [f"  {'i':>2}  {'type':<9}" + "".join(f"  {c:<14}" for c in columns)]
     for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
         values = joint_dh_values(joint, q)
-        lines.append(f"  {i:>2}  {joint.type:<9}" + "".join(f"  {sp.sstr(v):<14}" for v in values))
+        lines.append(
+            f"  {i:>2}  {joint.type:<9}" + "".join(f"  {formula_text(v):<14}" for v in values)
+        )
     return "\n".join(lines)
 
 
@@ -132,9 +135,11 @@ def placement_table_text(model: Model) -> str:
     for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
         xyz, rpy = placement_xyz_rpy(joint.placement)
         theta, d, _, _ = joint_dh_values(joint, q)
-        motion = f"Rz({sp.sstr(theta)})" if joint.type == "revolute" else f"Tz({sp.sstr(d)})"
+        motion = (
+            f"Rz({formula_text(theta)})" if joint.type == "revolute" else f"Tz({formula_text(d)})"
+        )
         triples = [
-            " ".join(sp.sstr(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
+            " ".join(formula_text(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
         ]
         lines.append(
             f"  {i:>2}  {joint.type:<9}  {joint.name or '':<20}  {triples[0]:<34}  "
@@ -186,7 +191,7 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
         out.append(f"  det J: closed form {_not_found_text(form)}; generated code computes it")
         out.append("  numerically from the Jacobian, and so do 'symkin eval' and kinematic_state")
     else:
-        out.append(f"  det J = {sp.sstr(determinant)}")
+        out.append(f"  det J = {formula_text(determinant)}")
         if determinant == 0:
             out.append("  singular in every configuration: these rows are linearly dependent")
         else:
@@ -228,12 +233,12 @@ def dynamics_show_json(model: Model) -> dict:
     dynamics = model.lagrange
 
     def strings(matrix: sp.MatrixBase) -> list:
-        return [[sp.sstr(e) for e in matrix.row(i)] for i in range(matrix.rows)]
+        return [[formula_text(e) for e in matrix.row(i)] for i in range(matrix.rows)]
 
     return {
         "M": strings(dynamics.mass_matrix),
         "C": strings(dynamics.coriolis_matrix),
-        "G": [sp.sstr(e) for e in dynamics.gravity_vector],
+        "G": [formula_text(e) for e in dynamics.gravity_vector],
     }
 
 
@@ -252,11 +257,11 @@ def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
         "robot": model.robot.name,
         "q": [s.name for s in model.q],
         "task_rows": list(rows or model.task_rows),
-        "T": [[sp.sstr(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
-        "jacobian": [[sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
-        "det": sp.sstr(determinant.value) if determinant.found else None,
+        "T": [[formula_text(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
+        "jacobian": [[formula_text(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
+        "det": formula_text(determinant.value) if determinant.found else None,
         "det_status": determinant.status,
-        "singular": [sp.sstr(c) for c in singular.value]
+        "singular": [formula_text(c) for c in singular.value]
         if singular.found
         else ([] if singular.status == NOT_SQUARE else None),
         "singular_status": singular.status,
