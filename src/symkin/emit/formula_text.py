@@ -4,8 +4,9 @@ SymPy's string printer writes a standalone double-precision ``Float`` with all i
 significant digits (``0.325600000000000``); here it is the fewest digits that read back as the
 same 15-digit Float (``0.3256``, ``-0.0629``, ``1e-17``, ``0.04885628`` for the product
 ``0.3256 * 0.15005``), so a number typed into a robot file is shown as it was typed, and a
-product of such numbers does not show the double's last-bit noise (``0.048856279999999995``).  A factor ``1.0`` or ``-1.0`` in a product (``1.0*izz1``, left by floating
-parameters) is not shown.  The text still parses with ``sympy.sympify`` to the same value.
+product of such numbers does not show the double's last-bit noise (``0.048856279999999995``).
+A factor ``1.0`` or ``-1.0`` in a product (``1.0*izz1``, left by floating parameters) is not
+shown.  The text still parses with ``sympy.sympify`` to the same value.
 """
 
 from __future__ import annotations
