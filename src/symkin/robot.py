@@ -58,6 +58,8 @@ class Link:
     Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.  With
     ``coulomb_negative`` the Coulomb level depends on the direction: ``coulomb`` for
     ``dq > 0`` and ``coulomb_negative`` for ``dq < 0`` (None: ``coulomb`` both ways).
+    ``inertia_note``: why the tensor is as given (published lumped data that break the triangle
+    inequality, say); ``symkin show`` prints it, and the loader then does not warn.
     """
 
     mass: sp.Expr
@@ -69,6 +71,7 @@ class Link:
     stribeck_static: sp.Expr | None = None
     stribeck_velocity: sp.Expr | None = None
     coulomb_negative: sp.Expr | None = None
+    inertia_note: str = ""
 
     @property
     def inertia_matrix(self) -> sp.ImmutableMatrix:

@@ -162,12 +162,22 @@ def convention_text(convention: str) -> str:
     return "placed joints" if convention == "placement" else f"{convention} DH"
 
 
+def data_notes(robot: Robot) -> list[str]:
+    """One line per link whose file documents its inertial data (``inertia_note``)."""
+    return [
+        f"note: joint {i} link inertia: {printable(joint.link.inertia_note)}"
+        for i, joint in enumerate(robot.joints, start=1)
+        if joint.link is not None and joint.link.inertia_note
+    ]
+
+
 def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     robot = model.robot
     parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
     out = [
         f"{robot.name}: {printable(robot.title)}",
         f"source: {printable(robot.source) or '(not given)'}",
+        *data_notes(robot),
         f"{robot.dof} joints, {convention_text(robot.convention)}; "
         f"parameters: {parameters or 'none'}",
         "",
