@@ -5,7 +5,7 @@ Regenerate with: symkin generate  (or: symkin derive puma560 --out DIR)
 Operation counts after common-subexpression elimination:
   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
   position: 29 ops (9 additions, 14 multiplications, 6 trig)
-  jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+  jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
   det: 18 ops (4 additions, 8 multiplications, 6 trig)
@@ -132,7 +132,7 @@ def position(q, p=DEFAULT_PARAMETERS):
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
-    """Geometric jacobian: 89 operations.
+    """Geometric jacobian: 78 operations.
 
     q: joint positions (rad or m), 6 values per state.
     p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
@@ -161,44 +161,42 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t8 = t0*t6
     t9 = d4*t4
     t10 = a3*t8 + t0*t9
-    t11 = t1*t6
-    t12 = a3*t11 + t1*t9
-    t13 = t0**2
-    t14 = t1**2
-    t15 = d4*t6
-    t16 = t13*t5 + t14*t5 - t13*t15 - t14*t15
-    t17 = numpy.cos(q4)
-    t18 = t1*t17
-    t19 = numpy.sin(q4)
-    t20 = t19*t4
-    t21 = numpy.sin(q5)
-    t22 = numpy.cos(q5)
-    t23 = t0*t17
-    t24 = t21*t4
-    t25 = -t0
+    t11 = d4*t6
+    t12 = t1*t6
+    t13 = a3*t12 + t1*t9
+    t14 = t5 - t11
+    t15 = numpy.cos(q4)
+    t16 = t1*t15
+    t17 = numpy.sin(q4)
+    t18 = t17*t4
+    t19 = numpy.sin(q5)
+    t20 = numpy.cos(q5)
+    t21 = t0*t15
+    t22 = t19*t4
+    t23 = -t0
     J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = d3*t0 - t1*t2 - t1*t5 + d4*t1*t6
     J[..., 0, 1] = -t10 - t0*t7
     J[..., 0, 2] = -t10
-    J[..., 1, 0] = d3*t1 + t0*t2 + t0*t5 - d4*t8
-    J[..., 1, 1] = -t12 - t1*t7
-    J[..., 1, 2] = -t12
-    J[..., 2, 1] = t16 + t13*t2 + t14*t2
-    J[..., 2, 2] = t16
+    J[..., 1, 0] = d3*t1 + t0*t2 + t0*t5 - t0*t11
+    J[..., 1, 1] = -t13 - t1*t7
+    J[..., 1, 2] = -t13
+    J[..., 2, 1] = t14 + t2
+    J[..., 2, 2] = t14
     J[..., 3, 1] = t1
     J[..., 3, 2] = t1
     J[..., 3, 3] = -t8
-    J[..., 3, 4] = t18 + t0*t20
-    J[..., 3, 5] = -t22*t8 - t23*t24 + t1*t19*t21
-    J[..., 4, 1] = t25
-    J[..., 4, 2] = t25
-    J[..., 4, 3] = -t11
-    J[..., 4, 4] = -t23 + t1*t20
-    J[..., 4, 5] = -t11*t22 - t18*t24 - t0*t19*t21
+    J[..., 3, 4] = t16 + t0*t18
+    J[..., 3, 5] = -t20*t8 - t21*t22 + t1*t17*t19
+    J[..., 4, 1] = t23
+    J[..., 4, 2] = t23
+    J[..., 4, 3] = -t12
+    J[..., 4, 4] = -t21 + t1*t18
+    J[..., 4, 5] = -t12*t20 - t16*t22 - t0*t17*t19
     J[..., 5, 0] = 1
     J[..., 5, 3] = t4
-    J[..., 5, 4] = t19*t6
-    J[..., 5, 5] = t22*t4 - t17*t21*t6
+    J[..., 5, 4] = t17*t6
+    J[..., 5, 5] = t20*t4 - t15*t19*t6
     return J
 
 

@@ -5,7 +5,7 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
  *   position: 29 ops (9 additions, 14 multiplications, 6 trig)
- *   jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+ *   jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)

@@ -6,16 +6,16 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 19 ops (2 additions, 13 multiplications, 4 trig)
  *   position: 13 ops (2 additions, 7 multiplications, 4 trig)
- *   jacobian: 22 ops (3 additions, 13 multiplications, 4 trig, 2 powers)
+ *   jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
- *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
+ *   fk_jacobian: 25 ops (2 additions, 19 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
- *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
- *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
- *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
- *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
+ *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
+ *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

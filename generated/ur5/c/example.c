@@ -6,16 +6,16 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 91 ops (28 additions, 51 multiplications, 12 trig)
  *   position: 48 ops (16 additions, 22 multiplications, 10 trig)
- *   jacobian: 126 ops (36 additions, 76 multiplications, 10 trig, 4 powers)
+ *   jacobian: 103 ops (29 additions, 64 multiplications, 10 trig)
  *   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
- *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
+ *   fk_jacobian: 138 ops (43 additions, 83 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 807 ops (342 additions, 455 multiplications, 10 trig)
- *   gravity: 164 ops (60 additions, 94 multiplications, 10 trig)
- *   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
- *   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
+ *   mass_matrix: 523 ops (211 additions, 302 multiplications, 10 trig)
+ *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
+ *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
+ *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
+ *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  */
 #include <stdio.h>
 

@@ -18,6 +18,7 @@ from symkin.cli.commands import (
     command_show,
     command_trajopt,
 )
+from symkin.cli.commands_check import add_check
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
 from symkin.cli.values import (
@@ -110,6 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_trajopt(commands)
     add_dh(commands)
     add_urdf(commands)
+    add_check(commands)
     for name, command in commands.choices.items():
         add_run_options(command, cached=name in CACHED_COMMANDS)
     return parser
