@@ -20,6 +20,7 @@ from symkin.solve.check.printed import with_neighbours
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = sorted((ROOT / "examples" / "worked").glob("*.toml"))
 MISTYPED = ROOT / "tests" / "data" / "worked" / "mistyped.toml"
+SCARA = 'robot = "scara"\n[[check]]\n'
 
 
 @pytest.mark.parametrize(
@@ -87,9 +88,9 @@ def test_a_value_just_outside_half_a_digit_fails(tmp_path) -> None:
     ("text", "message"),
     [
         ('robot = "scara"\n', "no \\[\\[check"),
-        ('robot = "scara"\n[[check]]\nquantity = "torque"\nq = [0, 0, 0]\nprinted = 1\n', "quantity"),
+        (SCARA + 'quantity = "torque"\nq = [0, 0, 0]\nprinted = 1\n', "quantity"),
         ('robot = "scara"\n[[check]]\nquantity = "det"\nprinted = 1\n', "needs 'q'"),
-        ('robot = "scara"\n[[check]]\nquantity = "det"\nq = [0, 0, 0]\nprinted = "x"\n', "not a number"),
+        (SCARA + 'quantity = "det"\nq = [0, 0, 0]\nprinted = "x"\n', "not a number"),
         ('[[check]]\nquantity = "det"\nq = [0, 0, 0]\nprinted = 1\n', "give 'robot'"),
         ('robot = "scara"\n[[check]]\nquantity = "T"\nq = [0, 0]\nprinted = 1\n', "3 joints"),
         ('robot = "scara"\nbogus = 1\n', "unknown key"),

@@ -82,4 +82,3 @@ def test_german_document_keeps_parameter_digits(tmp_path) -> None:
     assert main(["latex", "puma560", "--lang", "de", "-o", str(out)]) == 0
     text = out.read_text(encoding="utf-8")
     assert "d_{3} = 0{,}15005" in text
-

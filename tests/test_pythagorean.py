@@ -13,8 +13,8 @@ import pytest
 import sympy as sp
 
 from symkin import derive, load_robot
-from symkin.io.robot_file import catalogue_names
 from symkin.derive.pythagorean import fold_matrix, fold_pythagorean
+from symkin.io.robot_file import catalogue_names
 from symkin.kernels.document import DEFAULT_SECTIONS, document_content
 
 q1, q2, a, b = sp.symbols("q1 q2 a b")
