@@ -82,3 +82,9 @@ def test_german_document_keeps_parameter_digits(tmp_path) -> None:
     assert main(["latex", "puma560", "--lang", "de", "-o", str(out)]) == 0
     text = out.read_text(encoding="utf-8")
     assert "d_{3} = 0{,}15005" in text
+
+
+def test_lower_precision_floats_keep_their_own_digits() -> None:
+    """``sympy.N(pi/3, 6)`` (the placement table's numbers) is 1.04720, shown as 1.0472."""
+    assert shortest_float(sp.N(sp.pi / 3, 6)) == "1.0472"
+    assert shortest_float(sp.Float(0.1, 10)) == "0.1"

@@ -345,6 +345,15 @@ def add_ik(commands: Commands) -> None:
         action="store_true",
         help="the lecture's scheme: one Newton step per waypoint from (--path-from, --q0)",
     )
+    add_table_latex_options(ik)
+    add_set_option(ik)
+    ik.add_argument("--json", action="store_true", help="print a JSON object")
+    ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
+    ik.set_defaults(run=command_ik)
+
+
+def add_table_latex_options(ik: argparse.ArgumentParser) -> None:
+    """``--latex`` and ``--lang`` of ``symkin ik --table``."""
     ik.add_argument(
         "--latex",
         action="store_true",
@@ -353,10 +362,6 @@ def add_ik(commands: Commands) -> None:
     ik.add_argument(
         "--lang", choices=LANGUAGES, default="en", help="language of --latex (default: en)"
     )
-    add_set_option(ik)
-    ik.add_argument("--json", action="store_true", help="print a JSON object")
-    ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
-    ik.set_defaults(run=command_ik)
 
 
 def add_trajopt(commands: Commands) -> None:

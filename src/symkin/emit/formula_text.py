@@ -12,6 +12,7 @@ shown.  The text still parses with ``sympy.sympify`` to the same value.
 from __future__ import annotations
 
 import sympy as sp
+from mpmath.libmp import prec_to_dps
 from sympy.printing.str import StrPrinter
 
 DOUBLE_BITS = 53
@@ -24,10 +25,12 @@ def shortest_float(value: sp.Float) -> str | None:
     when ``value`` is no more precise than a double, else None (it keeps all its digits)."""
     if value._prec > DOUBLE_BITS:
         return None
+    # A Float of lower precision (sympy.N(x, 6)) is compared at its own decimal precision.
+    precision = max(1, min(DOUBLE_DIGITS, prec_to_dps(value._prec)))
     number = float(value)
-    for digits in range(1, DOUBLE_DIGITS + 1):
+    for digits in range(1, precision + 1):
         text = f"{number:.{digits}g}"
-        if float(f"{float(text):.{DOUBLE_DIGITS}g}") == float(f"{number:.{DOUBLE_DIGITS}g}"):
+        if float(f"{float(text):.{precision}g}") == float(f"{number:.{precision}g}"):
             break
     # "1e-05" -> "1e-5"; a whole number keeps a decimal point so that it reads as a Float.
     mantissa, _, exponent = text.partition("e")
