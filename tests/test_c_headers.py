@@ -18,7 +18,7 @@ from symkin.cli import main
 from symkin.emit.c import c_literal
 from symkin.emit.printers import c_code
 from symkin.generate import files_for_robot
-from symkin.kernels import dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.kernels import dynamics_kernels, kinematics_kernels, point_kernels, statics_kernels
 from symkin.kernels.units import determinant, unit_product
 
 pytestmark = pytest.mark.needs_cc
@@ -104,6 +104,7 @@ def all_kernels(name: str):
     return (
         kinematics_kernels(model)
         + dynamics_kernels(model)
+        + statics_kernels(model)
         + point_kernels(model, [(1, (0.1, 0, 0))])
     )
 

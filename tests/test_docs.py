@@ -2,7 +2,7 @@
 
 Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md,
 docs/backends.md, docs/dynamics.md, docs/latex.md, docs/ik.md, docs/ik-generated.md,
-docs/trajopt.md):
+docs/trajopt.md, docs/workspace.md):
 
 * Each file runs in a fresh temporary directory, its fenced blocks in document order.
 * A ```toml block whose first line is a comment naming a file (``# two_link.toml: ...``) is
@@ -204,6 +204,11 @@ def test_latex_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]
 @pytest.mark.parametrize("page", ["ik.md", "ik-generated.md"])
 def test_ik_examples_run(page: str, in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     run_document(ROOT / "docs" / page, capsys)
+
+
+@pytest.mark.slow
+def test_workspace_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run_document(ROOT / "docs" / "workspace.md", capsys)
 
 
 @pytest.mark.slow

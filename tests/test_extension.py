@@ -95,7 +95,7 @@ def test_bad_shapes_raise_python_errors(built):
     n, shape = robot.dof, rf"numbers of shape \({robot.dof},\) or \(N, {robot.dof}\)"
     with pytest.raises(ValueError, match=rf"^fk\(q, p=None\): every state input must be {shape}"):
         extension.fk(np.zeros(n + 1))
-    with pytest.raises(ValueError, match=rf"{shape}, the same for all \(got 3 dimensions\)"):
+    with pytest.raises(ValueError, match=rf"{shape}, the same for all .*\(got 3 dimensions\)"):
         extension.fk(np.zeros((2, 3, n)))
     with pytest.raises(ValueError, match=r"got 0 dimensions"):
         extension.fk(1.0)

@@ -23,7 +23,13 @@ from symkin.emit.numpy import emit_numpy
 from symkin.emit.python_ext import emit_python_extension
 from symkin.errors import ParameterError, literal
 from symkin.io import catalogue_names, load_robot
-from symkin.kernels import Kernel, dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.kernels import (
+    Kernel,
+    dynamics_kernels,
+    kinematics_kernels,
+    point_kernels,
+    statics_kernels,
+)
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,
@@ -62,7 +68,7 @@ def robot_kernels(model: Model, dynamics: bool = True) -> tuple[Kernel, ...]:
     if not dynamics:
         return kinematics
     with phase("the dynamics kernels (CSE and rewrite passes)"):
-        return kinematics + dynamics_kernels(model)
+        return kinematics + dynamics_kernels(model) + statics_kernels(model)
 
 
 def files_for_robot(

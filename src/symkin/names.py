@@ -122,13 +122,13 @@ KERNEL_NAMES = frozenset(
     {
         "fk", "jacobian", "fk_jacobian", "position", "position_jacobian", "det",
         "manipulability", "mass_matrix", "gravity", "coriolis", "coriolis_matrix",
-        "inverse_dynamics", "forward_dynamics",
+        "inverse_dynamics", "forward_dynamics", "wrench_torque", "static_torque", "energy",
     }
 )  # fmt: skip
-KERNEL_INPUTS = frozenset({"q", "dq", "ddq", "tau", "p", "pi"})
+KERNEL_INPUTS = frozenset({"q", "dq", "ddq", "tau", "p", "pi", "wrench"})
 KERNEL_OUTPUTS = frozenset(
     {"T", "J", "Jp", "p_tool", "det", "mu", "M", "G", "c", "C", "tau", "ddq",
-     "p_point", "v_point", "a_point"}
+     "p_point", "v_point", "a_point", "tau_w", "tau_s", "kinetic", "potential", "lagrangian"}
 )  # fmt: skip
 TEMPLATE_LOCALS = frozenset(
     {

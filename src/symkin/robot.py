@@ -138,7 +138,8 @@ class Robot:
     value and stays a pure symbol).  In derivations every parameter is a SymPy symbol of that
     name; numeric evaluation substitutes the values.  ``base`` and ``tool`` are 4x4
     homogeneous transforms applied before the first and after the last joint:
-    ``T = base * A_1 * ... * A_n * tool``.
+    ``T = base * A_1 * ... * A_n * tool``.  ``poses`` are named configurations
+    ``(name, (q1, ..., qn))`` in radians and metres (``[poses]`` in a robot file).
     """
 
     name: str
@@ -151,6 +152,7 @@ class Robot:
     title: str = ""
     source: str = ""
     file: str | None = field(default=None, compare=False)
+    poses: tuple[tuple[str, tuple[float, ...]], ...] = ()
 
     def __post_init__(self) -> None:
         if not NAME_PATTERN.match(self.name):
@@ -182,6 +184,9 @@ class Robot:
         names = [n for n, _ in self.parameters]
         if len(set(names)) != len(names):
             raise RobotError(f"duplicate parameter names in {names}")
+        object.__setattr__(self, "poses", tuple((n, tuple(v)) for n, v in self.poses))
+        if any(len(v) != self.dof for _, v in self.poses):
+            raise RobotError(f"every pose needs {self.dof} values (one per joint)")
         joint_names = [j.name for j in self.joints if j.name is not None]
         if len(set(joint_names)) != len(joint_names):
             raise RobotError(f"duplicate joint names in {joint_names}")

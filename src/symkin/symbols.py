@@ -45,3 +45,13 @@ def unused_prefix(prefix: str, names: Iterable[str]) -> str:
     while any(n.startswith(prefix) and n[len(prefix) :].isdigit() for n in names):
         prefix += "_"
     return prefix
+
+
+#: Components of the external wrench on the tool: force, then moment (base frame, at the tool
+#: point; docs/conventions.md, External wrench).
+WRENCH_NAMES = ("w_fx", "w_fy", "w_fz", "w_nx", "w_ny", "w_nz")
+
+
+def wrench_symbols() -> tuple[sp.Symbol, ...]:
+    """``(w_fx, w_fy, w_fz, w_nx, w_ny, w_nz)``: the wrench ``w = (f, n)`` acting on the tool."""
+    return tuple(sp.Symbol(name, real=True) for name in WRENCH_NAMES)

@@ -15,6 +15,9 @@
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
+ *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
+ *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -1150,6 +1153,254 @@ void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q,
     size_t i;
     for (i = 0; i < count; ++i) {
         cylindrical_rtt_wrist_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, tau + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
+{
+    const double q1 = q[0];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d6 = p[1];
+    const double t0 = cos(q1);
+    const double t1 = cos(q5);
+    const double t2 = t0*t1;
+    const double t3 = d6*t2;
+    const double t4 = cos(q4);
+    const double t5 = sin(q1);
+    const double t6 = sin(q5);
+    const double t7 = d6*t6;
+    const double t8 = t5*t7;
+    const double t9 = t1*t5;
+    const double t10 = d6*t9;
+    const double t11 = t0*t7;
+    const double t12 = sin(q4);
+    const double t13 = t4*t6;
+    tau_w[0] = -w_nz + w_fx*(t3 + q3*t0 + t4*t8) + w_fy*(t10 + q3*t5 - t11*t4);
+    tau_w[1] = -w_fz;
+    tau_w[2] = t5*w_fx - t0*w_fy;
+    tau_w[3] = t5*w_nx - t0*w_ny + t11*t12*w_fx + t12*t8*w_fy + t4*t7*w_fz;
+    tau_w[4] = t4*w_nz + w_fx*(-t8 - t3*t4) + w_fy*(-t10*t4 + d6*t0*t6) + t0*t12*w_nx + t12*t5*w_ny + d6*t1*t12*w_fz;
+    tau_w[5] = w_nx*(t9 - t0*t13) + w_ny*(-t2 - t13*t5) + t12*t6*w_nz;
+}
+
+void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[restrict 6])
+{
+    const double q1 = q[0];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d6 = p[1];
+    const double t0 = sin(q4);
+    const double t1 = 9.81*t0;
+    const double t2 = cos(q4);
+    const double t3 = 9.81*t2;
+    const double t4 = cos(q5);
+    const double t5 = t1*t4;
+    const double t6 = sin(q5);
+    const double t7 = t1*t6;
+    const double t8 = sin(q6);
+    const double t9 = cos(q6);
+    const double t10 = t3*t8 + t5*t9;
+    const double t11 = t5*t8 - t3*t9;
+    const double t12 = 0.7634*t10;
+    const double t13 = 0.7634*t11;
+    const double t14 = 0.7634*t7;
+    const double t15 = t0*t8;
+    const double t16 = cos(q1);
+    const double t17 = t6*t9;
+    const double t18 = t2*t9;
+    const double t19 = sin(q1);
+    const double t20 = t19*t4;
+    const double t21 = t15*t19 + t16*t17 - t18*t20;
+    const double t22 = t16*t4;
+    const double t23 = -t17*t19 - t18*t22 + t0*t16*t8;
+    const double t24 = t2*t8;
+    const double t25 = t0*t9;
+    const double t26 = t24 + t25*t4;
+    const double t27 = -t12 + t21*w_fy + t23*w_fx + t26*w_fz;
+    const double t28 = t2*t9 - t15*t4;
+    const double t29 = t6*t8;
+    const double t30 = t16*t25 + t19*t29 + t22*t24;
+    const double t31 = t19*t25 + t20*t24 - t16*t29;
+    const double t32 = t13 + t28*w_fz + t30*w_fx + t31*w_fy;
+    const double t33 = t0*t6;
+    const double t34 = t2*t6;
+    const double t35 = t20 - t16*t34;
+    const double t36 = t22 + t19*t34;
+    const double t37 = 0.05*t13 + t21*w_ny + t23*w_nx + t26*w_nz - d6*t32;
+    const double t38 = 0.05*t12 + d6*t27 + t28*w_nz + t30*w_nx + t31*w_ny;
+    const double t39 = t33*w_nz + t35*w_nx - t36*w_ny;
+    const double t40 = 0.458*t3;
+    const double t41 = -0.458*t5 + t27*t9 - t32*t8;
+    const double t42 = -t14 - 0.458*t7 + t33*w_fz + t35*w_fx - t36*w_fy;
+    const double t43 = t37*t9 - t38*t8;
+    const double t44 = t37*t8 + t38*t9;
+    const double t45 = -0.458*t1 + t4*t41 + t42*t6;
+    const double t46 = t41*t6 - t4*t42;
+    const double t47 = -2*t40 + t27*t8 + t32*t9;
+    const double t48 = t39*t6 + t4*t43;
+    const double t49 = t43*t6 - t39*t4;
+    const double t50 = t2*t45 - t0*t47;
+    const double t51 = q3*t50 + t0*t48 + t2*t44;
+    const double t52 = -139.79250000000002 + t0*t45 + t2*t47;
+    tau_s[0] = -t51;
+    tau_s[1] = -t52;
+    tau_s[2] = -t46;
+    tau_s[3] = -t49;
+    tau_s[4] = t44;
+    tau_s[5] = t39;
+}
+
+void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_static_torque(q + i * 6, wrench + i * 6, p, tau_s + i * 6);
+    }
+}
+
+void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d1 = p[0];
+    const double d6 = p[1];
+    const double t0 = cos(q4);
+    const double t1 = q3*t0;
+    const double t2 = sin(q4);
+    const double t3 = q3*t2;
+    const double t4 = cos(q5);
+    const double t5 = t2*t4;
+    const double t6 = sin(q5);
+    const double t7 = t2*t6;
+    const double t8 = t1*t4;
+    const double t9 = t1*t6;
+    const double t10 = cos(q6);
+    const double t11 = sin(q6);
+    const double t12 = t0*t11 + t10*t5;
+    const double t13 = t0*t10;
+    const double t14 = -t13 + t11*t5;
+    const double t15 = d6*t14 + t11*t3 - t10*t8;
+    const double t16 = d6*t12 + t10*t3 + t11*t8;
+    const double t17 = 0.7634*t15 - 0.03817*t14;
+    const double t18 = 0.7634*t16 - 0.03817*t12;
+    const double t19 = 0.05 - d6;
+    const double t20 = -0.0008079*t12 + t18*t19;
+    const double t21 = 0.0008079*t14 - t17*t19;
+    const double t22 = 0.0003435*t7;
+    const double t23 = 0.458*t3;
+    const double t24 = -0.458*t8 + t10*t17 - t11*t18;
+    const double t25 = 1.2214*t9;
+    const double t26 = -0.0002405*t5 + t10*t20 - t11*t21;
+    const double t27 = -0.0002405*t0 + t10*t21 + t11*t20;
+    const double t28 = t22 + 0.0002061*t7;
+    const double t29 = -0.458*t1 + t24*t4 - t25*t6;
+    const double t30 = t24*t6 + t25*t4;
+    const double t31 = 2*t23 + t10*t18 + t11*t17;
+    const double t32 = -0.0002405*t2 + t26*t4 - t28*t6;
+    const double t33 = t26*t6 + t28*t4;
+    const double t34 = t27 - 0.0002061*t0;
+    const double t35 = 2.4428 - 6.107*q3;
+    const double t36 = t35 + t0*t29 - t2*t31;
+    const double t37 = t0*t31 + t2*t29;
+    const double t38 = -0.35316000000000003 - 0.4*t35 + q3*t36 + t0*t34 + t2*t32;
+    const double t39 = 0.02748 - t38;
+    const double t40 = 0.7634*t12;
+    const double t41 = 0.7634*t14;
+    const double t42 = t19*t41;
+    const double t43 = t19*t40;
+    const double t44 = 0.458*t0;
+    const double t45 = 0.458*t5 + t10*t40 + t11*t41;
+    const double t46 = 1.2214*t7;
+    const double t47 = t10*t42 - t11*t43;
+    const double t48 = t10*t43 + t11*t42;
+    const double t49 = 0.458*t2 + t4*t45 + t46*t6;
+    const double t50 = t4*t46 - t45*t6;
+    const double t51 = -2*t44 + t10*t41 - t11*t40;
+    const double t52 = t47*t6;
+    const double t53 = -14.25 + t0*t51 - t2*t49;
+    const double t54 = t10*t6;
+    const double t55 = t11*t6;
+    const double t56 = 0.7634*t54;
+    const double t57 = 0.7634*t55;
+    const double t58 = t19*t57;
+    const double t59 = t19*t56;
+    const double t60 = 0.458*t6 + t10*t56 + t11*t57;
+    const double t61 = 1.2214*t4;
+    const double t62 = t10*t58 - t11*t59;
+    const double t63 = t10*t59 + t11*t58;
+    const double t64 = 0.458 + t4*t61 + t6*t60;
+    const double t65 = t6*t62;
+    const double t66 = 6.107 + t64;
+    const double t67 = d6*t55;
+    const double t68 = d6*t54;
+    const double t69 = 0.7634*t67 - 0.03817*t55;
+    const double t70 = 0.7634*t68 - 0.03817*t54;
+    const double t71 = -0.0008079*t54 + t19*t70;
+    const double t72 = 0.0008079*t55 - t19*t69;
+    const double t73 = 0.0003435*t4;
+    const double t74 = -0.0002405*t6 + t10*t71 - t11*t72;
+    const double t75 = t10*t72 + t11*t71;
+    const double t76 = t73 + 0.0002061*t4;
+    const double t77 = -0.0002405 + t6*t74 - t4*t76;
+    const double t78 = d6*t10;
+    const double t79 = d6*t11;
+    const double t80 = 0.7634*t78 - 0.03817*t10;
+    const double t81 = 0.03817*t11 - 0.7634*t79;
+    const double t82 = 0.0008079*t11 + t19*t81;
+    const double t83 = 0.0008079*t10 - t19*t80;
+    const double t84 = 0.0002405 + t10*t83 + t11*t82;
+    const double t85 = dq5*t75 + dq6*t73 - dq1*t33 - dq2*t52 - dq3*t65;
+    const double t86 = dq1*dq1*(0.2 + t39) + dq2*dq2*(2 - t53) + dq3*dq3*(2 + t66) + dq4*dq4*(0.05 - t77) + dq5*dq5*(0.05 + t84);
+    const double t87 = dq5*t27 - dq2*t37 - dq3*t30 - dq6*t22;
+    const double t88 = dq2*t48 + dq3*t63;
+    const double t89 = (1.0/2.0)*t86 + 0.02517175*dq6*dq6 + dq1*t87 + dq4*t85 + dq5*t88 - dq2*dq3*t50;
+    const double t90 = 306.06611399999997*d1;
+    const double t91 = 156.267414*q2;
+    const double t92 = 0.3744477*t7;
+    const double t93 = 7.488954*d6*t7;
+    kinetic[0] = t89;
+    potential[0] = -37.449675 + t90 + t91 + t92 - t93;
+    lagrangian[0] = 37.449675 + t89 + t93 - t90 - t91 - t92;
+}
+
+void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_energy(q + i * 6, dq + i * 6, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
+  wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+  static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
+  energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d6
@@ -1051,6 +1054,270 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 4] = t54 + 0.05*ddq5
     tau[..., 5] = t49 + 0.05*ddq6
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 75 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d6 = p[..., 1]
+    t0 = numpy.cos(q1)
+    t1 = numpy.cos(q5)
+    t2 = t0*t1
+    t3 = d6*t2
+    t4 = numpy.cos(q4)
+    t5 = numpy.sin(q1)
+    t6 = numpy.sin(q5)
+    t7 = d6*t6
+    t8 = t5*t7
+    t9 = t1*t5
+    t10 = d6*t9
+    t11 = t0*t7
+    t12 = numpy.sin(q4)
+    t13 = t4*t6
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + w_fx*(t3 + q3*t0 + t4*t8) + w_fy*(t10 + q3*t5 - t11*t4)
+    tau_w[..., 1] = -w_fz
+    tau_w[..., 2] = t5*w_fx - t0*w_fy
+    tau_w[..., 3] = t5*w_nx - t0*w_ny + t11*t12*w_fx + t12*t8*w_fy + t4*t7*w_fz
+    tau_w[..., 4] = t4*w_nz + w_fx*(-t8 - t3*t4) + w_fy*(-t10*t4 + d6*t0*t6) + t0*t12*w_nx + t12*t5*w_ny + d6*t1*t12*w_fz
+    tau_w[..., 5] = w_nx*(t9 - t0*t13) + w_ny*(-t2 - t13*t5) + t12*t6*w_nz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 151 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    d6 = p[..., 1]
+    t0 = numpy.sin(q4)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q4)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q5)
+    t5 = t1*t4
+    t6 = numpy.sin(q5)
+    t7 = t1*t6
+    t8 = numpy.sin(q6)
+    t9 = numpy.cos(q6)
+    t10 = t3*t8 + t5*t9
+    t11 = t5*t8 - t3*t9
+    t12 = 0.7634*t10
+    t13 = 0.7634*t11
+    t14 = 0.7634*t7
+    t15 = t0*t8
+    t16 = numpy.cos(q1)
+    t17 = t6*t9
+    t18 = t2*t9
+    t19 = numpy.sin(q1)
+    t20 = t19*t4
+    t21 = t15*t19 + t16*t17 - t18*t20
+    t22 = t16*t4
+    t23 = -t17*t19 - t18*t22 + t0*t16*t8
+    t24 = t2*t8
+    t25 = t0*t9
+    t26 = t24 + t25*t4
+    t27 = -t12 + t21*w_fy + t23*w_fx + t26*w_fz
+    t28 = t2*t9 - t15*t4
+    t29 = t6*t8
+    t30 = t16*t25 + t19*t29 + t22*t24
+    t31 = t19*t25 + t20*t24 - t16*t29
+    t32 = t13 + t28*w_fz + t30*w_fx + t31*w_fy
+    t33 = t0*t6
+    t34 = t2*t6
+    t35 = t20 - t16*t34
+    t36 = t22 + t19*t34
+    t37 = 0.05*t13 + t21*w_ny + t23*w_nx + t26*w_nz - d6*t32
+    t38 = 0.05*t12 + d6*t27 + t28*w_nz + t30*w_nx + t31*w_ny
+    t39 = t33*w_nz + t35*w_nx - t36*w_ny
+    t40 = 0.458*t3
+    t41 = -0.458*t5 + t27*t9 - t32*t8
+    t42 = -t14 - 0.458*t7 + t33*w_fz + t35*w_fx - t36*w_fy
+    t43 = t37*t9 - t38*t8
+    t44 = t37*t8 + t38*t9
+    t45 = -0.458*t1 + t4*t41 + t42*t6
+    t46 = t41*t6 - t4*t42
+    t47 = -2*t40 + t27*t8 + t32*t9
+    t48 = t39*t6 + t4*t43
+    t49 = t43*t6 - t39*t4
+    t50 = t2*t45 - t0*t47
+    t51 = q3*t50 + t0*t48 + t2*t44
+    t52 = -139.7925 + t0*t45 + t2*t47
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = -t51
+    tau_s[..., 1] = -t52
+    tau_s[..., 2] = -t46
+    tau_s[..., 3] = -t49
+    tau_s[..., 4] = t44
+    tau_s[..., 5] = t39
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 273 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d1 = p[..., 0]
+    d6 = p[..., 1]
+    t0 = numpy.cos(q4)
+    t1 = q3*t0
+    t2 = numpy.sin(q4)
+    t3 = q3*t2
+    t4 = numpy.cos(q5)
+    t5 = t2*t4
+    t6 = numpy.sin(q5)
+    t7 = t2*t6
+    t8 = t1*t4
+    t9 = t1*t6
+    t10 = numpy.cos(q6)
+    t11 = numpy.sin(q6)
+    t12 = t0*t11 + t10*t5
+    t13 = t0*t10
+    t14 = -t13 + t11*t5
+    t15 = d6*t14 + t11*t3 - t10*t8
+    t16 = d6*t12 + t10*t3 + t11*t8
+    t17 = 0.7634*t15 - 0.03817*t14
+    t18 = 0.7634*t16 - 0.03817*t12
+    t19 = 0.05 - d6
+    t20 = -0.0008079*t12 + t18*t19
+    t21 = 0.0008079*t14 - t17*t19
+    t22 = 0.0003435*t7
+    t23 = 0.458*t3
+    t24 = -0.458*t8 + t10*t17 - t11*t18
+    t25 = 1.2214*t9
+    t26 = -0.0002405*t5 + t10*t20 - t11*t21
+    t27 = -0.0002405*t0 + t10*t21 + t11*t20
+    t28 = t22 + 0.0002061*t7
+    t29 = -0.458*t1 + t24*t4 - t25*t6
+    t30 = t24*t6 + t25*t4
+    t31 = 2*t23 + t10*t18 + t11*t17
+    t32 = -0.0002405*t2 + t26*t4 - t28*t6
+    t33 = t26*t6 + t28*t4
+    t34 = t27 - 0.0002061*t0
+    t35 = 2.4428 - 6.107*q3
+    t36 = t35 + t0*t29 - t2*t31
+    t37 = t0*t31 + t2*t29
+    t38 = -0.35316 - 0.4*t35 + q3*t36 + t0*t34 + t2*t32
+    t39 = 0.02748 - t38
+    t40 = 0.7634*t12
+    t41 = 0.7634*t14
+    t42 = t19*t41
+    t43 = t19*t40
+    t44 = 0.458*t0
+    t45 = 0.458*t5 + t10*t40 + t11*t41
+    t46 = 1.2214*t7
+    t47 = t10*t42 - t11*t43
+    t48 = t10*t43 + t11*t42
+    t49 = 0.458*t2 + t4*t45 + t46*t6
+    t50 = t4*t46 - t45*t6
+    t51 = -2*t44 + t10*t41 - t11*t40
+    t52 = t47*t6
+    t53 = -14.25 + t0*t51 - t2*t49
+    t54 = t10*t6
+    t55 = t11*t6
+    t56 = 0.7634*t54
+    t57 = 0.7634*t55
+    t58 = t19*t57
+    t59 = t19*t56
+    t60 = 0.458*t6 + t10*t56 + t11*t57
+    t61 = 1.2214*t4
+    t62 = t10*t58 - t11*t59
+    t63 = t10*t59 + t11*t58
+    t64 = 0.458 + t4*t61 + t6*t60
+    t65 = t6*t62
+    t66 = 6.107 + t64
+    t67 = d6*t55
+    t68 = d6*t54
+    t69 = 0.7634*t67 - 0.03817*t55
+    t70 = 0.7634*t68 - 0.03817*t54
+    t71 = -0.0008079*t54 + t19*t70
+    t72 = 0.0008079*t55 - t19*t69
+    t73 = 0.0003435*t4
+    t74 = -0.0002405*t6 + t10*t71 - t11*t72
+    t75 = t10*t72 + t11*t71
+    t76 = t73 + 0.0002061*t4
+    t77 = -0.0002405 + t6*t74 - t4*t76
+    t78 = d6*t10
+    t79 = d6*t11
+    t80 = 0.7634*t78 - 0.03817*t10
+    t81 = 0.03817*t11 - 0.7634*t79
+    t82 = 0.0008079*t11 + t19*t81
+    t83 = 0.0008079*t10 - t19*t80
+    t84 = 0.0002405 + t10*t83 + t11*t82
+    t85 = dq5*t75 + dq6*t73 - dq1*t33 - dq2*t52 - dq3*t65
+    t86 = dq1**2*(0.2 + t39) + dq2**2*(2 - t53) + dq3**2*(2 + t66) + dq4**2*(0.05 - t77) + dq5**2*(0.05 + t84)
+    t87 = dq5*t27 - dq2*t37 - dq3*t30 - dq6*t22
+    t88 = dq2*t48 + dq3*t63
+    t89 = (1/2)*t86 + 0.02517175*dq6**2 + dq1*t87 + dq4*t85 + dq5*t88 - dq2*dq3*t50
+    t90 = 306.066114*d1
+    t91 = 156.267414*q2
+    t92 = 0.3744477*t7
+    t93 = 7.488954*d6*t7
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t89
+    potential = numpy.zeros(batch + ())
+    potential[...] = -37.449675 + t90 + t91 + t92 - t93
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = 37.449675 + t89 + t93 - t90 - t91 - t92
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -15,6 +15,9 @@
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
+ *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
+ *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
+ *   energy: 1592 ops (709 additions, 863 multiplications, 1 divisions, 12 trig, 7 powers)
  */
 #include <stdio.h>
 

@@ -14,6 +14,9 @@
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
+ *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
+ *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
+ *   energy: 1592 ops (709 additions, 863 multiplications, 1 divisions, 12 trig, 7 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -162,6 +165,43 @@ void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq
 void panda_inverse_dynamics(const double q[7], const double dq[7], const double ddq[7], const double *p, double tau[SYMKIN_RESTRICT 7]);
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (246 operations).
+ * tau_w[7]: -J^T w (7x1)
+ *   units: N m
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
+ */
+void panda_wrench_torque(const double q[7], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (503 operations).
+ * tau_s[7]: G - J^T w (7x1)
+ *   units: N m
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
+ */
+void panda_static_torque(const double q[7], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (1592 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
+ */
+void panda_energy(const double q[7], const double dq[7], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[7] (N m) in place of ddq.

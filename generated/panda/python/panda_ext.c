@@ -14,10 +14,13 @@
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
+ *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
+ *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
+ *   energy: 1592 ops (709 additions, 863 multiplications, 1 divisions, 12 trig, 7 powers)
  *
  * CPython extension 'panda_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
- * where it needs them), each of shape (7,) or (N, 7), then optionally p (the
+ * where it needs them), each of shape (7,) or (N, 7) (the wrench: (6,) or (N, 6)), then optionally p (the
  * parameters d1, d3, a4, a5, d5, a7); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
  * Build: symkin derive panda --out DIR.
@@ -33,12 +36,12 @@
 #include "../c/panda.h"
 
 #define MAX_STATES 3
-#define MAX_OUTPUTS 2
+#define MAX_OUTPUTS 3
 #define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
-#define STATE_SHAPES "every state input must be numbers of shape (7,) or (N, 7), the same for all"
+#define STATE_SHAPES "every state input must be numbers of shape (7,) or (N, 7), the same for all (the wrench: (6,) or (N, 6))"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -46,6 +49,7 @@ typedef void (*batch_kernel)(size_t count, const double *const *states, const do
 typedef struct {
     const char *usage;
     int nstates;
+    int sizes[MAX_STATES];
     int takes_pi;
     batch_kernel kernel;
     int noutputs;
@@ -148,7 +152,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
             count = batched ? PyArray_DIM(states[0], 0) : 1;
         }
         if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
-            PyArray_DIM(states[i], batched) != 7 || (batched && PyArray_DIM(states[i], 0) != count)) {
+            PyArray_DIM(states[i], batched) != b->sizes[i] || (batched && PyArray_DIM(states[i], 0) != count)) {
             PyErr_Format(PyExc_ValueError, "%s: %s", b->usage, STATE_SHAPES);
             goto done;
         }
@@ -236,7 +240,7 @@ static void fk_adapter(size_t count, const double *const *states, const double *
 }
 
 static const binding fk_binding = {
-    "fk(q, p=None)", 1, 0, fk_adapter, 1,
+    "fk(q, p=None)", 1, { 7 }, 0, fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
 NULL,
@@ -256,7 +260,7 @@ static void position_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding position_binding = {
-    "position(q, p=None)", 1, 0, position_adapter, 1,
+    "position(q, p=None)", 1, { 7 }, 0, position_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -276,7 +280,7 @@ static void jacobian_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding jacobian_binding = {
-    "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
+    "jacobian(q, p=None)", 1, { 7 }, 0, jacobian_adapter, 1,
     { 2 },
     { { 6, 7 } },
 NULL,
@@ -296,7 +300,7 @@ static void position_jacobian_adapter(size_t count, const double *const *states,
 }
 
 static const binding position_jacobian_binding = {
-    "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
+    "position_jacobian(q, p=None)", 1, { 7 }, 0, position_jacobian_adapter, 1,
     { 2 },
     { { 3, 7 } },
 NULL,
@@ -316,7 +320,7 @@ static void fk_jacobian_adapter(size_t count, const double *const *states, const
 }
 
 static const binding fk_jacobian_binding = {
-    "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
+    "fk_jacobian(q, p=None)", 1, { 7 }, 0, fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 7 } },
 NULL,
@@ -336,7 +340,7 @@ static void manipulability_adapter(size_t count, const double *const *states, co
 }
 
 static const binding manipulability_binding = {
-    "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
+    "manipulability(q, p=None)", 1, { 7 }, 0, manipulability_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -356,7 +360,7 @@ static void mass_matrix_adapter(size_t count, const double *const *states, const
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None)", 1, 0, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, { 7 }, 0, mass_matrix_adapter, 1,
     { 2 },
     { { 7, 7 } },
 NULL,
@@ -376,7 +380,7 @@ static void gravity_adapter(size_t count, const double *const *states, const dou
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None)", 1, 0, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, { 7 }, 0, gravity_adapter, 1,
     { 1 },
     { { 7, 0 } },
 NULL,
@@ -396,7 +400,7 @@ static void coriolis_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None)", 2, 0, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, { 7, 7 }, 0, coriolis_adapter, 1,
     { 1 },
     { { 7, 0 } },
 NULL,
@@ -416,7 +420,7 @@ static void coriolis_matrix_adapter(size_t count, const double *const *states, c
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None)", 2, 0, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, { 7, 7 }, 0, coriolis_matrix_adapter, 1,
     { 2 },
     { { 7, 7 } },
 NULL,
@@ -436,7 +440,7 @@ static void inverse_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None)", 3, 0, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 7, 7, 7 }, 0, inverse_dynamics_adapter, 1,
     { 1 },
     { { 7, 0 } },
 NULL,
@@ -446,6 +450,66 @@ static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_s
 {
     (void)self;
     return run_binding(&inverse_dynamics_binding, args, nargs, kwnames);
+}
+
+static void wrench_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    panda_wrench_torque_batch(count, states[0], states[1], p, outputs[0]);
+}
+
+static const binding wrench_torque_binding = {
+    "wrench_torque(q, wrench, p=None)", 2, { 7, 6 }, 0, wrench_torque_adapter, 1,
+    { 1 },
+    { { 7, 0 } },
+NULL,
+};
+
+static PyObject *py_wrench_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&wrench_torque_binding, args, nargs, kwnames);
+}
+
+static void static_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    panda_static_torque_batch(count, states[0], states[1], p, outputs[0]);
+}
+
+static const binding static_torque_binding = {
+    "static_torque(q, wrench, p=None)", 2, { 7, 6 }, 0, static_torque_adapter, 1,
+    { 1 },
+    { { 7, 0 } },
+NULL,
+};
+
+static PyObject *py_static_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&static_torque_binding, args, nargs, kwnames);
+}
+
+static void energy_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    panda_energy_batch(count, states[0], states[1], p, outputs[0], outputs[1], outputs[2]);
+}
+
+static const binding energy_binding = {
+    "energy(q, dq, p=None)", 2, { 7, 7 }, 0, energy_adapter, 3,
+    { 0, 0, 0 },
+    { { 0, 0 }, { 0, 0 }, { 0, 0 } },
+NULL,
+};
+
+static PyObject *py_energy(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&energy_binding, args, nargs, kwnames);
 }
 
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
@@ -459,7 +523,7 @@ static void forward_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None)", 3, 0, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, { 7, 7, 7 }, 0, forward_dynamics_adapter, 1,
     { 1 },
     { { 7, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
@@ -494,6 +558,12 @@ static PyMethodDef methods[] = {
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
+    {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
+     "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
+    {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
+     "static_torque(q, wrench, p=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+    {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
+     "energy(q, dq, p=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "forward_dynamics(q, dq, tau, p=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},

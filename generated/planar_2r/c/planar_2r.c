@@ -15,6 +15,9 @@
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+ *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+ *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -452,6 +455,94 @@ void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const doubl
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_2r_inverse_dynamics(q + i * 2, dq + i * 2, ddq + i * 2, p, tau + i * 2);
+    }
+}
+
+void planar_2r_wrench_torque(const double q[2], const double wrench[6], const double *p, double tau_w[restrict 2])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = q1 + q2;
+    const double t1 = sin(t0);
+    const double t2 = L2*cos(t0);
+    tau_w[0] = -w_nz + w_fx*(L1*sin(q1) + L2*t1) + w_fy*(-t2 - L1*cos(q1));
+    tau_w[1] = -w_nz - t2*w_fy + L2*t1*w_fx;
+}
+
+void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_wrench_torque(q + i * 2, wrench + i * 6, p, tau_w + i * 2);
+    }
+}
+
+void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, double tau_s[restrict 2])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = q1 + q2;
+    const double t1 = cos(t0);
+    const double t2 = sin(t0);
+    const double t3 = t1*w_fx + t2*w_fy;
+    const double t4 = t2*w_fx - t1*w_fy;
+    const double t5 = -w_nz + L2*t4;
+    const double t6 = t4*cos(q2) - t3*sin(q2);
+    const double t7 = t5 + L1*t6;
+    tau_s[0] = t7;
+    tau_s[1] = t5;
+}
+
+void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_static_torque(q + i * 2, wrench + i * 6, p, tau_s + i * 2);
+    }
+}
+
+void planar_2r_energy(const double q[2], const double dq[2], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = 3.393*t1;
+    const double t5 = -1.6965 + 3.393*t3;
+    const double t6 = -0.5 + L2;
+    const double t7 = 0.2831 + t5*t6;
+    const double t8 = -1.6965 + 3.393*L1;
+    const double t9 = t8 + t0*t4 + t2*t5;
+    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
+    const double t11 = -1.6965 + 3.393*L2;
+    const double t12 = 0.2831 + t11*t6;
+    const double t13 = t10*dq1*dq1 + t12*dq2*dq2;
+    const double t14 = (1.0/2.0)*t13 + dq1*dq2*t7;
+    kinetic[0] = t14;
+    potential[0] = 0;
+    lagrangian[0] = t14;
+}
+
+void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_energy(q + i * 2, dq + i * 2, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

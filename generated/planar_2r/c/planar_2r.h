@@ -15,6 +15,9 @@
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+ *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+ *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -173,6 +176,43 @@ void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double
 void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, double tau[SYMKIN_RESTRICT 2]);
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (21 operations).
+ * tau_w[2]: -J^T w (2x1)
+ *   units: N m
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[2]: parameters (L1, L2; SI units, angles in rad)
+ */
+void planar_2r_wrench_torque(const double q[2], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (18 operations).
+ * tau_s[2]: G - J^T w (2x1)
+ *   units: N m
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[2]: parameters (L1, L2; SI units, angles in rad)
+ */
+void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (35 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2; SI units, angles in rad)
+ */
+void planar_2r_energy(const double q[2], const double dq[2], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[2] (N m) in place of ddq.

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
+  wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+  static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -404,6 +407,115 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (21 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.sin(t0)
+    t2 = L2*casadi.cos(t0)
+    tau_w = symbol_type.zeros(2, 1)
+    tau_w[0, 0] = -w_nz + w_fx*(L1*casadi.sin(q1) + L2*t1) + w_fy*(-t2 - L1*casadi.cos(q1))
+    tau_w[1, 0] = -w_nz - t2*w_fy + L2*t1*w_fx
+    return casadi.Function(
+        "planar_2r_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (18 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L2*t4
+    t6 = t4*casadi.cos(q2) - t3*casadi.sin(q2)
+    t7 = t5 + L1*t6
+    tau_s = symbol_type.zeros(2, 1)
+    tau_s[0, 0] = t7
+    tau_s[1, 0] = t5
+    return casadi.Function(
+        "planar_2r_static_torque",
+        [q, wrench, p],
+        [tau_s],
+        ["q", "wrench", "p"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (35 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    p = symbol_type.sym("p", 2)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = t10*dq1**2 + t12*dq2**2
+    t14 = (1/2)*t13 + dq1*dq2*t7
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t14
+    potential = symbol_type.zeros(1, 1)
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t14
+    return casadi.Function(
+        "planar_2r_energy",
+        [q, dq, p],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

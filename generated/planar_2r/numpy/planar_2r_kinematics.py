@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
+  wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
+  static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
+  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -373,6 +376,109 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 0] = t16
     tau[..., 1] = t13
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 21 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.sin(t0)
+    t2 = L2*numpy.cos(t0)
+    tau_w = numpy.zeros(batch + (2,))
+    tau_w[..., 0] = -w_nz + w_fx*(L1*numpy.sin(q1) + L2*t1) + w_fy*(-t2 - L1*numpy.cos(q1))
+    tau_w[..., 1] = -w_nz - t2*w_fy + L2*t1*w_fx
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 18 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_s: G - J^T w (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L2*t4
+    t6 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
+    t7 = t5 + L1*t6
+    tau_s = numpy.zeros(batch + (2,))
+    tau_s[..., 0] = t7
+    tau_s[..., 1] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 35 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = t10*dq1**2 + t12*dq2**2
+    t14 = (1/2)*t13 + dq1*dq2*t7
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t14
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t14
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -16,6 +16,9 @@
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <stdio.h>
 

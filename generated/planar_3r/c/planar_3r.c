@@ -15,6 +15,9 @@
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -592,6 +595,129 @@ void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const doubl
     size_t i;
     for (i = 0; i < count; ++i) {
         planar_3r_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
+    }
+}
+
+void planar_3r_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = -w_nz;
+    const double t1 = q1 + q2;
+    const double t2 = q3 + t1;
+    const double t3 = sin(t2);
+    const double t4 = L2*sin(t1) + L3*t3;
+    const double t5 = L3*cos(t2);
+    const double t6 = t5 + L2*cos(t1);
+    tau_w[0] = t0 + w_fx*(t4 + L1*cos(q1)) + w_fy*(-t6 + L1*sin(q1));
+    tau_w[1] = t0 + t4*w_fx - t6*w_fy;
+    tau_w[2] = -w_nz - t5*w_fy + L3*t3*w_fx;
+}
+
+void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = q1 + q2 + q3;
+    const double t1 = cos(t0);
+    const double t2 = sin(t0);
+    const double t3 = t1*w_fx + t2*w_fy;
+    const double t4 = t2*w_fx - t1*w_fy;
+    const double t5 = -w_nz + L3*t4;
+    const double t6 = cos(q3);
+    const double t7 = sin(q3);
+    const double t8 = t3*t6 + t4*t7;
+    const double t9 = t4*t6 - t3*t7;
+    const double t10 = t5 + L2*t9;
+    const double t11 = t8*cos(q2) + t9*sin(q2);
+    const double t12 = t10 + L1*t11;
+    tau_s[0] = t12;
+    tau_s[1] = t10;
+    tau_s[2] = t5;
+}
+
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
+    }
+}
+
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = cos(q2);
+    const double t1 = L1*t0;
+    const double t2 = sin(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t3*t5 - t1*t4;
+    const double t7 = L3 + t1*t5 + t3*t4;
+    const double t8 = 1.696*t6;
+    const double t9 = -0.424 + 1.696*t7;
+    const double t10 = -0.25 + L3;
+    const double t11 = 0.03551 + t10*t9;
+    const double t12 = -1.0856000000000001 + 2.714*t3;
+    const double t13 = -2.714*t1 + t4*t8 - t5*t9;
+    const double t14 = t12 + t4*t9 + t5*t8;
+    const double t15 = 0.145 + t11 - 0.4*t12 + L2*t14;
+    const double t16 = -1.6965 + 3.393*L1;
+    const double t17 = t16 + t14*t2 - t0*t13;
+    const double t18 = 0.2831 + t15 - 0.5*t16 + L1*t17;
+    const double t19 = L2*t5;
+    const double t20 = L3 + L2*t4;
+    const double t21 = 1.696*t19;
+    const double t22 = -0.424 + 1.696*t20;
+    const double t23 = 0.03551 + t10*t22;
+    const double t24 = -1.0856000000000001 + 2.714*L2;
+    const double t25 = t24 + t21*t5 + t22*t4;
+    const double t26 = 0.145 + t23 - 0.4*t24 + L2*t25;
+    const double t27 = -0.424 + 1.696*L3;
+    const double t28 = 0.03551 + t10*t27;
+    const double t29 = t18*dq1*dq1 + t26*dq2*dq2 + t28*dq3*dq3;
+    const double t30 = dq1*t11 + dq2*t23;
+    const double t31 = (1.0/2.0)*t29 + dq3*t30 + dq1*dq2*t15;
+    kinetic[0] = t31;
+    potential[0] = 0;
+    lagrangian[0] = t31;
+}
+
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

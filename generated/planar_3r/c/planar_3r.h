@@ -15,6 +15,9 @@
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
+ *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+ *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -173,6 +176,43 @@ void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double
 void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (32 operations).
+ * tau_w[3]: -J^T w (3x1)
+ *   units: N m
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ */
+void planar_3r_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (29 operations).
+ * tau_s[3]: G - J^T w (3x1)
+ *   units: N m
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ */
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (87 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ */
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m) in place of ddq.

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
+  wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+  static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+  energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2, L3) and named outputs; build it once
@@ -536,6 +539,150 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (32 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = -w_nz
+    t1 = q1 + q2
+    t2 = q3 + t1
+    t3 = casadi.sin(t2)
+    t4 = L2*casadi.sin(t1) + L3*t3
+    t5 = L3*casadi.cos(t2)
+    t6 = t5 + L2*casadi.cos(t1)
+    tau_w = symbol_type.zeros(3, 1)
+    tau_w[0, 0] = t0 + w_fx*(t4 + L1*casadi.cos(q1)) + w_fy*(-t6 + L1*casadi.sin(q1))
+    tau_w[1, 0] = t0 + t4*w_fx - t6*w_fy
+    tau_w[2, 0] = -w_nz - t5*w_fy + L3*t3*w_fx
+    return casadi.Function(
+        "planar_3r_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (29 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = q1 + q2 + q3
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L3*t4
+    t6 = casadi.cos(q3)
+    t7 = casadi.sin(q3)
+    t8 = t3*t6 + t4*t7
+    t9 = t4*t6 - t3*t7
+    t10 = t5 + L2*t9
+    t11 = t8*casadi.cos(q2) + t9*casadi.sin(q2)
+    t12 = t10 + L1*t11
+    tau_s = symbol_type.zeros(3, 1)
+    tau_s[0, 0] = t12
+    tau_s[1, 0] = t10
+    tau_s[2, 0] = t5
+    return casadi.Function(
+        "planar_3r_static_torque",
+        [q, wrench, p],
+        [tau_s],
+        ["q", "wrench", "p"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (87 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 3)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = casadi.cos(q2)
+    t1 = L1*t0
+    t2 = casadi.sin(q2)
+    t3 = L2 + L1*t2
+    t4 = casadi.cos(q3)
+    t5 = casadi.sin(q3)
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
+    t8 = 1.696*t6
+    t9 = -0.424 + 1.696*t7
+    t10 = -0.25 + L3
+    t11 = 0.03551 + t10*t9
+    t12 = -1.0856 + 2.714*t3
+    t13 = -2.714*t1 + t4*t8 - t5*t9
+    t14 = t12 + t4*t9 + t5*t8
+    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
+    t16 = -1.6965 + 3.393*L1
+    t17 = t16 + t14*t2 - t0*t13
+    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
+    t19 = L2*t5
+    t20 = L3 + L2*t4
+    t21 = 1.696*t19
+    t22 = -0.424 + 1.696*t20
+    t23 = 0.03551 + t10*t22
+    t24 = -1.0856 + 2.714*L2
+    t25 = t24 + t21*t5 + t22*t4
+    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
+    t27 = -0.424 + 1.696*L3
+    t28 = 0.03551 + t10*t27
+    t29 = t18*dq1**2 + t26*dq2**2 + t28*dq3**2
+    t30 = dq1*t11 + dq2*t23
+    t31 = (1/2)*t29 + dq3*t30 + dq1*dq2*t15
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t31
+    potential = symbol_type.zeros(1, 1)
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = t31
+    return casadi.Function(
+        "planar_3r_energy",
+        [q, dq, p],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

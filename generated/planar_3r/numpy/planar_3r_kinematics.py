@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
+  wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
+  static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
+  energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -505,6 +508,144 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 1] = t24
     tau[..., 2] = t20
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 32 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    t0 = -w_nz
+    t1 = q1 + q2
+    t2 = q3 + t1
+    t3 = numpy.sin(t2)
+    t4 = L2*numpy.sin(t1) + L3*t3
+    t5 = L3*numpy.cos(t2)
+    t6 = t5 + L2*numpy.cos(t1)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = t0 + w_fx*(t4 + L1*numpy.cos(q1)) + w_fy*(-t6 + L1*numpy.sin(q1))
+    tau_w[..., 1] = t0 + t4*w_fx - t6*w_fy
+    tau_w[..., 2] = -w_nz - t5*w_fy + L3*t3*w_fx
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 29 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    t0 = q1 + q2 + q3
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = -w_nz + L3*t4
+    t6 = numpy.cos(q3)
+    t7 = numpy.sin(q3)
+    t8 = t3*t6 + t4*t7
+    t9 = t4*t6 - t3*t7
+    t10 = t5 + L2*t9
+    t11 = t8*numpy.cos(q2) + t9*numpy.sin(q2)
+    t12 = t10 + L1*t11
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t12
+    tau_s[..., 1] = t10
+    tau_s[..., 2] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 87 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    L3 = p[..., 2]
+    t0 = numpy.cos(q2)
+    t1 = L1*t0
+    t2 = numpy.sin(q2)
+    t3 = L2 + L1*t2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
+    t8 = 1.696*t6
+    t9 = -0.424 + 1.696*t7
+    t10 = -0.25 + L3
+    t11 = 0.03551 + t10*t9
+    t12 = -1.0856 + 2.714*t3
+    t13 = -2.714*t1 + t4*t8 - t5*t9
+    t14 = t12 + t4*t9 + t5*t8
+    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
+    t16 = -1.6965 + 3.393*L1
+    t17 = t16 + t14*t2 - t0*t13
+    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
+    t19 = L2*t5
+    t20 = L3 + L2*t4
+    t21 = 1.696*t19
+    t22 = -0.424 + 1.696*t20
+    t23 = 0.03551 + t10*t22
+    t24 = -1.0856 + 2.714*L2
+    t25 = t24 + t21*t5 + t22*t4
+    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
+    t27 = -0.424 + 1.696*L3
+    t28 = 0.03551 + t10*t27
+    t29 = t18*dq1**2 + t26*dq2**2 + t28*dq3**2
+    t30 = dq1*t11 + dq2*t23
+    t31 = (1/2)*t29 + dq3*t30 + dq1*dq2*t15
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t31
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t31
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

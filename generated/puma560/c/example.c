@@ -16,6 +16,9 @@
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
+ *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
+ *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
+ *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
  */
 #include <stdio.h>
 

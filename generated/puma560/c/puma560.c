@@ -15,6 +15,9 @@
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
+ *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
+ *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
+ *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -1738,6 +1741,384 @@ void puma560_inverse_dynamics_batch(size_t count, const double *q, const double 
     size_t i;
     for (i = 0; i < count; ++i) {
         puma560_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, tau + i * 6);
+    }
+}
+
+void puma560_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double a2 = p[0];
+    const double a3 = p[1];
+    const double d3 = p[2];
+    const double d4 = p[3];
+    const double t0 = cos(q1);
+    const double t1 = sin(q1);
+    const double t2 = a2*cos(q2);
+    const double t3 = q2 + q3;
+    const double t4 = cos(t3);
+    const double t5 = a3*t4;
+    const double t6 = sin(t3);
+    const double t7 = a2*sin(q2);
+    const double t8 = a3*t6;
+    const double t9 = d4*t4;
+    const double t10 = t0*t8 + t0*t9;
+    const double t11 = t1*t8 + t1*t9;
+    const double t12 = t5 - d4*t6;
+    const double t13 = t0*w_ny - t1*w_nx;
+    const double t14 = t0*t6;
+    const double t15 = t1*t6;
+    const double t16 = sin(q4);
+    const double t17 = cos(q4);
+    const double t18 = t16*t4;
+    const double t19 = t1*t17;
+    const double t20 = cos(q5);
+    const double t21 = sin(q5);
+    const double t22 = t16*t21;
+    const double t23 = t21*t4;
+    tau_w[0] = -w_nz + w_fx*(t1*t2 + t1*t5 - d3*t0 - d4*t1*t6) + w_fy*(-d3*t1 - t0*t2 - t0*t5 + d4*t0*t6);
+    tau_w[1] = t13 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t12 - t2);
+    tau_w[2] = t13 + t10*w_fx + t11*w_fy - t12*w_fz;
+    tau_w[3] = t14*w_nx + t15*w_ny - t4*w_nz;
+    tau_w[4] = w_nx*(-t19 - t0*t18) + w_ny*(t0*t17 - t1*t18) - t16*t6*w_nz;
+    tau_w[5] = w_nx*(t14*t20 - t1*t22 + t0*t17*t23) + w_ny*(t0*t22 + t15*t20 + t19*t23) + w_nz*(-t20*t4 + t17*t21*t6);
+}
+
+void puma560_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        puma560_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
+    }
+}
+
+void puma560_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double a2 = p[0];
+    const double a3 = p[1];
+    const double d3 = p[2];
+    const double d4 = p[3];
+    const double t0 = sin(q2);
+    const double t1 = 9.81*t0;
+    const double t2 = cos(q2);
+    const double t3 = 9.81*t2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t1*t4 + t3*t5;
+    const double t7 = t3*t4 - t1*t5;
+    const double t8 = cos(q4);
+    const double t9 = t6*t8;
+    const double t10 = sin(q4);
+    const double t11 = t10*t6;
+    const double t12 = sin(q5);
+    const double t13 = cos(q5);
+    const double t14 = t12*t7 + t13*t9;
+    const double t15 = t13*t7 - t12*t9;
+    const double t16 = sin(q6);
+    const double t17 = cos(q6);
+    const double t18 = t14*t17 - t11*t16;
+    const double t19 = t11*t17 + t14*t16;
+    const double t20 = 0.09*t18;
+    const double t21 = 0.09*t19;
+    const double t22 = 0.09*t15;
+    const double t23 = q2 + q3;
+    const double t24 = cos(t23);
+    const double t25 = t12*t24;
+    const double t26 = sin(t23);
+    const double t27 = t17*t8;
+    const double t28 = t13*t26;
+    const double t29 = -t17*t25 - t27*t28 + t10*t16*t26;
+    const double t30 = sin(q1);
+    const double t31 = t16*t8;
+    const double t32 = t30*t31;
+    const double t33 = t10*t30;
+    const double t34 = t13*t17;
+    const double t35 = cos(q1);
+    const double t36 = t10*t35;
+    const double t37 = t12*t26;
+    const double t38 = t13*t24;
+    const double t39 = t27*t35;
+    const double t40 = t32 + t33*t34 - t38*t39 + t16*t24*t36 + t17*t35*t37;
+    const double t41 = t31*t35;
+    const double t42 = t27*t30;
+    const double t43 = t10*t16*t24 + t12*t17*t26;
+    const double t44 = -t41 + t30*t43 - t34*t36 - t38*t42;
+    const double t45 = t20 + t29*w_fz + t40*w_fx + t44*w_fy;
+    const double t46 = t16*t25 + t28*t31 + t10*t17*t26;
+    const double t47 = t13*t16;
+    const double t48 = t17*t24;
+    const double t49 = t16*t37;
+    const double t50 = t42 + t36*t48 + t38*t41 - t33*t47 - t35*t49;
+    const double t51 = -t39 + t32*t38 + t33*t48 + t36*t47 - t30*t49;
+    const double t52 = -t21 + t46*w_fz + t50*w_fx + t51*w_fy;
+    const double t53 = -t38 + t37*t8;
+    const double t54 = t10*t12;
+    const double t55 = t25*t8;
+    const double t56 = t28 + t55;
+    const double t57 = t30*t56 + t35*t54;
+    const double t58 = t35*t56 - t30*t54;
+    const double t59 = 0.032*t21 + t29*w_nz + t40*w_nx + t44*w_ny;
+    const double t60 = 0.032*t20 + t46*w_nz + t50*w_nx + t51*w_ny;
+    const double t61 = t53*w_nz + t57*w_ny + t58*w_nx;
+    const double t62 = 0.34*t14 + t17*t45 - t16*t52;
+    const double t63 = -0.34*t11 + t16*t45 + t17*t52;
+    const double t64 = t22 + 0.34*t15 + t53*w_fz + t57*w_fy + t58*w_fx;
+    const double t65 = t17*t59 - t16*t60;
+    const double t66 = t16*t59 + t17*t60;
+    const double t67 = 0.82*t9;
+    const double t68 = 0.82*t7;
+    const double t69 = 0.82*t11;
+    const double t70 = t67 + t13*t62 - t12*t64;
+    const double t71 = t69 - t63;
+    const double t72 = 0.019*t69 + d4*t71 + t13*t65 - t12*t61;
+    const double t73 = t12*t65 + t13*t61;
+    const double t74 = t66 + 0.019*t67 + d4*t70;
+    const double t75 = 4.8*t6;
+    const double t76 = 4.8*t7;
+    const double t77 = t75 + t10*t71 + t70*t8;
+    const double t78 = t10*t70 - t71*t8;
+    const double t79 = t68 + t76 + t12*t62 + t13*t64;
+    const double t80 = -0.0141*t76 + t72*t8 - d3*t79 - t10*t74;
+    const double t81 = 0.07*t75 + 0.0203*t76 + t10*t72 + t74*t8 - a3*t79;
+    const double t82 = t73 + 0.0141*t75 + a3*t78 + d3*t77;
+    const double t83 = 17.4*t1;
+    const double t84 = 17.4*t3;
+    const double t85 = t84 + t4*t79 + t5*t77;
+    const double t86 = -0.2275*t84 + t4*t80 - t5*t82;
+    const double t87 = 0.2275*t83 + a2*t78 + t4*t82 + t5*t80;
+    const double t88 = -t81 - 0.3638*t84 - 0.006*t83 + a2*t85;
+    const double t89 = t0*t86 + t2*t87;
+    tau_s[0] = t89;
+    tau_s[1] = t88;
+    tau_s[2] = -t81;
+    tau_s[3] = t73;
+    tau_s[4] = -t66;
+    tau_s[5] = t61;
+}
+
+void puma560_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        puma560_static_torque(q + i * 6, wrench + i * 6, p, tau_s + i * 6);
+    }
+}
+
+void puma560_energy(const double q[6], const double dq[6], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double a2 = p[0];
+    const double a3 = p[1];
+    const double d3 = p[2];
+    const double d4 = p[3];
+    const double t0 = sin(q2);
+    const double t1 = cos(q2);
+    const double t2 = a2*t1;
+    const double t3 = cos(q3);
+    const double t4 = sin(q3);
+    const double t5 = t0*t3 + t1*t4;
+    const double t6 = t1*t3 - t0*t4;
+    const double t7 = d3*t6;
+    const double t8 = t2 + a3*t6;
+    const double t9 = d3*t5;
+    const double t10 = cos(q4);
+    const double t11 = t10*t5;
+    const double t12 = sin(q4);
+    const double t13 = t12*t5;
+    const double t14 = t10*t7 + t12*t8 - d4*t13;
+    const double t15 = d4*t11 + t12*t7 - t10*t8;
+    const double t16 = sin(q5);
+    const double t17 = cos(q5);
+    const double t18 = t11*t17 + t16*t6;
+    const double t19 = t17*t6 - t11*t16;
+    const double t20 = t14*t17 - t16*t9;
+    const double t21 = t14*t16 + t17*t9;
+    const double t22 = sin(q6);
+    const double t23 = cos(q6);
+    const double t24 = t18*t23 - t13*t22;
+    const double t25 = t13*t23 + t18*t22;
+    const double t26 = t20*t23 - t15*t22;
+    const double t27 = t15*t23 + t20*t22;
+    const double t28 = 0.09*t26 - 0.0028799999999999997*t25;
+    const double t29 = 0.09*t27 + 0.0028799999999999997*t24;
+    const double t30 = 0.032*t29 + 0.00015*t24;
+    const double t31 = 0.032*t28 - 0.00015*t25;
+    const double t32 = 4e-05*t19;
+    const double t33 = 0.34*t20 + t22*t29 + t23*t28;
+    const double t34 = -0.34*t15 + t22*t28 - t23*t29;
+    const double t35 = 0.43000000000000005*t21;
+    const double t36 = 0.0003*t18 + t23*t30 - t22*t31;
+    const double t37 = -0.0004*t13 + t22*t30 + t23*t31;
+    const double t38 = t32 + 0.0003*t19;
+    const double t39 = 0.82*t14 - 0.015579999999999998*t13;
+    const double t40 = 0.82*t9;
+    const double t41 = 0.82*t15 + 0.015579999999999998*t11;
+    const double t42 = t39 + t16*t35 + t17*t33;
+    const double t43 = t41 - t34;
+    const double t44 = 0.0018*t11 + 0.019*t41 + d4*t43 + t17*t36 - t16*t38;
+    const double t45 = 0.0013*t6 + t16*t36 + t17*t38;
+    const double t46 = -t37 + 0.0018*t13 - 0.019*t39 - d4*t42;
+    const double t47 = 0.06767999999999999*t6 + 4.8*t7;
+    const double t48 = 4.8*t8 - 0.336*t5 - 0.09743999999999998*t6;
+    const double t49 = 0.06767999999999999*t5 + 4.8*t9;
+    const double t50 = t47 + t10*t42 + t12*t43;
+    const double t51 = t48 + t12*t42 - t10*t43;
+    const double t52 = -t40 - t49 + t16*t33 - t17*t35;
+    const double t53 = 0.066*t5 + 0.0141*t49 - 0.07*t48 + t10*t44 + t12*t46 - d3*t52;
+    const double t54 = 0.07*t47 - 0.0203*t49 + t12*t44 - a3*t52 - t10*t46;
+    const double t55 = t45 + 0.0125*t6 + 0.0141*t47 - 0.0203*t48 + a3*t51 + d3*t50;
+    const double t56 = 3.9585*t1;
+    const double t57 = 3.9585*t0;
+    const double t58 = 0.10439999999999999*t0 + 6.33012*t1 - 17.4*t2;
+    const double t59 = -t57 + t3*t52 + t4*t50;
+    const double t60 = t58 - t51;
+    const double t61 = 0.13*t0 + 0.006*t58 + 0.2275*t57 + t3*t53 - t4*t55;
+    const double t62 = 0.524*t1 + 0.3638*t58 + 0.2275*t56 + t3*t55 + t4*t53 - a2*t60;
+    const double t63 = -t54 + 0.3638*t57 - 0.006*t56 + a2*t59;
+    const double t64 = 0.35 + t0*t61 + t1*t62;
+    const double t65 = a2*t4;
+    const double t66 = a3 + a2*t3;
+    const double t67 = t65 - d4;
+    const double t68 = t10*t67;
+    const double t69 = d4*t12;
+    const double t70 = -t69 + t12*t65;
+    const double t71 = t12*t17;
+    const double t72 = t12*t16;
+    const double t73 = t16*t66 + t17*t68;
+    const double t74 = t17*t66 - t16*t68;
+    const double t75 = t10*t22 + t23*t71;
+    const double t76 = t22*t71 - t10*t23;
+    const double t77 = t23*t73 - t22*t70;
+    const double t78 = t22*t73 + t23*t70;
+    const double t79 = 0.09*t77 + 0.0028799999999999997*t76;
+    const double t80 = 0.0028799999999999997*t75 - 0.09*t78;
+    const double t81 = 0.032*t80 + 0.00015*t75;
+    const double t82 = 0.032*t79 + 0.00015*t76;
+    const double t83 = 4e-05*t72;
+    const double t84 = 0.34*t73 + t23*t79 - t22*t80;
+    const double t85 = -0.34*t70 + t22*t79 + t23*t80;
+    const double t86 = 0.43000000000000005*t74;
+    const double t87 = 0.0003*t71 + t22*t82 + t23*t81;
+    const double t88 = -0.0004*t10 + t23*t82 - t22*t81;
+    const double t89 = t83 + 0.0003*t72;
+    const double t90 = 0.82*t68 - 0.015579999999999998*t10;
+    const double t91 = 0.82*t66;
+    const double t92 = 0.015579999999999998*t12;
+    const double t93 = -t92 + 0.82*t70;
+    const double t94 = t90 + t17*t84 - t16*t86;
+    const double t95 = t93 - t85;
+    const double t96 = 0.0018*t12;
+    const double t97 = -t96 + 0.019*t93 + d4*t95 - t16*t89 - t17*t87;
+    const double t98 = t17*t89 - t16*t87;
+    const double t99 = -t88 + 0.0018*t10 - 0.019*t90 - d4*t94;
+    const double t100 = -0.336 + 4.8*t65;
+    const double t101 = -0.09743999999999998 + 4.8*t66;
+    const double t102 = t100 + t10*t94 + t12*t95;
+    const double t103 = t101 + t91 + t16*t84 + t17*t86;
+    const double t104 = -0.086 + 0.07*t100 + 0.0203*t101 + t12*t97 - a3*t103 - t10*t99;
+    const double t105 = -6.33012 + 17.4*a2;
+    const double t106 = t105 + t102*t4 + t103*t3;
+    const double t107 = 0.5396264000000001 - t104 - 0.3638*t105 + a2*t106;
+    const double t108 = d4*t10;
+    const double t109 = a3*t16 - t108*t17;
+    const double t110 = a3*t17 + t108*t16;
+    const double t111 = t109*t23 + t22*t69;
+    const double t112 = t23*t69 - t109*t22;
+    const double t113 = 0.09*t111 + 0.0028799999999999997*t76;
+    const double t114 = 0.09*t112 + 0.0028799999999999997*t75;
+    const double t115 = 0.032*t114 + 0.00015*t75;
+    const double t116 = 0.032*t113 + 0.00015*t76;
+    const double t117 = 0.34*t109 + t113*t23 - t114*t22;
+    const double t118 = 0.34*t69 + t113*t22 + t114*t23;
+    const double t119 = 0.43000000000000005*t110;
+    const double t120 = 0.0003*t71 + t115*t23 + t116*t22;
+    const double t121 = -0.0004*t10 + t116*t23 - t115*t22;
+    const double t122 = 0.82*t108 + 0.015579999999999998*t10;
+    const double t123 = 0.82*a3;
+    const double t124 = t92 + 0.82*t69;
+    const double t125 = -t122 + t117*t17 - t119*t16;
+    const double t126 = t118 + t124;
+    const double t127 = t96 + 0.019*t124 + d4*t126 + t120*t17 + t16*t89;
+    const double t128 = t17*t89 - t120*t16;
+    const double t129 = -t121 + 0.0018*t10 + 0.019*t122 - d4*t125;
+    const double t130 = -0.09743999999999998 + 4.8*a3;
+    const double t131 = t123 + t130 + t117*t16 + t119*t17;
+    const double t132 = -0.10951999999999999 + 0.0203*t130 - a3*t131 - t10*t129 - t12*t127;
+    const double t133 = t16*t23;
+    const double t134 = t16*t22;
+    const double t135 = 0.0028799999999999997*t134;
+    const double t136 = 0.0028799999999999997*t133;
+    const double t137 = 0.032*t136 + 0.00015*t133;
+    const double t138 = 0.032*t135 + 0.00015*t134;
+    const double t139 = 4e-05*t17;
+    const double t140 = 0.0003*t16 + t137*t23 + t138*t22;
+    const double t141 = t137*t22 - t138*t23;
+    const double t142 = t139 + 0.0003*t17;
+    const double t143 = 0.0013 + t140*t16 + t142*t17;
+    const double t144 = 0.0028799999999999997*t23;
+    const double t145 = 0.0028799999999999997*t22;
+    const double t146 = 0.032*t145 + 0.00015*t22;
+    const double t147 = 0.032*t144 + 0.00015*t23;
+    const double t148 = 0.0004 + t146*t22 + t147*t23;
+    const double t149 = dq1*t45 + dq2*t98 + dq3*t128 + dq6*t139 - dq5*t141;
+    const double t150 = dq1*dq1*(0.784029968642 + t64) + dq2*dq2*(2.324814845 + t107) + dq3*dq3*(0.576873331938 - t132) + dq4*dq4*(0.19079062612368 + t143) + dq5*dq5*(0.17070629165700002 + t148);
+    const double t151 = dq6*t83 - dq1*t54 - dq2*t104 - dq5*t121;
+    const double t152 = dq1*t63 + dq6*t83 - dq5*t88;
+    const double t153 = dq6*t32 - dq5*t37;
+    const double t154 = (1.0/2.0)*t150 + 0.09705225283400003*dq6*dq6 + dq1*t153 + dq2*t152 + dq3*t151 + dq4*t149;
+    const double t155 = 62.0984772*t0;
+    const double t156 = 1.0241639999999999*t1;
+    const double t157 = 230.04449999999997*a2*t0;
+    const double t158 = q2 + q3;
+    const double t159 = sin(t158);
+    const double t160 = 0.9558863999999999*t159;
+    const double t161 = cos(t158);
+    const double t162 = 3.4489998000000006*t161;
+    const double t163 = 59.3505*a3*t159;
+    const double t164 = 12.2625*d4*t161;
+    const double t165 = 0.0282528*t161*t17;
+    const double t166 = 0.0282528*t10*t159*t16;
+    kinetic[0] = t154;
+    potential[0] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166;
+    lagrangian[0] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165;
+}
+
+void puma560_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        puma560_energy(q + i * 6, dq + i * 6, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
+  wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
+  static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
+  energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters a2, a3, d3, d4
@@ -1646,6 +1649,400 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 4] = -t106 + 0.170706291657*ddq5
     tau[..., 5] = t101 + 0.194064505668*ddq6
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 108 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 0]
+    a3 = p[..., 1]
+    d3 = p[..., 2]
+    d4 = p[..., 3]
+    t0 = numpy.cos(q1)
+    t1 = numpy.sin(q1)
+    t2 = a2*numpy.cos(q2)
+    t3 = q2 + q3
+    t4 = numpy.cos(t3)
+    t5 = a3*t4
+    t6 = numpy.sin(t3)
+    t7 = a2*numpy.sin(q2)
+    t8 = a3*t6
+    t9 = d4*t4
+    t10 = t0*t8 + t0*t9
+    t11 = t1*t8 + t1*t9
+    t12 = t5 - d4*t6
+    t13 = t0*w_ny - t1*w_nx
+    t14 = t0*t6
+    t15 = t1*t6
+    t16 = numpy.sin(q4)
+    t17 = numpy.cos(q4)
+    t18 = t16*t4
+    t19 = t1*t17
+    t20 = numpy.cos(q5)
+    t21 = numpy.sin(q5)
+    t22 = t16*t21
+    t23 = t21*t4
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + w_fx*(t1*t2 + t1*t5 - d3*t0 - d4*t1*t6) + w_fy*(-d3*t1 - t0*t2 - t0*t5 + d4*t0*t6)
+    tau_w[..., 1] = t13 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t12 - t2)
+    tau_w[..., 2] = t13 + t10*w_fx + t11*w_fy - t12*w_fz
+    tau_w[..., 3] = t14*w_nx + t15*w_ny - t4*w_nz
+    tau_w[..., 4] = w_nx*(-t19 - t0*t18) + w_ny*(t0*t17 - t1*t18) - t16*t6*w_nz
+    tau_w[..., 5] = w_nx*(t14*t20 - t1*t22 + t0*t17*t23) + w_ny*(t0*t22 + t15*t20 + t19*t23) + w_nz*(-t20*t4 + t17*t21*t6)
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 258 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 0]
+    a3 = p[..., 1]
+    d3 = p[..., 2]
+    d4 = p[..., 3]
+    t0 = numpy.sin(q2)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q2)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t1*t4 + t3*t5
+    t7 = t3*t4 - t1*t5
+    t8 = numpy.cos(q4)
+    t9 = t6*t8
+    t10 = numpy.sin(q4)
+    t11 = t10*t6
+    t12 = numpy.sin(q5)
+    t13 = numpy.cos(q5)
+    t14 = t12*t7 + t13*t9
+    t15 = t13*t7 - t12*t9
+    t16 = numpy.sin(q6)
+    t17 = numpy.cos(q6)
+    t18 = t14*t17 - t11*t16
+    t19 = t11*t17 + t14*t16
+    t20 = 0.09*t18
+    t21 = 0.09*t19
+    t22 = 0.09*t15
+    t23 = q2 + q3
+    t24 = numpy.cos(t23)
+    t25 = t12*t24
+    t26 = numpy.sin(t23)
+    t27 = t17*t8
+    t28 = t13*t26
+    t29 = -t17*t25 - t27*t28 + t10*t16*t26
+    t30 = numpy.sin(q1)
+    t31 = t16*t8
+    t32 = t30*t31
+    t33 = t10*t30
+    t34 = t13*t17
+    t35 = numpy.cos(q1)
+    t36 = t10*t35
+    t37 = t12*t26
+    t38 = t13*t24
+    t39 = t27*t35
+    t40 = t32 + t33*t34 - t38*t39 + t16*t24*t36 + t17*t35*t37
+    t41 = t31*t35
+    t42 = t27*t30
+    t43 = t10*t16*t24 + t12*t17*t26
+    t44 = -t41 + t30*t43 - t34*t36 - t38*t42
+    t45 = t20 + t29*w_fz + t40*w_fx + t44*w_fy
+    t46 = t16*t25 + t28*t31 + t10*t17*t26
+    t47 = t13*t16
+    t48 = t17*t24
+    t49 = t16*t37
+    t50 = t42 + t36*t48 + t38*t41 - t33*t47 - t35*t49
+    t51 = -t39 + t32*t38 + t33*t48 + t36*t47 - t30*t49
+    t52 = -t21 + t46*w_fz + t50*w_fx + t51*w_fy
+    t53 = -t38 + t37*t8
+    t54 = t10*t12
+    t55 = t25*t8
+    t56 = t28 + t55
+    t57 = t30*t56 + t35*t54
+    t58 = t35*t56 - t30*t54
+    t59 = 0.032*t21 + t29*w_nz + t40*w_nx + t44*w_ny
+    t60 = 0.032*t20 + t46*w_nz + t50*w_nx + t51*w_ny
+    t61 = t53*w_nz + t57*w_ny + t58*w_nx
+    t62 = 0.34*t14 + t17*t45 - t16*t52
+    t63 = -0.34*t11 + t16*t45 + t17*t52
+    t64 = t22 + 0.34*t15 + t53*w_fz + t57*w_fy + t58*w_fx
+    t65 = t17*t59 - t16*t60
+    t66 = t16*t59 + t17*t60
+    t67 = 0.82*t9
+    t68 = 0.82*t7
+    t69 = 0.82*t11
+    t70 = t67 + t13*t62 - t12*t64
+    t71 = t69 - t63
+    t72 = 0.019*t69 + d4*t71 + t13*t65 - t12*t61
+    t73 = t12*t65 + t13*t61
+    t74 = t66 + 0.019*t67 + d4*t70
+    t75 = 4.8*t6
+    t76 = 4.8*t7
+    t77 = t75 + t10*t71 + t70*t8
+    t78 = t10*t70 - t71*t8
+    t79 = t68 + t76 + t12*t62 + t13*t64
+    t80 = -0.0141*t76 + t72*t8 - d3*t79 - t10*t74
+    t81 = 0.07*t75 + 0.0203*t76 + t10*t72 + t74*t8 - a3*t79
+    t82 = t73 + 0.0141*t75 + a3*t78 + d3*t77
+    t83 = 17.4*t1
+    t84 = 17.4*t3
+    t85 = t84 + t4*t79 + t5*t77
+    t86 = -0.2275*t84 + t4*t80 - t5*t82
+    t87 = 0.2275*t83 + a2*t78 + t4*t82 + t5*t80
+    t88 = -t81 - 0.3638*t84 - 0.006*t83 + a2*t85
+    t89 = t0*t86 + t2*t87
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = t89
+    tau_s[..., 1] = t88
+    tau_s[..., 2] = -t81
+    tau_s[..., 3] = t73
+    tau_s[..., 4] = -t66
+    tau_s[..., 5] = t61
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 565 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (a2, a3, d3, d4; SI units, angles in rad), 4 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    a2 = p[..., 0]
+    a3 = p[..., 1]
+    d3 = p[..., 2]
+    d4 = p[..., 3]
+    t0 = numpy.sin(q2)
+    t1 = numpy.cos(q2)
+    t2 = a2*t1
+    t3 = numpy.cos(q3)
+    t4 = numpy.sin(q3)
+    t5 = t0*t3 + t1*t4
+    t6 = t1*t3 - t0*t4
+    t7 = d3*t6
+    t8 = t2 + a3*t6
+    t9 = d3*t5
+    t10 = numpy.cos(q4)
+    t11 = t10*t5
+    t12 = numpy.sin(q4)
+    t13 = t12*t5
+    t14 = t10*t7 + t12*t8 - d4*t13
+    t15 = d4*t11 + t12*t7 - t10*t8
+    t16 = numpy.sin(q5)
+    t17 = numpy.cos(q5)
+    t18 = t11*t17 + t16*t6
+    t19 = t17*t6 - t11*t16
+    t20 = t14*t17 - t16*t9
+    t21 = t14*t16 + t17*t9
+    t22 = numpy.sin(q6)
+    t23 = numpy.cos(q6)
+    t24 = t18*t23 - t13*t22
+    t25 = t13*t23 + t18*t22
+    t26 = t20*t23 - t15*t22
+    t27 = t15*t23 + t20*t22
+    t28 = 0.09*t26 - 0.00288*t25
+    t29 = 0.09*t27 + 0.00288*t24
+    t30 = 0.032*t29 + 0.00015*t24
+    t31 = 0.032*t28 - 0.00015*t25
+    t32 = 4.0e-5*t19
+    t33 = 0.34*t20 + t22*t29 + t23*t28
+    t34 = -0.34*t15 + t22*t28 - t23*t29
+    t35 = 0.43*t21
+    t36 = 0.0003*t18 + t23*t30 - t22*t31
+    t37 = -0.0004*t13 + t22*t30 + t23*t31
+    t38 = t32 + 0.0003*t19
+    t39 = 0.82*t14 - 0.01558*t13
+    t40 = 0.82*t9
+    t41 = 0.82*t15 + 0.01558*t11
+    t42 = t39 + t16*t35 + t17*t33
+    t43 = t41 - t34
+    t44 = 0.0018*t11 + 0.019*t41 + d4*t43 + t17*t36 - t16*t38
+    t45 = 0.0013*t6 + t16*t36 + t17*t38
+    t46 = -t37 + 0.0018*t13 - 0.019*t39 - d4*t42
+    t47 = 0.06768*t6 + 4.8*t7
+    t48 = 4.8*t8 - 0.336*t5 - 0.09744*t6
+    t49 = 0.06768*t5 + 4.8*t9
+    t50 = t47 + t10*t42 + t12*t43
+    t51 = t48 + t12*t42 - t10*t43
+    t52 = -t40 - t49 + t16*t33 - t17*t35
+    t53 = 0.066*t5 + 0.0141*t49 - 0.07*t48 + t10*t44 + t12*t46 - d3*t52
+    t54 = 0.07*t47 - 0.0203*t49 + t12*t44 - a3*t52 - t10*t46
+    t55 = t45 + 0.0125*t6 + 0.0141*t47 - 0.0203*t48 + a3*t51 + d3*t50
+    t56 = 3.9585*t1
+    t57 = 3.9585*t0
+    t58 = 0.1044*t0 + 6.33012*t1 - 17.4*t2
+    t59 = -t57 + t3*t52 + t4*t50
+    t60 = t58 - t51
+    t61 = 0.13*t0 + 0.006*t58 + 0.2275*t57 + t3*t53 - t4*t55
+    t62 = 0.524*t1 + 0.3638*t58 + 0.2275*t56 + t3*t55 + t4*t53 - a2*t60
+    t63 = -t54 + 0.3638*t57 - 0.006*t56 + a2*t59
+    t64 = 0.35 + t0*t61 + t1*t62
+    t65 = a2*t4
+    t66 = a3 + a2*t3
+    t67 = t65 - d4
+    t68 = t10*t67
+    t69 = d4*t12
+    t70 = -t69 + t12*t65
+    t71 = t12*t17
+    t72 = t12*t16
+    t73 = t16*t66 + t17*t68
+    t74 = t17*t66 - t16*t68
+    t75 = t10*t22 + t23*t71
+    t76 = t22*t71 - t10*t23
+    t77 = t23*t73 - t22*t70
+    t78 = t22*t73 + t23*t70
+    t79 = 0.09*t77 + 0.00288*t76
+    t80 = 0.00288*t75 - 0.09*t78
+    t81 = 0.032*t80 + 0.00015*t75
+    t82 = 0.032*t79 + 0.00015*t76
+    t83 = 4.0e-5*t72
+    t84 = 0.34*t73 + t23*t79 - t22*t80
+    t85 = -0.34*t70 + t22*t79 + t23*t80
+    t86 = 0.43*t74
+    t87 = 0.0003*t71 + t22*t82 + t23*t81
+    t88 = -0.0004*t10 + t23*t82 - t22*t81
+    t89 = t83 + 0.0003*t72
+    t90 = 0.82*t68 - 0.01558*t10
+    t91 = 0.82*t66
+    t92 = 0.01558*t12
+    t93 = -t92 + 0.82*t70
+    t94 = t90 + t17*t84 - t16*t86
+    t95 = t93 - t85
+    t96 = 0.0018*t12
+    t97 = -t96 + 0.019*t93 + d4*t95 - t16*t89 - t17*t87
+    t98 = t17*t89 - t16*t87
+    t99 = -t88 + 0.0018*t10 - 0.019*t90 - d4*t94
+    t100 = -0.336 + 4.8*t65
+    t101 = -0.09744 + 4.8*t66
+    t102 = t100 + t10*t94 + t12*t95
+    t103 = t101 + t91 + t16*t84 + t17*t86
+    t104 = -0.086 + 0.07*t100 + 0.0203*t101 + t12*t97 - a3*t103 - t10*t99
+    t105 = -6.33012 + 17.4*a2
+    t106 = t105 + t102*t4 + t103*t3
+    t107 = 0.5396264 - t104 - 0.3638*t105 + a2*t106
+    t108 = d4*t10
+    t109 = a3*t16 - t108*t17
+    t110 = a3*t17 + t108*t16
+    t111 = t109*t23 + t22*t69
+    t112 = t23*t69 - t109*t22
+    t113 = 0.09*t111 + 0.00288*t76
+    t114 = 0.09*t112 + 0.00288*t75
+    t115 = 0.032*t114 + 0.00015*t75
+    t116 = 0.032*t113 + 0.00015*t76
+    t117 = 0.34*t109 + t113*t23 - t114*t22
+    t118 = 0.34*t69 + t113*t22 + t114*t23
+    t119 = 0.43*t110
+    t120 = 0.0003*t71 + t115*t23 + t116*t22
+    t121 = -0.0004*t10 + t116*t23 - t115*t22
+    t122 = 0.82*t108 + 0.01558*t10
+    t123 = 0.82*a3
+    t124 = t92 + 0.82*t69
+    t125 = -t122 + t117*t17 - t119*t16
+    t126 = t118 + t124
+    t127 = t96 + 0.019*t124 + d4*t126 + t120*t17 + t16*t89
+    t128 = t17*t89 - t120*t16
+    t129 = -t121 + 0.0018*t10 + 0.019*t122 - d4*t125
+    t130 = -0.09744 + 4.8*a3
+    t131 = t123 + t130 + t117*t16 + t119*t17
+    t132 = -0.10952 + 0.0203*t130 - a3*t131 - t10*t129 - t12*t127
+    t133 = t16*t23
+    t134 = t16*t22
+    t135 = 0.00288*t134
+    t136 = 0.00288*t133
+    t137 = 0.032*t136 + 0.00015*t133
+    t138 = 0.032*t135 + 0.00015*t134
+    t139 = 4.0e-5*t17
+    t140 = 0.0003*t16 + t137*t23 + t138*t22
+    t141 = t137*t22 - t138*t23
+    t142 = t139 + 0.0003*t17
+    t143 = 0.0013 + t140*t16 + t142*t17
+    t144 = 0.00288*t23
+    t145 = 0.00288*t22
+    t146 = 0.032*t145 + 0.00015*t22
+    t147 = 0.032*t144 + 0.00015*t23
+    t148 = 0.0004 + t146*t22 + t147*t23
+    t149 = dq1*t45 + dq2*t98 + dq3*t128 + dq6*t139 - dq5*t141
+    t150 = dq1**2*(0.784029968642 + t64) + dq2**2*(2.324814845 + t107) + dq3**2*(0.576873331938 - t132) + dq4**2*(0.19079062612368 + t143) + dq5**2*(0.170706291657 + t148)
+    t151 = dq6*t83 - dq1*t54 - dq2*t104 - dq5*t121
+    t152 = dq1*t63 + dq6*t83 - dq5*t88
+    t153 = dq6*t32 - dq5*t37
+    t154 = (1/2)*t150 + 0.097052252834*dq6**2 + dq1*t153 + dq2*t152 + dq3*t151 + dq4*t149
+    t155 = 62.0984772*t0
+    t156 = 1.024164*t1
+    t157 = 230.0445*a2*t0
+    t158 = q2 + q3
+    t159 = numpy.sin(t158)
+    t160 = 0.9558864*t159
+    t161 = numpy.cos(t158)
+    t162 = 3.4489998*t161
+    t163 = 59.3505*a3*t159
+    t164 = 12.2625*d4*t161
+    t165 = 0.0282528*t161*t17
+    t166 = 0.0282528*t10*t159*t16
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t154
+    potential = numpy.zeros(batch + ())
+    potential[...] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

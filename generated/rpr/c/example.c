@@ -16,6 +16,9 @@
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
  *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+ *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+ *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+ *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

@@ -15,6 +15,9 @@
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
  *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+ *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+ *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+ *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -543,6 +546,123 @@ void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
     size_t i;
     for (i = 0; i < count; ++i) {
         rpr_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
+    }
+}
+
+void rpr_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double L3 = p[0];
+    const double t0 = cos(q1);
+    const double t1 = sin(q3);
+    const double t2 = L3*t1;
+    const double t3 = sin(q1);
+    const double t4 = t3*w_fx;
+    const double t5 = cos(q3);
+    tau_w[0] = -w_nz + w_fx*(-q2*t0 - t0*t2) + w_fy*(-q2*t3 - t2*t3);
+    tau_w[1] = -t4 + t0*w_fy;
+    tau_w[2] = -t0*w_nx - t3*w_ny + L3*t1*w_fz - L3*t4*t5 + L3*t0*t5*w_fy;
+}
+
+void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double L3 = p[0];
+    const double t0 = cos(q3);
+    const double t1 = 9.81*t0;
+    const double t2 = sin(q3);
+    const double t3 = 9.81*t2;
+    const double t4 = 3.393*t3;
+    const double t5 = cos(q1);
+    const double t6 = t5*w_fy;
+    const double t7 = sin(q1);
+    const double t8 = t7*w_fx;
+    const double t9 = t6 - t8;
+    const double t10 = 3.393*t1 + t2*t9 - t0*w_fz;
+    const double t11 = -t4 + t0*t9 + t2*w_fz;
+    const double t12 = t5*w_fx + t7*w_fy;
+    const double t13 = t7*w_nx;
+    const double t14 = -t13 + t5*w_ny;
+    const double t15 = t14*t2 - t0*w_nz;
+    const double t16 = L3*t12 + t0*t14 + t2*w_nz;
+    const double t17 = 0.5*t4 + L3*t11 - t5*w_nx - t7*w_ny;
+    const double t18 = t0*t11 + t10*t2;
+    const double t19 = t0*t15 - q2*t12 - t16*t2;
+    tau_s[0] = t19;
+    tau_s[1] = t18;
+    tau_s[2] = t17;
+}
+
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
+    }
+}
+
+void rpr_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L3 = p[0];
+    const double t0 = cos(q3);
+    const double t1 = sin(q3);
+    const double t2 = q2 + L3*t1;
+    const double t3 = 3.393*t2 - 1.6965*t1;
+    const double t4 = 0.0006786*t0;
+    const double t5 = 0.5 - L3;
+    const double t6 = -0.2831*t1 + t3*t5;
+    const double t7 = -2.6505 + 5.301*q2;
+    const double t8 = t3 + t7;
+    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
+    const double t10 = 3.393*t1;
+    const double t11 = 3.393*t0;
+    const double t12 = t11*t5;
+    const double t13 = 5.301 + t0*t11 + t1*t10;
+    const double t14 = -1.6965 + 3.393*L3;
+    const double t15 = 0.2831 - t14*t5;
+    const double t16 = t13*dq2*dq2 + t15*dq3*dq3 + t9*dq1*dq1;
+    const double t17 = (1.0/2.0)*t16 - dq2*dq3*t12;
+    const double t18 = 16.642665*t0;
+    const double t19 = 33.28533*L3*t0;
+    kinetic[0] = t17;
+    potential[0] = t19 - t18;
+    lagrangian[0] = t17 + t18 - t19;
+}
+
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

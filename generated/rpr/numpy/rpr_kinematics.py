@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+  wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+  static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+  energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L3
@@ -466,6 +469,139 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 1] = t27
     tau[..., 2] = t25
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 33 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    L3 = p[..., 0]
+    t0 = numpy.cos(q1)
+    t1 = numpy.sin(q3)
+    t2 = L3*t1
+    t3 = numpy.sin(q1)
+    t4 = t3*w_fx
+    t5 = numpy.cos(q3)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = -w_nz + w_fx*(-q2*t0 - t0*t2) + w_fy*(-q2*t3 - t2*t3)
+    tau_w[..., 1] = -t4 + t0*w_fy
+    tau_w[..., 2] = -t0*w_nx - t3*w_ny + L3*t1*w_fz - L3*t4*t5 + L3*t0*t5*w_fy
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 48 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    L3 = p[..., 0]
+    t0 = numpy.cos(q3)
+    t1 = 9.81*t0
+    t2 = numpy.sin(q3)
+    t3 = 9.81*t2
+    t4 = 3.393*t3
+    t5 = numpy.cos(q1)
+    t6 = t5*w_fy
+    t7 = numpy.sin(q1)
+    t8 = t7*w_fx
+    t9 = t6 - t8
+    t10 = 3.393*t1 + t2*t9 - t0*w_fz
+    t11 = -t4 + t0*t9 + t2*w_fz
+    t12 = t5*w_fx + t7*w_fy
+    t13 = t7*w_nx
+    t14 = -t13 + t5*w_ny
+    t15 = t14*t2 - t0*w_nz
+    t16 = L3*t12 + t0*t14 + t2*w_nz
+    t17 = 0.5*t4 + L3*t11 - t5*w_nx - t7*w_ny
+    t18 = t0*t11 + t10*t2
+    t19 = t0*t15 - q2*t12 - t16*t2
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t19
+    tau_s[..., 1] = t18
+    tau_s[..., 2] = t17
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 52 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L3; SI units, angles in rad), 1 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L3 = p[..., 0]
+    t0 = numpy.cos(q3)
+    t1 = numpy.sin(q3)
+    t2 = q2 + L3*t1
+    t3 = 3.393*t2 - 1.6965*t1
+    t4 = 0.0006786*t0
+    t5 = 0.5 - L3
+    t6 = -0.2831*t1 + t3*t5
+    t7 = -2.6505 + 5.301*q2
+    t8 = t3 + t7
+    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
+    t10 = 3.393*t1
+    t11 = 3.393*t0
+    t12 = t11*t5
+    t13 = 5.301 + t0*t11 + t1*t10
+    t14 = -1.6965 + 3.393*L3
+    t15 = 0.2831 - t14*t5
+    t16 = t13*dq2**2 + t15*dq3**2 + t9*dq1**2
+    t17 = (1/2)*t16 - dq2*dq3*t12
+    t18 = 16.642665*t0
+    t19 = 33.28533*L3*t0
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t17
+    potential = numpy.zeros(batch + ())
+    potential[...] = t19 - t18
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = t17 + t18 - t19
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

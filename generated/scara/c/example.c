@@ -16,6 +16,9 @@
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

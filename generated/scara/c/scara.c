@@ -15,6 +15,9 @@
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
+ *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -487,6 +490,103 @@ void scara_inverse_dynamics_batch(size_t count, const double *q, const double *d
     size_t i;
     for (i = 0; i < count; ++i) {
         scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
+    }
+}
+
+void scara_wrench_torque(const double q[3], const double wrench[6], const double *p, double tau_w[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = q1 + q2;
+    const double t1 = sin(t0);
+    const double t2 = L2*cos(t0);
+    tau_w[0] = -w_nz + w_fx*(L1*sin(q1) + L2*t1) + w_fy*(-t2 - L1*cos(q1));
+    tau_w[1] = -w_nz - t2*w_fy + L2*t1*w_fx;
+    tau_w[2] = -w_fz;
+}
+
+void scara_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_wrench_torque(q + i * 3, wrench + i * 6, p, tau_w + i * 3);
+    }
+}
+
+void scara_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nz = wrench[5];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = q1 + q2;
+    const double t1 = cos(t0);
+    const double t2 = sin(t0);
+    const double t3 = t1*w_fx + t2*w_fy;
+    const double t4 = t2*w_fx - t1*w_fy;
+    const double t5 = 4.838292000000001 - w_fz;
+    const double t6 = -w_nz + L2*t4;
+    const double t7 = t4*cos(q2) - t3*sin(q2);
+    const double t8 = t6 + L1*t7;
+    tau_s[0] = t8;
+    tau_s[1] = t6;
+    tau_s[2] = t5;
+}
+
+void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
+    }
+}
+
+void scara_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = -0.1342125 + 1.193*t3;
+    const double t5 = 1.6862000000000001*t1;
+    const double t6 = t4 + 0.4932*t3;
+    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
+    const double t8 = -0.4031625 + 2.481*L1;
+    const double t9 = t8 + t0*t5 + t2*t6;
+    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
+    const double t11 = -0.1342125 + 1.193*L2;
+    const double t12 = t11 + 0.4932*L2;
+    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
+    const double t14 = t10*dq1*dq1 + t13*dq2*dq2;
+    const double t15 = (1.0/2.0)*t14 + 0.2466*dq3*dq3 + dq1*dq2*t7;
+    const double t16 = 4.838292000000001*q3;
+    kinetic[0] = t15;
+    potential[0] = 0.48382920000000007 + t16;
+    lagrangian[0] = -0.48382920000000007 + t15 - t16;
+}
+
+void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

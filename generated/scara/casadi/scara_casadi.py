@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
+  wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+  static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+  energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -420,6 +423,125 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (22 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.sin(t0)
+    t2 = L2*casadi.cos(t0)
+    tau_w = symbol_type.zeros(3, 1)
+    tau_w[0, 0] = -w_nz + w_fx*(L1*casadi.sin(q1) + L2*t1) + w_fy*(-t2 - L1*casadi.cos(q1))
+    tau_w[1, 0] = -w_nz - t2*w_fy + L2*t1*w_fx
+    tau_w[2, 0] = -w_fz
+    return casadi.Function(
+        "scara_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (19 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 2)
+    q1 = q[0]
+    q2 = q[1]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nz = wrench[5]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = q1 + q2
+    t1 = casadi.cos(t0)
+    t2 = casadi.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = 4.838292 - w_fz
+    t6 = -w_nz + L2*t4
+    t7 = t4*casadi.cos(q2) - t3*casadi.sin(q2)
+    t8 = t6 + L1*t7
+    tau_s = symbol_type.zeros(3, 1)
+    tau_s[0, 0] = t8
+    tau_s[1, 0] = t6
+    tau_s[2, 0] = t5
+    return casadi.Function(
+        "scara_static_torque",
+        [q, wrench, p],
+        [tau_s],
+        ["q", "wrench", "p"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (49 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 2)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = -0.1342125 + 1.193*t3
+    t5 = 1.6862*t1
+    t6 = t4 + 0.4932*t3
+    t7 = 0.00524366 - 0.1125*t4 + L2*t6
+    t8 = -0.4031625 + 2.481*L1
+    t9 = t8 + t0*t5 + t2*t6
+    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
+    t11 = -0.1342125 + 1.193*L2
+    t12 = t11 + 0.4932*L2
+    t13 = 0.00524366 - 0.1125*t11 + L2*t12
+    t14 = t10*dq1**2 + t13*dq2**2
+    t15 = (1/2)*t14 + 0.2466*dq3**2 + dq1*dq2*t7
+    t16 = 4.838292*q3
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t15
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = 0.4838292 + t16
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = -0.4838292 + t15 - t16
+    return casadi.Function(
+        "scara_energy",
+        [q, dq, p],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

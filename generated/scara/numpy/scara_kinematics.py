@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
+  wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
+  static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+  energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -389,6 +392,119 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 1] = t15
     tau[..., 2] = t11
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 22 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_w: -J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.sin(t0)
+    t2 = L2*numpy.cos(t0)
+    tau_w = numpy.zeros(batch + (3,))
+    tau_w[..., 0] = -w_nz + w_fx*(L1*numpy.sin(q1) + L2*t1) + w_fy*(-t2 - L1*numpy.cos(q1))
+    tau_w[..., 1] = -w_nz - t2*w_fy + L2*t1*w_fx
+    tau_w[..., 2] = -w_fz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 19 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns tau_s: G - J^T w (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nz = wrench[..., 5]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = q1 + q2
+    t1 = numpy.cos(t0)
+    t2 = numpy.sin(t0)
+    t3 = t1*w_fx + t2*w_fy
+    t4 = t2*w_fx - t1*w_fy
+    t5 = 4.838292 - w_fz
+    t6 = -w_nz + L2*t4
+    t7 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
+    t8 = t6 + L1*t7
+    tau_s = numpy.zeros(batch + (3,))
+    tau_s[..., 0] = t8
+    tau_s[..., 1] = t6
+    tau_s[..., 2] = t5
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 49 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = -0.1342125 + 1.193*t3
+    t5 = 1.6862*t1
+    t6 = t4 + 0.4932*t3
+    t7 = 0.00524366 - 0.1125*t4 + L2*t6
+    t8 = -0.4031625 + 2.481*L1
+    t9 = t8 + t0*t5 + t2*t6
+    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
+    t11 = -0.1342125 + 1.193*L2
+    t12 = t11 + 0.4932*L2
+    t13 = 0.00524366 - 0.1125*t11 + L2*t12
+    t14 = t10*dq1**2 + t13*dq2**2
+    t15 = (1/2)*t14 + 0.2466*dq3**2 + dq1*dq2*t7
+    t16 = 4.838292*q3
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t15
+    potential = numpy.zeros(batch + ())
+    potential[...] = 0.4838292 + t16
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = -0.4838292 + t15 - t16
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

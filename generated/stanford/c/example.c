@@ -16,6 +16,9 @@
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
+ *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  */
 #include <stdio.h>
 

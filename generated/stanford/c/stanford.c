@@ -15,6 +15,9 @@
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
+ *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -1451,6 +1454,333 @@ void stanford_inverse_dynamics_batch(size_t count, const double *q, const double
     size_t i;
     for (i = 0; i < count; ++i) {
         stanford_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, tau + i * 6);
+    }
+}
+
+void stanford_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d2 = p[1];
+    const double d6 = p[2];
+    const double t0 = cos(q1);
+    const double t1 = sin(q1);
+    const double t2 = sin(q2);
+    const double t3 = t1*t2;
+    const double t4 = cos(q5);
+    const double t5 = sin(q5);
+    const double t6 = sin(q4);
+    const double t7 = t0*t6;
+    const double t8 = cos(q2);
+    const double t9 = cos(q4);
+    const double t10 = t1*t9;
+    const double t11 = t3*t4 + t5*(t7 + t10*t8);
+    const double t12 = d6*t11;
+    const double t13 = t12 + d2*t0 + q3*t3;
+    const double t14 = t0*t2;
+    const double t15 = t1*t6;
+    const double t16 = t14*t4 + t5*(-t15 + t0*t8*t9);
+    const double t17 = d6*t16;
+    const double t18 = t17 + q3*t14 - d2*t1;
+    const double t19 = -t4*t8 + t2*t5*t9;
+    const double t20 = -t19;
+    const double t21 = d6*t20;
+    const double t22 = t21 + q3*t8;
+    const double t23 = t2*t6;
+    const double t24 = t10 + t7*t8;
+    const double t25 = t15*t8 - t0*t9;
+    const double t26 = -t25;
+    const double t27 = -t24;
+    tau_w[0] = -w_nz + t13*w_fx - t18*w_fy;
+    tau_w[1] = t1*w_nx + w_fz*(t0*t18 + t1*t13) - t0*w_ny - t0*t22*w_fx - t1*t22*w_fy;
+    tau_w[2] = -t14*w_fx - t3*w_fy - t8*w_fz;
+    tau_w[3] = w_fx*(t12*t8 - t21*t3) + w_fy*(-t17*t8 + d6*t0*t2*t20) + w_fz*(t17*t3 - t12*t14) - t14*w_nx - t3*w_ny - t8*w_nz;
+    tau_w[4] = t24*w_nx + t25*w_ny + w_fx*(t12*t23 - t21*t26) + w_fy*(-t17*t23 + d6*t20*t27) + w_fz*(t17*t26 - t12*t27) - t23*w_nz;
+    tau_w[5] = t19*w_nz - t11*w_ny - t16*w_nx;
+}
+
+void stanford_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        stanford_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
+    }
+}
+
+void stanford_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double d2 = p[1];
+    const double d6 = p[2];
+    const double t0 = sin(q2);
+    const double t1 = 9.81*t0;
+    const double t2 = cos(q2);
+    const double t3 = 9.81*t2;
+    const double t4 = cos(q4);
+    const double t5 = t1*t4;
+    const double t6 = sin(q4);
+    const double t7 = t1*t6;
+    const double t8 = sin(q5);
+    const double t9 = cos(q5);
+    const double t10 = t3*t8 + t5*t9;
+    const double t11 = t3*t9 - t5*t8;
+    const double t12 = sin(q6);
+    const double t13 = cos(q6);
+    const double t14 = t12*t7 - t10*t13;
+    const double t15 = t10*t12 + t13*t7;
+    const double t16 = 0.8923*t14;
+    const double t17 = 0.8923*t15;
+    const double t18 = 0.8923*t11;
+    const double t19 = t13*t4;
+    const double t20 = t0*t9;
+    const double t21 = t2*t8;
+    const double t22 = t0*t6;
+    const double t23 = t13*t21 + t19*t20 - t12*t22;
+    const double t24 = sin(q1);
+    const double t25 = t12*t4;
+    const double t26 = t24*t25;
+    const double t27 = t24*t6;
+    const double t28 = t13*t9;
+    const double t29 = cos(q1);
+    const double t30 = t0*t8;
+    const double t31 = t29*t6;
+    const double t32 = t2*t9;
+    const double t33 = t19*t29;
+    const double t34 = t26 + t27*t28 - t32*t33 + t12*t2*t31 + t13*t29*t30;
+    const double t35 = t25*t29;
+    const double t36 = t19*t24;
+    const double t37 = t0*t13*t8 + t12*t2*t6;
+    const double t38 = -t35 + t24*t37 - t28*t31 - t32*t36;
+    const double t39 = t16 + t23*w_fz + t34*w_fx + t38*w_fy;
+    const double t40 = t12*t21 + t13*t22 + t20*t25;
+    const double t41 = t13*t2;
+    const double t42 = t12*t9;
+    const double t43 = t12*t30;
+    const double t44 = t36 + t31*t41 + t32*t35 - t27*t42 - t29*t43;
+    const double t45 = -t33 + t26*t32 + t27*t41 + t31*t42 - t24*t43;
+    const double t46 = t17 + t44*w_fx + t45*w_fy - t40*w_fz;
+    const double t47 = -t32 + t30*t4;
+    const double t48 = t21*t4;
+    const double t49 = t20 + t48;
+    const double t50 = -t29*t49 + t24*t6*t8;
+    const double t51 = t24*t49 + t29*t6*t8;
+    const double t52 = 0.1315*t17 + t23*w_nz + t34*w_nx + t38*w_ny - d6*t46;
+    const double t53 = -0.1315*t16 + d6*t39 + t44*w_nx + t45*w_ny - t40*w_nz;
+    const double t54 = t47*w_nz + t50*w_nx - t51*w_ny;
+    const double t55 = 0.458*t7;
+    const double t56 = -0.458*t10 + t13*t39 - t12*t46;
+    const double t57 = t18 + 0.458*t11 + t47*w_fz + t50*w_fx - t51*w_fy;
+    const double t58 = t13*t52 - t12*t53;
+    const double t59 = t12*t52 + t13*t53;
+    const double t60 = -0.458*t5 + t56*t9 + t57*t8;
+    const double t61 = -0.458*t3 + t56*t8 - t57*t9;
+    const double t62 = 2*t55 + t12*t39 + t13*t46;
+    const double t63 = t54*t8 + t58*t9;
+    const double t64 = t58*t8 - t54*t9;
+    const double t65 = 7.634*t1;
+    const double t66 = -t65 + t4*t60 - t6*t62;
+    const double t67 = t4*t62 + t6*t60;
+    const double t68 = -t61 + 7.634*t3;
+    const double t69 = 0.5*t65 + q3*t66 + t4*t59 + t6*t63;
+    const double t70 = 3.266*t1;
+    const double t71 = 3.266*t3;
+    const double t72 = t66 - t70;
+    const double t73 = t68 + t71;
+    const double t74 = -0.077*t71 + d2*t73 + t4*t63 - q3*t67 - t59*t6;
+    const double t75 = t64 + 0.077*t70 + d2*t72;
+    const double t76 = t0*t74 + t2*t75;
+    tau_s[0] = -t76;
+    tau_s[1] = t69;
+    tau_s[2] = t68;
+    tau_s[3] = -t64;
+    tau_s[4] = t59;
+    tau_s[5] = t54;
+}
+
+void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        stanford_static_torque(q + i * 6, wrench + i * 6, p, tau_s + i * 6);
+    }
+}
+
+void stanford_energy(const double q[6], const double dq[6], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d1 = p[0];
+    const double d2 = p[1];
+    const double d6 = p[2];
+    const double t0 = cos(q2);
+    const double t1 = sin(q2);
+    const double t2 = d2*t0;
+    const double t3 = d2*t1;
+    const double t4 = q3*t1;
+    const double t5 = cos(q4);
+    const double t6 = t1*t5;
+    const double t7 = sin(q4);
+    const double t8 = t1*t7;
+    const double t9 = t4*t7 - t2*t5;
+    const double t10 = t2*t7 + t4*t5;
+    const double t11 = sin(q5);
+    const double t12 = cos(q5);
+    const double t13 = t0*t11 + t12*t6;
+    const double t14 = t0*t12 - t11*t6;
+    const double t15 = t11*t3 + t12*t9;
+    const double t16 = t11*t9 - t12*t3;
+    const double t17 = sin(q6);
+    const double t18 = cos(q6);
+    const double t19 = t17*t8 - t13*t18;
+    const double t20 = t13*t17 + t18*t8;
+    const double t21 = d6*t20 + t10*t17 + t15*t18;
+    const double t22 = t10*t18 - d6*t19 - t15*t17;
+    const double t23 = 0.8923*t21 - 0.11733745*t20;
+    const double t24 = 0.8923*t22 + 0.11733745*t19;
+    const double t25 = 0.1315 - d6;
+    const double t26 = 0.005233*t19 + t24*t25;
+    const double t27 = 0.005233*t20 - t23*t25;
+    const double t28 = 0.0001785*t14;
+    const double t29 = 0.458*t10;
+    const double t30 = 0.458*t15 + t18*t23 - t17*t24;
+    const double t31 = 1.3503*t16;
+    const double t32 = -0.0002405*t13 + t18*t26 - t17*t27;
+    const double t33 = 0.0002405*t8 + t17*t26 + t18*t27;
+    const double t34 = t28 + 0.0002061*t14;
+    const double t35 = 0.458*t9 + t11*t31 + t12*t30;
+    const double t36 = 0.458*t3 + t11*t30 - t12*t31;
+    const double t37 = 2*t29 + t17*t23 + t18*t24;
+    const double t38 = -0.0002405*t6 + t11*t34 + t12*t32;
+    const double t39 = -0.0002405*t0 + t11*t32 - t12*t34;
+    const double t40 = t33 + 0.0002061*t8;
+    const double t41 = 7.634*t2;
+    const double t42 = 7.634*t4 - 3.817*t1;
+    const double t43 = -t41 + t35*t5 - t37*t7;
+    const double t44 = t42 + t35*t7 + t37*t5;
+    const double t45 = t36 + 7.634*t3;
+    const double t46 = 0.5*t41 + q3*t43 + t38*t7 + t40*t5;
+    const double t47 = 0.251482*t0 - 3.266*t2;
+    const double t48 = 0.251482*t1 - 3.266*t3;
+    const double t49 = t43 + t47;
+    const double t50 = t48 - t45;
+    const double t51 = 0.5*t42 - 0.646395*t1 - 0.077*t48 + d2*t50 + t38*t5 - q3*t44 - t40*t7;
+    const double t52 = -t39 + 0.077*t47 + 0.011930000000000001*t0 - d2*t49;
+    const double t53 = -0.02265 + t1*t51 - t0*t52;
+    const double t54 = q3*t5;
+    const double t55 = q3*t7;
+    const double t56 = t12*t7;
+    const double t57 = t11*t7;
+    const double t58 = t12*t54;
+    const double t59 = t11*t54;
+    const double t60 = t17*t5 + t18*t56;
+    const double t61 = t18*t5 - t17*t56;
+    const double t62 = d6*t61 + t18*t58 - t17*t55;
+    const double t63 = d6*t60 + t17*t58 + t18*t55;
+    const double t64 = 0.8923*t62 - 0.11733745*t61;
+    const double t65 = 0.11733745*t60 - 0.8923*t63;
+    const double t66 = 0.005233*t60 + t25*t65;
+    const double t67 = 0.005233*t61 - t25*t64;
+    const double t68 = 0.0001785*t57;
+    const double t69 = 0.458*t55;
+    const double t70 = 0.458*t58 + t18*t64 - t17*t65;
+    const double t71 = 1.3503*t59;
+    const double t72 = 0.0002405*t56 + t18*t66 - t17*t67;
+    const double t73 = 0.0002405*t5 + t17*t66 + t18*t67;
+    const double t74 = t68 + 0.0002061*t57;
+    const double t75 = 0.458*t54 + t11*t71 + t12*t70;
+    const double t76 = t11*t70 - t12*t71;
+    const double t77 = -2*t69 + t17*t64 + t18*t65;
+    const double t78 = 0.0002405*t7 + t11*t74 + t12*t72;
+    const double t79 = t11*t72 - t12*t74;
+    const double t80 = t73 + 0.0002061*t5;
+    const double t81 = -3.817 + 7.634*q3;
+    const double t82 = t81 + t5*t75 - t7*t77;
+    const double t83 = 0.641982 - 0.5*t81 + q3*t82 + t5*t80 + t7*t78;
+    const double t84 = t11*t18;
+    const double t85 = t11*t17;
+    const double t86 = 0.8923*t84;
+    const double t87 = 0.8923*t85;
+    const double t88 = t25*t87;
+    const double t89 = t25*t86;
+    const double t90 = 0.458*t11 + t17*t87 + t18*t86;
+    const double t91 = 1.3503*t12;
+    const double t92 = t18*t88 - t17*t89;
+    const double t93 = t17*t88 + t18*t89;
+    const double t94 = 0.458 + t11*t90 + t12*t91;
+    const double t95 = t11*t92;
+    const double t96 = 7.634 + t94;
+    const double t97 = d6*t85;
+    const double t98 = d6*t84;
+    const double t99 = 0.8923*t97 - 0.11733745*t85;
+    const double t100 = 0.8923*t98 - 0.11733745*t84;
+    const double t101 = -0.005233*t84 + t100*t25;
+    const double t102 = 0.005233*t85 - t25*t99;
+    const double t103 = 0.0001785*t12;
+    const double t104 = -0.0002405*t11 + t101*t18 - t102*t17;
+    const double t105 = t101*t17 + t102*t18;
+    const double t106 = t103 + 0.0002061*t12;
+    const double t107 = -0.0002405 + t104*t11 - t106*t12;
+    const double t108 = d6*t18;
+    const double t109 = d6*t17;
+    const double t110 = 0.8923*t108 - 0.11733745*t18;
+    const double t111 = 0.11733745*t17 - 0.8923*t109;
+    const double t112 = 0.005233*t17 + t111*t25;
+    const double t113 = 0.005233*t18 - t110*t25;
+    const double t114 = 0.0002405 + t112*t17 + t113*t18;
+    const double t115 = dq5*t105 + dq6*t103 - dq1*t39 - dq2*t79 - dq3*t95;
+    const double t116 = dq1*dq1*(0.2 - t53) + dq2*dq2*(0.2 + t83) + dq3*dq3*(2 + t96) + dq4*dq4*(0.05 - t107) + dq5*dq5*(0.05 + t114);
+    const double t117 = dq1*t46 + dq5*t73 + dq6*t68 - dq3*t76;
+    const double t118 = dq5*t33 + dq6*t28 - dq3*t45;
+    const double t119 = (1.0/2.0)*t116 + 0.02508925*dq6*dq6 + dq1*t118 + dq2*t117 + dq4*t115 + dq3*dq5*t93;
+    const double t120 = 248.078223*d1;
+    const double t121 = 37.444770000000005*t0;
+    const double t122 = 92.62896300000001*q3*t0;
+    const double t123 = t0*t12;
+    const double t124 = 1.1510803845000002*t123;
+    const double t125 = 8.753463*d6;
+    const double t126 = t123*t125;
+    const double t127 = t11*t6;
+    const double t128 = 1.1510803845000002*t127;
+    const double t129 = t125*t127;
+    kinetic[0] = t119;
+    potential[0] = -25.4224188 + t120 + t122 + t126 + t128 - t121 - t124 - t129;
+    lagrangian[0] = 25.4224188 + t119 + t121 + t124 + t129 - t120 - t122 - t126 - t128;
+}
+
+void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        stanford_energy(q + i * 6, dq + i * 6, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
+  wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+  static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+  energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters d1, d2, d6) and named outputs; build it once
@@ -1400,6 +1403,355 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
         [tau],
         ["q", "dq", "ddq", "p"],
         ["tau"],
+    )
+
+
+def wrench_torque_function(symbol_type=casadi.SX):
+    """Joint torques of an external wrench (122 operations) as a casadi.Function.
+
+    Output tau_w: -J^T w (6x1).
+    """
+    q = symbol_type.sym("q", 6)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    q4 = q[3]
+    q5 = q[4]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
+    d2 = p[1]
+    d6 = p[2]
+    t0 = casadi.cos(q1)
+    t1 = casadi.sin(q1)
+    t2 = casadi.sin(q2)
+    t3 = t1*t2
+    t4 = casadi.cos(q5)
+    t5 = casadi.sin(q5)
+    t6 = casadi.sin(q4)
+    t7 = t0*t6
+    t8 = casadi.cos(q2)
+    t9 = casadi.cos(q4)
+    t10 = t1*t9
+    t11 = t3*t4 + t5*(t7 + t10*t8)
+    t12 = d6*t11
+    t13 = t12 + d2*t0 + q3*t3
+    t14 = t0*t2
+    t15 = t1*t6
+    t16 = t14*t4 + t5*(-t15 + t0*t8*t9)
+    t17 = d6*t16
+    t18 = t17 + q3*t14 - d2*t1
+    t19 = -t4*t8 + t2*t5*t9
+    t20 = -t19
+    t21 = d6*t20
+    t22 = t21 + q3*t8
+    t23 = t2*t6
+    t24 = t10 + t7*t8
+    t25 = t15*t8 - t0*t9
+    t26 = -t25
+    t27 = -t24
+    tau_w = symbol_type.zeros(6, 1)
+    tau_w[0, 0] = -w_nz + t13*w_fx - t18*w_fy
+    tau_w[1, 0] = t1*w_nx + w_fz*(t0*t18 + t1*t13) - t0*w_ny - t0*t22*w_fx - t1*t22*w_fy
+    tau_w[2, 0] = -t14*w_fx - t3*w_fy - t8*w_fz
+    tau_w[3, 0] = w_fx*(t12*t8 - t21*t3) + w_fy*(-t17*t8 + d6*t0*t2*t20) + w_fz*(t17*t3 - t12*t14) - t14*w_nx - t3*w_ny - t8*w_nz
+    tau_w[4, 0] = t24*w_nx + t25*w_ny + w_fx*(t12*t23 - t21*t26) + w_fy*(-t17*t23 + d6*t20*t27) + w_fz*(t17*t26 - t12*t27) - t23*w_nz
+    tau_w[5, 0] = t19*w_nz - t11*w_ny - t16*w_nx
+    return casadi.Function(
+        "stanford_wrench_torque",
+        [q, wrench, p],
+        [tau_w],
+        ["q", "wrench", "p"],
+        ["tau_w"],
+    )
+
+
+def static_torque_function(symbol_type=casadi.SX):
+    """Static torques holding the arm against gravity and an external wrench (220 operations) as a casadi.Function.
+
+    Output tau_s: G - J^T w (6x1).
+    """
+    q = symbol_type.sym("q", 6)
+    wrench = symbol_type.sym("wrench", 6)
+    p = symbol_type.sym("p", 3)
+    q1 = q[0]
+    q2 = q[1]
+    q3 = q[2]
+    q4 = q[3]
+    q5 = q[4]
+    q6 = q[5]
+    w_fx = wrench[0]
+    w_fy = wrench[1]
+    w_fz = wrench[2]
+    w_nx = wrench[3]
+    w_ny = wrench[4]
+    w_nz = wrench[5]
+    d2 = p[1]
+    d6 = p[2]
+    t0 = casadi.sin(q2)
+    t1 = 9.81*t0
+    t2 = casadi.cos(q2)
+    t3 = 9.81*t2
+    t4 = casadi.cos(q4)
+    t5 = t1*t4
+    t6 = casadi.sin(q4)
+    t7 = t1*t6
+    t8 = casadi.sin(q5)
+    t9 = casadi.cos(q5)
+    t10 = t3*t8 + t5*t9
+    t11 = t3*t9 - t5*t8
+    t12 = casadi.sin(q6)
+    t13 = casadi.cos(q6)
+    t14 = t12*t7 - t10*t13
+    t15 = t10*t12 + t13*t7
+    t16 = 0.8923*t14
+    t17 = 0.8923*t15
+    t18 = 0.8923*t11
+    t19 = t13*t4
+    t20 = t0*t9
+    t21 = t2*t8
+    t22 = t0*t6
+    t23 = t13*t21 + t19*t20 - t12*t22
+    t24 = casadi.sin(q1)
+    t25 = t12*t4
+    t26 = t24*t25
+    t27 = t24*t6
+    t28 = t13*t9
+    t29 = casadi.cos(q1)
+    t30 = t0*t8
+    t31 = t29*t6
+    t32 = t2*t9
+    t33 = t19*t29
+    t34 = t26 + t27*t28 - t32*t33 + t12*t2*t31 + t13*t29*t30
+    t35 = t25*t29
+    t36 = t19*t24
+    t37 = t0*t13*t8 + t12*t2*t6
+    t38 = -t35 + t24*t37 - t28*t31 - t32*t36
+    t39 = t16 + t23*w_fz + t34*w_fx + t38*w_fy
+    t40 = t12*t21 + t13*t22 + t20*t25
+    t41 = t13*t2
+    t42 = t12*t9
+    t43 = t12*t30
+    t44 = t36 + t31*t41 + t32*t35 - t27*t42 - t29*t43
+    t45 = -t33 + t26*t32 + t27*t41 + t31*t42 - t24*t43
+    t46 = t17 + t44*w_fx + t45*w_fy - t40*w_fz
+    t47 = -t32 + t30*t4
+    t48 = t21*t4
+    t49 = t20 + t48
+    t50 = -t29*t49 + t24*t6*t8
+    t51 = t24*t49 + t29*t6*t8
+    t52 = 0.1315*t17 + t23*w_nz + t34*w_nx + t38*w_ny - d6*t46
+    t53 = -0.1315*t16 + d6*t39 + t44*w_nx + t45*w_ny - t40*w_nz
+    t54 = t47*w_nz + t50*w_nx - t51*w_ny
+    t55 = 0.458*t7
+    t56 = -0.458*t10 + t13*t39 - t12*t46
+    t57 = t18 + 0.458*t11 + t47*w_fz + t50*w_fx - t51*w_fy
+    t58 = t13*t52 - t12*t53
+    t59 = t12*t52 + t13*t53
+    t60 = -0.458*t5 + t56*t9 + t57*t8
+    t61 = -0.458*t3 + t56*t8 - t57*t9
+    t62 = 2*t55 + t12*t39 + t13*t46
+    t63 = t54*t8 + t58*t9
+    t64 = t58*t8 - t54*t9
+    t65 = 7.634*t1
+    t66 = -t65 + t4*t60 - t6*t62
+    t67 = t4*t62 + t6*t60
+    t68 = -t61 + 7.634*t3
+    t69 = 0.5*t65 + q3*t66 + t4*t59 + t6*t63
+    t70 = 3.266*t1
+    t71 = 3.266*t3
+    t72 = t66 - t70
+    t73 = t68 + t71
+    t74 = -0.077*t71 + d2*t73 + t4*t63 - q3*t67 - t59*t6
+    t75 = t64 + 0.077*t70 + d2*t72
+    t76 = t0*t74 + t2*t75
+    tau_s = symbol_type.zeros(6, 1)
+    tau_s[0, 0] = -t76
+    tau_s[1, 0] = t69
+    tau_s[2, 0] = t68
+    tau_s[3, 0] = -t64
+    tau_s[4, 0] = t59
+    tau_s[5, 0] = t54
+    return casadi.Function(
+        "stanford_static_torque",
+        [q, wrench, p],
+        [tau_s],
+        ["q", "wrench", "p"],
+        ["tau_s"],
+    )
+
+
+def energy_function(symbol_type=casadi.SX):
+    """Kinetic and potential energy and the lagrangian (400 operations) as a casadi.Function.
+
+    Output kinetic: kinetic energy T = 1/2 dq^T M dq.
+    Output potential: potential energy V = -sum m_i g^T p_ci.
+    Output lagrangian: Lagrangian L = T - V.
+    """
+    q = symbol_type.sym("q", 6)
+    dq = symbol_type.sym("dq", 6)
+    p = symbol_type.sym("p", 3)
+    q2 = q[1]
+    q3 = q[2]
+    q4 = q[3]
+    q5 = q[4]
+    q6 = q[5]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    dq4 = dq[3]
+    dq5 = dq[4]
+    dq6 = dq[5]
+    d1 = p[0]
+    d2 = p[1]
+    d6 = p[2]
+    t0 = casadi.cos(q2)
+    t1 = casadi.sin(q2)
+    t2 = d2*t0
+    t3 = d2*t1
+    t4 = q3*t1
+    t5 = casadi.cos(q4)
+    t6 = t1*t5
+    t7 = casadi.sin(q4)
+    t8 = t1*t7
+    t9 = t4*t7 - t2*t5
+    t10 = t2*t7 + t4*t5
+    t11 = casadi.sin(q5)
+    t12 = casadi.cos(q5)
+    t13 = t0*t11 + t12*t6
+    t14 = t0*t12 - t11*t6
+    t15 = t11*t3 + t12*t9
+    t16 = t11*t9 - t12*t3
+    t17 = casadi.sin(q6)
+    t18 = casadi.cos(q6)
+    t19 = t17*t8 - t13*t18
+    t20 = t13*t17 + t18*t8
+    t21 = d6*t20 + t10*t17 + t15*t18
+    t22 = t10*t18 - d6*t19 - t15*t17
+    t23 = 0.8923*t21 - 0.11733745*t20
+    t24 = 0.8923*t22 + 0.11733745*t19
+    t25 = 0.1315 - d6
+    t26 = 0.005233*t19 + t24*t25
+    t27 = 0.005233*t20 - t23*t25
+    t28 = 0.0001785*t14
+    t29 = 0.458*t10
+    t30 = 0.458*t15 + t18*t23 - t17*t24
+    t31 = 1.3503*t16
+    t32 = -0.0002405*t13 + t18*t26 - t17*t27
+    t33 = 0.0002405*t8 + t17*t26 + t18*t27
+    t34 = t28 + 0.0002061*t14
+    t35 = 0.458*t9 + t11*t31 + t12*t30
+    t36 = 0.458*t3 + t11*t30 - t12*t31
+    t37 = 2*t29 + t17*t23 + t18*t24
+    t38 = -0.0002405*t6 + t11*t34 + t12*t32
+    t39 = -0.0002405*t0 + t11*t32 - t12*t34
+    t40 = t33 + 0.0002061*t8
+    t41 = 7.634*t2
+    t42 = 7.634*t4 - 3.817*t1
+    t43 = -t41 + t35*t5 - t37*t7
+    t44 = t42 + t35*t7 + t37*t5
+    t45 = t36 + 7.634*t3
+    t46 = 0.5*t41 + q3*t43 + t38*t7 + t40*t5
+    t47 = 0.251482*t0 - 3.266*t2
+    t48 = 0.251482*t1 - 3.266*t3
+    t49 = t43 + t47
+    t50 = t48 - t45
+    t51 = 0.5*t42 - 0.646395*t1 - 0.077*t48 + d2*t50 + t38*t5 - q3*t44 - t40*t7
+    t52 = -t39 + 0.077*t47 + 0.01193*t0 - d2*t49
+    t53 = -0.02265 + t1*t51 - t0*t52
+    t54 = q3*t5
+    t55 = q3*t7
+    t56 = t12*t7
+    t57 = t11*t7
+    t58 = t12*t54
+    t59 = t11*t54
+    t60 = t17*t5 + t18*t56
+    t61 = t18*t5 - t17*t56
+    t62 = d6*t61 + t18*t58 - t17*t55
+    t63 = d6*t60 + t17*t58 + t18*t55
+    t64 = 0.8923*t62 - 0.11733745*t61
+    t65 = 0.11733745*t60 - 0.8923*t63
+    t66 = 0.005233*t60 + t25*t65
+    t67 = 0.005233*t61 - t25*t64
+    t68 = 0.0001785*t57
+    t69 = 0.458*t55
+    t70 = 0.458*t58 + t18*t64 - t17*t65
+    t71 = 1.3503*t59
+    t72 = 0.0002405*t56 + t18*t66 - t17*t67
+    t73 = 0.0002405*t5 + t17*t66 + t18*t67
+    t74 = t68 + 0.0002061*t57
+    t75 = 0.458*t54 + t11*t71 + t12*t70
+    t76 = t11*t70 - t12*t71
+    t77 = -2*t69 + t17*t64 + t18*t65
+    t78 = 0.0002405*t7 + t11*t74 + t12*t72
+    t79 = t11*t72 - t12*t74
+    t80 = t73 + 0.0002061*t5
+    t81 = -3.817 + 7.634*q3
+    t82 = t81 + t5*t75 - t7*t77
+    t83 = 0.641982 - 0.5*t81 + q3*t82 + t5*t80 + t7*t78
+    t84 = t11*t18
+    t85 = t11*t17
+    t86 = 0.8923*t84
+    t87 = 0.8923*t85
+    t88 = t25*t87
+    t89 = t25*t86
+    t90 = 0.458*t11 + t17*t87 + t18*t86
+    t91 = 1.3503*t12
+    t92 = t18*t88 - t17*t89
+    t93 = t17*t88 + t18*t89
+    t94 = 0.458 + t11*t90 + t12*t91
+    t95 = t11*t92
+    t96 = 7.634 + t94
+    t97 = d6*t85
+    t98 = d6*t84
+    t99 = 0.8923*t97 - 0.11733745*t85
+    t100 = 0.8923*t98 - 0.11733745*t84
+    t101 = -0.005233*t84 + t100*t25
+    t102 = 0.005233*t85 - t25*t99
+    t103 = 0.0001785*t12
+    t104 = -0.0002405*t11 + t101*t18 - t102*t17
+    t105 = t101*t17 + t102*t18
+    t106 = t103 + 0.0002061*t12
+    t107 = -0.0002405 + t104*t11 - t106*t12
+    t108 = d6*t18
+    t109 = d6*t17
+    t110 = 0.8923*t108 - 0.11733745*t18
+    t111 = 0.11733745*t17 - 0.8923*t109
+    t112 = 0.005233*t17 + t111*t25
+    t113 = 0.005233*t18 - t110*t25
+    t114 = 0.0002405 + t112*t17 + t113*t18
+    t115 = dq5*t105 + dq6*t103 - dq1*t39 - dq2*t79 - dq3*t95
+    t116 = dq1**2*(0.2 - t53) + dq2**2*(0.2 + t83) + dq3**2*(2 + t96) + dq4**2*(0.05 - t107) + dq5**2*(0.05 + t114)
+    t117 = dq1*t46 + dq5*t73 + dq6*t68 - dq3*t76
+    t118 = dq5*t33 + dq6*t28 - dq3*t45
+    t119 = (1/2)*t116 + 0.02508925*dq6**2 + dq1*t118 + dq2*t117 + dq4*t115 + dq3*dq5*t93
+    t120 = 248.078223*d1
+    t121 = 37.44477*t0
+    t122 = 92.628963*q3*t0
+    t123 = t0*t12
+    t124 = 1.1510803845*t123
+    t125 = 8.753463*d6
+    t126 = t123*t125
+    t127 = t11*t6
+    t128 = 1.1510803845*t127
+    t129 = t125*t127
+    kinetic = symbol_type.zeros(1, 1)
+    kinetic[0, 0] = t119
+    potential = symbol_type.zeros(1, 1)
+    potential[0, 0] = -25.4224188 + t120 + t122 + t126 + t128 - t121 - t124 - t129
+    lagrangian = symbol_type.zeros(1, 1)
+    lagrangian[0, 0] = 25.4224188 + t119 + t121 + t124 + t129 - t120 - t122 - t126 - t128
+    return casadi.Function(
+        "stanford_energy",
+        [q, dq, p],
+        [kinetic, potential, lagrangian],
+        ["q", "dq", "p"],
+        ["kinetic", "potential", "lagrangian"],
     )
 
 

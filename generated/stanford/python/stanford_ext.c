@@ -15,10 +15,13 @@
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
+ *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  *
  * CPython extension 'stanford_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
- * where it needs them), each of shape (6,) or (N, 6), then optionally p (the
+ * where it needs them), each of shape (6,) or (N, 6) (the wrench: (6,) or (N, 6)), then optionally p (the
  * parameters d1, d2, d6); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
  * Build: symkin derive stanford --out DIR.
@@ -34,12 +37,12 @@
 #include "../c/stanford.h"
 
 #define MAX_STATES 3
-#define MAX_OUTPUTS 2
+#define MAX_OUTPUTS 3
 #define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
-#define STATE_SHAPES "every state input must be numbers of shape (6,) or (N, 6), the same for all"
+#define STATE_SHAPES "every state input must be numbers of shape (6,) or (N, 6), the same for all (the wrench: (6,) or (N, 6))"
 
 typedef void (*batch_kernel)(size_t count, const double *const *states, const double *p,
                              const double *pi, double **outputs);
@@ -47,6 +50,7 @@ typedef void (*batch_kernel)(size_t count, const double *const *states, const do
 typedef struct {
     const char *usage;
     int nstates;
+    int sizes[MAX_STATES];
     int takes_pi;
     batch_kernel kernel;
     int noutputs;
@@ -149,7 +153,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
             count = batched ? PyArray_DIM(states[0], 0) : 1;
         }
         if (PyArray_NDIM(states[i]) != PyArray_NDIM(states[0]) ||
-            PyArray_DIM(states[i], batched) != 6 || (batched && PyArray_DIM(states[i], 0) != count)) {
+            PyArray_DIM(states[i], batched) != b->sizes[i] || (batched && PyArray_DIM(states[i], 0) != count)) {
             PyErr_Format(PyExc_ValueError, "%s: %s", b->usage, STATE_SHAPES);
             goto done;
         }
@@ -237,7 +241,7 @@ static void fk_adapter(size_t count, const double *const *states, const double *
 }
 
 static const binding fk_binding = {
-    "fk(q, p=None)", 1, 0, fk_adapter, 1,
+    "fk(q, p=None)", 1, { 6 }, 0, fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
 NULL,
@@ -257,7 +261,7 @@ static void position_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding position_binding = {
-    "position(q, p=None)", 1, 0, position_adapter, 1,
+    "position(q, p=None)", 1, { 6 }, 0, position_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -277,7 +281,7 @@ static void jacobian_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding jacobian_binding = {
-    "jacobian(q, p=None)", 1, 0, jacobian_adapter, 1,
+    "jacobian(q, p=None)", 1, { 6 }, 0, jacobian_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -297,7 +301,7 @@ static void position_jacobian_adapter(size_t count, const double *const *states,
 }
 
 static const binding position_jacobian_binding = {
-    "position_jacobian(q, p=None)", 1, 0, position_jacobian_adapter, 1,
+    "position_jacobian(q, p=None)", 1, { 6 }, 0, position_jacobian_adapter, 1,
     { 2 },
     { { 3, 6 } },
 NULL,
@@ -317,7 +321,7 @@ static void fk_jacobian_adapter(size_t count, const double *const *states, const
 }
 
 static const binding fk_jacobian_binding = {
-    "fk_jacobian(q, p=None)", 1, 0, fk_jacobian_adapter, 2,
+    "fk_jacobian(q, p=None)", 1, { 6 }, 0, fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 6 } },
 NULL,
@@ -337,7 +341,7 @@ static void det_adapter(size_t count, const double *const *states, const double 
 }
 
 static const binding det_binding = {
-    "det(q, p=None)", 1, 0, det_adapter, 1,
+    "det(q, p=None)", 1, { 6 }, 0, det_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -357,7 +361,7 @@ static void manipulability_adapter(size_t count, const double *const *states, co
 }
 
 static const binding manipulability_binding = {
-    "manipulability(q, p=None)", 1, 0, manipulability_adapter, 1,
+    "manipulability(q, p=None)", 1, { 6 }, 0, manipulability_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -377,7 +381,7 @@ static void mass_matrix_adapter(size_t count, const double *const *states, const
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None)", 1, 0, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, { 6 }, 0, mass_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -397,7 +401,7 @@ static void gravity_adapter(size_t count, const double *const *states, const dou
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None)", 1, 0, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, { 6 }, 0, gravity_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -417,7 +421,7 @@ static void coriolis_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None)", 2, 0, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -437,7 +441,7 @@ static void coriolis_matrix_adapter(size_t count, const double *const *states, c
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None)", 2, 0, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -457,7 +461,7 @@ static void inverse_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None)", 3, 0, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 6, 6, 6 }, 0, inverse_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -467,6 +471,66 @@ static PyObject *py_inverse_dynamics(PyObject *self, PyObject *const *args, Py_s
 {
     (void)self;
     return run_binding(&inverse_dynamics_binding, args, nargs, kwnames);
+}
+
+static void wrench_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    stanford_wrench_torque_batch(count, states[0], states[1], p, outputs[0]);
+}
+
+static const binding wrench_torque_binding = {
+    "wrench_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, wrench_torque_adapter, 1,
+    { 1 },
+    { { 6, 0 } },
+NULL,
+};
+
+static PyObject *py_wrench_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&wrench_torque_binding, args, nargs, kwnames);
+}
+
+static void static_torque_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    stanford_static_torque_batch(count, states[0], states[1], p, outputs[0]);
+}
+
+static const binding static_torque_binding = {
+    "static_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, static_torque_adapter, 1,
+    { 1 },
+    { { 6, 0 } },
+NULL,
+};
+
+static PyObject *py_static_torque(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&static_torque_binding, args, nargs, kwnames);
+}
+
+static void energy_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    stanford_energy_batch(count, states[0], states[1], p, outputs[0], outputs[1], outputs[2]);
+}
+
+static const binding energy_binding = {
+    "energy(q, dq, p=None)", 2, { 6, 6 }, 0, energy_adapter, 3,
+    { 0, 0, 0 },
+    { { 0, 0 }, { 0, 0 }, { 0, 0 } },
+NULL,
+};
+
+static PyObject *py_energy(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&energy_binding, args, nargs, kwnames);
 }
 
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
@@ -480,7 +544,7 @@ static void forward_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None)", 3, 0, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, { 6, 6, 6 }, 0, forward_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
@@ -517,6 +581,12 @@ static PyMethodDef methods[] = {
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
+    {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
+     "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
+    {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
+     "static_torque(q, wrench, p=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+    {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
+     "energy(q, dq, p=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "forward_dynamics(q, dq, tau, p=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},

@@ -15,6 +15,9 @@
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
  *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
+ *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
+ *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
+ *   energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -1789,6 +1792,395 @@ void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq,
     size_t i;
     for (i = 0; i < count; ++i) {
         ur5_inverse_dynamics(q + i * 6, dq + i * 6, ddq + i * 6, p, tau + i * 6);
+    }
+}
+
+void ur5_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double a2 = p[1];
+    const double a3 = p[2];
+    const double d4 = p[3];
+    const double d5 = p[4];
+    const double d6 = p[5];
+    const double t0 = cos(q1);
+    const double t1 = sin(q1);
+    const double t2 = a2*cos(q2);
+    const double t3 = cos(q5);
+    const double t4 = t0*t3;
+    const double t5 = d6*t4;
+    const double t6 = q2 + q3;
+    const double t7 = a3*cos(t6);
+    const double t8 = q4 + t6;
+    const double t9 = sin(t8);
+    const double t10 = d5*t9;
+    const double t11 = cos(t8);
+    const double t12 = sin(q5);
+    const double t13 = d6*t12;
+    const double t14 = t1*t3;
+    const double t15 = d6*t14;
+    const double t16 = a2*sin(q2);
+    const double t17 = sin(t6);
+    const double t18 = a3*t17;
+    const double t19 = d5*t11;
+    const double t20 = t0*t19;
+    const double t21 = t0*t13;
+    const double t22 = t21*t9;
+    const double t23 = t1*t19;
+    const double t24 = t1*t13;
+    const double t25 = t24*t9;
+    const double t26 = t10 - d6*t11*t12;
+    const double t27 = t26 + t7;
+    const double t28 = t0*w_ny - t1*w_nx;
+    const double t29 = t20 + t22;
+    const double t30 = t23 + t25;
+    tau_w[0] = -w_nz + w_fx*(-t5 + t1*t10 + t1*t2 + t1*t7 - d4*t0 - t1*t11*t13) + w_fy*(-t15 - d4*t1 - t0*t10 - t0*t2 - t0*t7 + d6*t0*t11*t12);
+    tau_w[1] = t28 + w_fx*(-t20 - t22 + t0*t16 + t0*t18) + w_fy*(-t23 - t25 + t1*t16 + t1*t18) + w_fz*(-t2 - t27);
+    tau_w[2] = t28 + w_fx*(-t29 + a3*t0*t17) + w_fy*(-t30 + a3*t1*t17) - t27*w_fz;
+    tau_w[3] = t28 - t26*w_fz - t29*w_fx - t30*w_fy;
+    tau_w[4] = t11*w_nz + w_fx*(t24 + t11*t5) + w_fy*(-t21 + t11*t15) - t0*t9*w_nx - t1*t9*w_ny + d6*t3*t9*w_fz;
+    tau_w[5] = w_nx*(-t14 + t0*t11*t12) + w_ny*(t4 + t1*t11*t12) + t12*t9*w_nz;
+}
+
+void ur5_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        ur5_wrench_torque(q + i * 6, wrench + i * 6, p, tau_w + i * 6);
+    }
+}
+
+void ur5_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[restrict 6])
+{
+    const double q1 = q[0];
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double w_fx = wrench[0];
+    const double w_fy = wrench[1];
+    const double w_fz = wrench[2];
+    const double w_nx = wrench[3];
+    const double w_ny = wrench[4];
+    const double w_nz = wrench[5];
+    const double a2 = p[1];
+    const double a3 = p[2];
+    const double d4 = p[3];
+    const double d5 = p[4];
+    const double d6 = p[5];
+    const double t0 = sin(q2);
+    const double t1 = 9.81*t0;
+    const double t2 = cos(q2);
+    const double t3 = 9.81*t2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t1*t4 + t3*t5;
+    const double t7 = t3*t4 - t1*t5;
+    const double t8 = cos(q4);
+    const double t9 = sin(q4);
+    const double t10 = t6*t8 + t7*t9;
+    const double t11 = t6*t9 - t7*t8;
+    const double t12 = cos(q5);
+    const double t13 = t10*t12;
+    const double t14 = sin(q5);
+    const double t15 = t10*t14;
+    const double t16 = sin(q6);
+    const double t17 = cos(q6);
+    const double t18 = t13*t17 - t11*t16;
+    const double t19 = t11*t17 + t13*t16;
+    const double t20 = 0.1897*t18;
+    const double t21 = 0.1897*t19;
+    const double t22 = 0.1897*t15;
+    const double t23 = q2 + q3 + q4;
+    const double t24 = cos(t23);
+    const double t25 = t16*t24;
+    const double t26 = sin(t23);
+    const double t27 = t17*t26;
+    const double t28 = t25 + t12*t27;
+    const double t29 = cos(q1);
+    const double t30 = t14*t17;
+    const double t31 = sin(q1);
+    const double t32 = t16*t26;
+    const double t33 = t17*t24;
+    const double t34 = t12*t31;
+    const double t35 = t29*t30 + t31*t32 - t33*t34;
+    const double t36 = t12*t29;
+    const double t37 = -t30*t31 - t33*t36 + t16*t26*t29;
+    const double t38 = t20 + t35*w_fy + t37*w_fx - t28*w_fz;
+    const double t39 = -t33 + t12*t32;
+    const double t40 = t14*t16;
+    const double t41 = t25*t36 + t27*t29 + t31*t40;
+    const double t42 = t25*t34 + t27*t31 - t29*t40;
+    const double t43 = -t21 + t39*w_fz + t41*w_fx + t42*w_fy;
+    const double t44 = t14*t26;
+    const double t45 = t36 + t14*t24*t31;
+    const double t46 = -t34 + t14*t24*t29;
+    const double t47 = -0.001159*t21 + t35*w_ny + t37*w_nx - d6*t43 - t28*w_nz;
+    const double t48 = -0.001159*t20 + d6*t38 + t39*w_nz + t41*w_nx + t42*w_ny;
+    const double t49 = t44*w_nz + t45*w_ny + t46*w_nx;
+    const double t50 = 1.219*t13;
+    const double t51 = 1.219*t11;
+    const double t52 = 1.219*t15;
+    const double t53 = t50 + t17*t38 - t16*t43;
+    const double t54 = -t51 + t16*t38 + t17*t43;
+    const double t55 = -t22 - t52 + t44*w_fz + t45*w_fy + t46*w_fx;
+    const double t56 = 0.01634*t51 + 0.0018*t52 + t17*t47 - d5*t55 - t16*t48;
+    const double t57 = 0.01634*t50 + t16*t47 + t17*t48;
+    const double t58 = t49 + 0.0018*t50 + d5*t53;
+    const double t59 = 1.219*t10;
+    const double t60 = t59 + t12*t53 - t14*t55;
+    const double t61 = t12*t55 + t14*t53;
+    const double t62 = t51 - t54;
+    const double t63 = -0.0018*t51 + d4*t62 + t12*t56 - t14*t58;
+    const double t64 = 0.01634*t59 + t12*t58 + t14*t56;
+    const double t65 = -t57 + 0.0018*t59 - d4*t60;
+    const double t66 = 2.33*t6;
+    const double t67 = 2.33*t7;
+    const double t68 = t66 + t60*t8 + t62*t9;
+    const double t69 = t67 + t60*t9 - t62*t8;
+    const double t70 = -0.0265*t67 + t63*t8 + t65*t9;
+    const double t71 = 0.0265*t66 + t63*t9 - a3*t61 - t65*t8;
+    const double t72 = t64 + 0.15*t67 + a3*t69;
+    const double t73 = 8.393*t1;
+    const double t74 = 8.393*t3;
+    const double t75 = t74 + t4*t69 + t5*t68;
+    const double t76 = -0.11336*t74 + t4*t70 - t5*t71;
+    const double t77 = 0.11336*t73 + t4*t71 + t5*t70 - a2*t61;
+    const double t78 = t72 + 0.2125*t74 + a2*t75;
+    const double t79 = t0*t76 + t2*t77;
+    tau_s[0] = t79;
+    tau_s[1] = t78;
+    tau_s[2] = t72;
+    tau_s[3] = t64;
+    tau_s[4] = -t57;
+    tau_s[5] = t49;
+}
+
+void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        ur5_static_torque(q + i * 6, wrench + i * 6, p, tau_s + i * 6);
+    }
+}
+
+void ur5_energy(const double q[6], const double dq[6], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d1 = p[0];
+    const double a2 = p[1];
+    const double a3 = p[2];
+    const double d4 = p[3];
+    const double d5 = p[4];
+    const double d6 = p[5];
+    const double t0 = sin(q2);
+    const double t1 = cos(q2);
+    const double t2 = a2*t1;
+    const double t3 = cos(q3);
+    const double t4 = sin(q3);
+    const double t5 = t0*t3 + t1*t4;
+    const double t6 = t1*t3 - t0*t4;
+    const double t7 = t2 + a3*t6;
+    const double t8 = cos(q4);
+    const double t9 = sin(q4);
+    const double t10 = t5*t8 + t6*t9;
+    const double t11 = t5*t9 - t6*t8;
+    const double t12 = d4*t11;
+    const double t13 = d4*t10;
+    const double t14 = cos(q5);
+    const double t15 = t10*t14;
+    const double t16 = sin(q5);
+    const double t17 = t10*t16;
+    const double t18 = d5*t17 + t12*t14 + t16*t7;
+    const double t19 = t12*t16 - d5*t15 - t14*t7;
+    const double t20 = sin(q6);
+    const double t21 = cos(q6);
+    const double t22 = t15*t21 - t11*t20;
+    const double t23 = t11*t21 + t15*t20;
+    const double t24 = d6*t23 + t13*t20 + t18*t21;
+    const double t25 = t18*t20 - d6*t22 - t13*t21;
+    const double t26 = 0.00021986230000000002*t23 - 0.1897*t24;
+    const double t27 = 0.00021986230000000002*t22 + 0.1897*t25;
+    const double t28 = 0.001159 - d6;
+    const double t29 = 0.0001652*t22 + t27*t28;
+    const double t30 = 0.0001652*t23 + t26*t28;
+    const double t31 = 0.0001162*t17;
+    const double t32 = 0.0021942*t17 + 1.219*t18 + 0.019918460000000002*t11;
+    const double t33 = 1.219*t13;
+    const double t34 = t33 + 0.019918460000000002*t15;
+    const double t35 = 1.219*t19 - 0.0021942*t15;
+    const double t36 = -t32 + t21*t26 - t20*t27;
+    const double t37 = -t34 + t20*t26 + t21*t27;
+    const double t38 = t35 + 0.1897*t19;
+    const double t39 = 0.01634*t34 + 0.001527*t15 - 0.0018*t35 + t20*t30 + t21*t29 - d5*t38;
+    const double t40 = -0.01634*t32 - 0.001234*t11 + t20*t29 - t21*t30;
+    const double t41 = -t31 - 0.0018*t32 - 0.001527*t17 + d5*t36;
+    const double t42 = 0.0021942*t11 - 1.219*t12;
+    const double t43 = 1.219*t7 + 0.019918460000000002*t10;
+    const double t44 = t33 - 0.0021942*t10;
+    const double t45 = t42 + t14*t36 - t16*t38;
+    const double t46 = t44 - t37;
+    const double t47 = 0.01634*t43 + 0.001827*t10 - 0.0018*t44 + d4*t46 + t14*t39 - t16*t41;
+    const double t48 = 0.01634*t42 + t14*t41 + t16*t39;
+    const double t49 = -t40 + 0.0018*t42 + 0.001827*t11 - d4*t45;
+    const double t50 = 0.061745*t6;
+    const double t51 = 0.061745*t5;
+    const double t52 = 2.33*t7 + 0.3495*t6;
+    const double t53 = t50 + t45*t8 + t46*t9;
+    const double t54 = -t51 + t45*t9 - t46*t8;
+    const double t55 = -t43 - t52 + t14*t38 + t16*t36;
+    const double t56 = 0.002359*t5 + 0.0265*t51 + t47*t8 + t49*t9;
+    const double t57 = 0.03105*t6 + 0.15*t52 + 0.0265*t50 + t47*t9 - a3*t55 - t49*t8;
+    const double t58 = t48 - 0.15*t51 + a3*t54;
+    const double t59 = 0.9514304800000001*t1;
+    const double t60 = 0.9514304800000001*t0;
+    const double t61 = 8.393*t2 + 1.7835125*t1;
+    const double t62 = -t60 + t3*t54 + t4*t53;
+    const double t63 = t55 - t61;
+    const double t64 = 0.11336*t60 + 0.01511*t0 + t3*t56 - t4*t57;
+    const double t65 = 0.1339*t1 + 0.2125*t61 + 0.11336*t59 + t3*t57 + t4*t56 - a2*t63;
+    const double t66 = t58 - 0.2125*t60 + a2*t62;
+    const double t67 = 0.00667378213 + t0*t64 + t1*t65;
+    const double t68 = a2*t4;
+    const double t69 = a3 + a2*t3;
+    const double t70 = t68*t8 + t69*t9;
+    const double t71 = t68*t9 - t69*t8;
+    const double t72 = d5 + t70;
+    const double t73 = t14*t72;
+    const double t74 = t16*t72;
+    const double t75 = t16*t21;
+    const double t76 = t16*t20;
+    const double t77 = t21*t73 - d6*t76 - t20*t71;
+    const double t78 = d6*t75 + t20*t73 + t21*t71;
+    const double t79 = 0.00021986230000000002*t76 + 0.1897*t77;
+    const double t80 = 0.00021986230000000002*t75 - 0.1897*t78;
+    const double t81 = 0.0001652*t75 + t28*t80;
+    const double t82 = 0.0001652*t76 + t28*t79;
+    const double t83 = 0.0001162*t14;
+    const double t84 = 0.0021942*t14 + 1.219*t73;
+    const double t85 = 1.219*t71;
+    const double t86 = t85 + 0.019918460000000002*t16;
+    const double t87 = 0.0021942*t16 + 1.219*t74;
+    const double t88 = t84 + t21*t79 - t20*t80;
+    const double t89 = -t86 + t20*t79 + t21*t80;
+    const double t90 = t87 + 0.1897*t74;
+    const double t91 = 0.01634*t86 + 0.0018*t87 + 0.001527*t16 + d5*t90 + t20*t82 + t21*t81;
+    const double t92 = 0.01634*t84 + t20*t81 - t21*t82;
+    const double t93 = t83 + 0.0018*t84 + 0.001527*t14 + d5*t88;
+    const double t94 = 0.019918460000000002 + 1.219*t70;
+    const double t95 = t94 + t14*t88 + t16*t90;
+    const double t96 = t85 - t89;
+    const double t97 = 0.001234 + 0.01634*t94 + t14*t93 + t16*t91;
+    const double t98 = 0.3495 + 2.33*t69;
+    const double t99 = 2.33*t68 + t8*t95 + t9*t96;
+    const double t100 = t98 + t9*t95 - t8*t96;
+    const double t101 = 0.03105 + t97 + 0.15*t98 + a3*t100;
+    const double t102 = 1.7835125 + 8.393*a2;
+    const double t103 = t102 + t100*t3 + t4*t99;
+    const double t104 = 0.1339 + t101 + 0.2125*t102 + a2*t103;
+    const double t105 = a3*t9;
+    const double t106 = a3*t8;
+    const double t107 = d5 + t105;
+    const double t108 = t107*t14;
+    const double t109 = t107*t16;
+    const double t110 = t106*t20 + t108*t21 - d6*t76;
+    const double t111 = t106*t21 - d6*t75 - t108*t20;
+    const double t112 = 0.00021986230000000002*t76 + 0.1897*t110;
+    const double t113 = 0.00021986230000000002*t75 + 0.1897*t111;
+    const double t114 = 0.0001652*t75 + t113*t28;
+    const double t115 = 0.0001652*t76 + t112*t28;
+    const double t116 = 0.0021942*t14 + 1.219*t108;
+    const double t117 = 1.219*t106;
+    const double t118 = t117 - 0.019918460000000002*t16;
+    const double t119 = 0.0021942*t16 + 1.219*t109;
+    const double t120 = t116 + t112*t21 - t113*t20;
+    const double t121 = t118 + t112*t20 + t113*t21;
+    const double t122 = t119 + 0.1897*t109;
+    const double t123 = 0.0018*t119 + 0.001527*t16 - 0.01634*t118 + d5*t122 + t114*t21 + t115*t20;
+    const double t124 = 0.01634*t116 + t114*t20 - t115*t21;
+    const double t125 = t83 + 0.0018*t116 + 0.001527*t14 + d5*t120;
+    const double t126 = 0.019918460000000002 + 1.219*t105;
+    const double t127 = t126 + t120*t14 + t122*t16;
+    const double t128 = t117 + t121;
+    const double t129 = 0.001234 + 0.01634*t126 + t123*t16 + t125*t14;
+    const double t130 = 0.3495 + 2.33*a3;
+    const double t131 = t130 + t127*t9 + t128*t8;
+    const double t132 = 0.03105 + t129 + 0.15*t130 + a3*t131;
+    const double t133 = d5*t14;
+    const double t134 = d5*t16;
+    const double t135 = t133*t21 - d6*t76;
+    const double t136 = d6*t75 + t133*t20;
+    const double t137 = 0.00021986230000000002*t76 + 0.1897*t135;
+    const double t138 = 0.00021986230000000002*t75 - 0.1897*t136;
+    const double t139 = 0.0001652*t75 + t138*t28;
+    const double t140 = 0.0001652*t76 + t137*t28;
+    const double t141 = 0.0021942*t14 + 1.219*t133;
+    const double t142 = 0.019918460000000002*t16;
+    const double t143 = 0.0021942*t16 + 1.219*t134;
+    const double t144 = t141 + t137*t21 - t138*t20;
+    const double t145 = t143 + 0.1897*t134;
+    const double t146 = 0.01634*t142 + 0.0018*t143 + 0.001527*t16 + d5*t145 + t139*t21 + t140*t20;
+    const double t147 = 0.01634*t141 + t139*t20 - t140*t21;
+    const double t148 = t83 + 0.0018*t141 + 0.001527*t14 + d5*t144;
+    const double t149 = 0.0015594676364000001 + t14*t148 + t146*t16;
+    const double t150 = d6*t21;
+    const double t151 = d6*t20;
+    const double t152 = 0.00021986230000000002*t21 - 0.1897*t150;
+    const double t153 = 0.1897*t151 - 0.00021986230000000002*t20;
+    const double t154 = -0.0001652*t20 + t153*t28;
+    const double t155 = 0.0001652*t21 + t152*t28;
+    const double t156 = -0.0015594676364000001 + t154*t20 - t155*t21;
+    const double t157 = dq1*t48 + dq2*t97 + dq3*t129 + dq6*t83 - dq5*t147;
+    const double t158 = dq1*dq1*(0.2 + t67) + dq2*dq2*(0.2 + t104) + dq3*dq3*(0.2 + t132) + dq4*dq4*(0.05 + t149) + dq5*dq5*(0.05 - t156);
+    const double t159 = dq1*t58 + dq2*t101 + dq6*t83 - dq5*t124;
+    const double t160 = dq1*t66 + dq6*t83 - dq5*t92;
+    const double t161 = dq5*t40 + dq6*t31;
+    const double t162 = (1.0/2.0)*t158 + 0.0250581*dq6*dq6 + dq2*t160 + dq3*t159 + dq4*t157 - dq1*t161;
+    const double t163 = 167.26736700000006*d1;
+    const double t164 = 17.496257625000002*t0;
+    const double t165 = 130.97036700000004*a2*t0;
+    const double t166 = q2 + q3;
+    const double t167 = sin(t166);
+    const double t168 = 3.428595*t167;
+    const double t169 = 48.635037000000004*a3*t167;
+    const double t170 = q4 + t166;
+    const double t171 = cos(t170);
+    const double t172 = 0.2169251946*t171;
+    const double t173 = 13.819347000000002*d5*t171;
+    const double t174 = t16*sin(t170);
+    const double t175 = 0.19324324343700003*t174;
+    const double t176 = 1.8609570000000002*d6*t174;
+    kinetic[0] = t162;
+    potential[0] = -0.9295661700000001 + t163 + t164 + t165 + t168 + t169 - t172 - t173 - t175 - t176;
+    lagrangian[0] = 0.9295661700000001 + t162 + t172 + t173 + t175 + t176 - t163 - t164 - t165 - t168 - t169;
+}
+
+void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        ur5_energy(q + i * 6, dq + i * 6, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 

@@ -15,6 +15,9 @@
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
  *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
+ *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
+ *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
+ *   energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -173,6 +176,43 @@ void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, 
 void ur5_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
+
+/* Joint torques of an external wrench (132 operations).
+ * tau_w[6]: -J^T w (6x1)
+ *   units: N m
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
+ */
+void ur5_wrench_torque(const double q[6], const double wrench[6], const double *p, double tau_w[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void ur5_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
+
+/* Static torques holding the arm against gravity and an external wrench (229 operations).
+ * tau_s[6]: G - J^T w (6x1)
+ *   units: N m
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
+ * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
+ */
+void ur5_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
+
+/* Kinetic and potential energy and the lagrangian (605 operations).
+ * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
+ *   units: J
+ * potential[1]: potential energy V = -sum m_i g^T p_ci
+ *   units: J
+ * lagrangian[1]: Lagrangian L = T - V
+ *   units: J
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
+ */
+void ur5_energy(const double q[6], const double dq[6], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m) in place of ddq.

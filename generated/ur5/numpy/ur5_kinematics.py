@@ -15,6 +15,9 @@ Operation counts after common-subexpression elimination:
   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
+  wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
+  static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
+  energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, a2, a3, d4, d5, d6
@@ -1713,6 +1716,411 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 4] = -t117 + 0.05*ddq5
     tau[..., 5] = t109 + 0.05*ddq6
     return tau
+
+
+def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Joint torques of an external wrench: 132 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    Returns tau_w: -J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    t0 = numpy.cos(q1)
+    t1 = numpy.sin(q1)
+    t2 = a2*numpy.cos(q2)
+    t3 = numpy.cos(q5)
+    t4 = t0*t3
+    t5 = d6*t4
+    t6 = q2 + q3
+    t7 = a3*numpy.cos(t6)
+    t8 = q4 + t6
+    t9 = numpy.sin(t8)
+    t10 = d5*t9
+    t11 = numpy.cos(t8)
+    t12 = numpy.sin(q5)
+    t13 = d6*t12
+    t14 = t1*t3
+    t15 = d6*t14
+    t16 = a2*numpy.sin(q2)
+    t17 = numpy.sin(t6)
+    t18 = a3*t17
+    t19 = d5*t11
+    t20 = t0*t19
+    t21 = t0*t13
+    t22 = t21*t9
+    t23 = t1*t19
+    t24 = t1*t13
+    t25 = t24*t9
+    t26 = t10 - d6*t11*t12
+    t27 = t26 + t7
+    t28 = t0*w_ny - t1*w_nx
+    t29 = t20 + t22
+    t30 = t23 + t25
+    tau_w = numpy.zeros(batch + (6,))
+    tau_w[..., 0] = -w_nz + w_fx*(-t5 + t1*t10 + t1*t2 + t1*t7 - d4*t0 - t1*t11*t13) + w_fy*(-t15 - d4*t1 - t0*t10 - t0*t2 - t0*t7 + d6*t0*t11*t12)
+    tau_w[..., 1] = t28 + w_fx*(-t20 - t22 + t0*t16 + t0*t18) + w_fy*(-t23 - t25 + t1*t16 + t1*t18) + w_fz*(-t2 - t27)
+    tau_w[..., 2] = t28 + w_fx*(-t29 + a3*t0*t17) + w_fy*(-t30 + a3*t1*t17) - t27*w_fz
+    tau_w[..., 3] = t28 - t26*w_fz - t29*w_fx - t30*w_fy
+    tau_w[..., 4] = t11*w_nz + w_fx*(t24 + t11*t5) + w_fy*(-t21 + t11*t15) - t0*t9*w_nx - t1*t9*w_ny + d6*t3*t9*w_fz
+    tau_w[..., 5] = w_nx*(-t14 + t0*t11*t12) + w_ny*(t4 + t1*t11*t12) + t12*t9*w_nz
+    return tau_w
+
+
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 229 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    Returns tau_s: G - J^T w (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    wrench = numpy.asarray(wrench, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q1 = q[..., 0]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    w_fx = wrench[..., 0]
+    w_fy = wrench[..., 1]
+    w_fz = wrench[..., 2]
+    w_nx = wrench[..., 3]
+    w_ny = wrench[..., 4]
+    w_nz = wrench[..., 5]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    t0 = numpy.sin(q2)
+    t1 = 9.81*t0
+    t2 = numpy.cos(q2)
+    t3 = 9.81*t2
+    t4 = numpy.cos(q3)
+    t5 = numpy.sin(q3)
+    t6 = t1*t4 + t3*t5
+    t7 = t3*t4 - t1*t5
+    t8 = numpy.cos(q4)
+    t9 = numpy.sin(q4)
+    t10 = t6*t8 + t7*t9
+    t11 = t6*t9 - t7*t8
+    t12 = numpy.cos(q5)
+    t13 = t10*t12
+    t14 = numpy.sin(q5)
+    t15 = t10*t14
+    t16 = numpy.sin(q6)
+    t17 = numpy.cos(q6)
+    t18 = t13*t17 - t11*t16
+    t19 = t11*t17 + t13*t16
+    t20 = 0.1897*t18
+    t21 = 0.1897*t19
+    t22 = 0.1897*t15
+    t23 = q2 + q3 + q4
+    t24 = numpy.cos(t23)
+    t25 = t16*t24
+    t26 = numpy.sin(t23)
+    t27 = t17*t26
+    t28 = t25 + t12*t27
+    t29 = numpy.cos(q1)
+    t30 = t14*t17
+    t31 = numpy.sin(q1)
+    t32 = t16*t26
+    t33 = t17*t24
+    t34 = t12*t31
+    t35 = t29*t30 + t31*t32 - t33*t34
+    t36 = t12*t29
+    t37 = -t30*t31 - t33*t36 + t16*t26*t29
+    t38 = t20 + t35*w_fy + t37*w_fx - t28*w_fz
+    t39 = -t33 + t12*t32
+    t40 = t14*t16
+    t41 = t25*t36 + t27*t29 + t31*t40
+    t42 = t25*t34 + t27*t31 - t29*t40
+    t43 = -t21 + t39*w_fz + t41*w_fx + t42*w_fy
+    t44 = t14*t26
+    t45 = t36 + t14*t24*t31
+    t46 = -t34 + t14*t24*t29
+    t47 = -0.001159*t21 + t35*w_ny + t37*w_nx - d6*t43 - t28*w_nz
+    t48 = -0.001159*t20 + d6*t38 + t39*w_nz + t41*w_nx + t42*w_ny
+    t49 = t44*w_nz + t45*w_ny + t46*w_nx
+    t50 = 1.219*t13
+    t51 = 1.219*t11
+    t52 = 1.219*t15
+    t53 = t50 + t17*t38 - t16*t43
+    t54 = -t51 + t16*t38 + t17*t43
+    t55 = -t22 - t52 + t44*w_fz + t45*w_fy + t46*w_fx
+    t56 = 0.01634*t51 + 0.0018*t52 + t17*t47 - d5*t55 - t16*t48
+    t57 = 0.01634*t50 + t16*t47 + t17*t48
+    t58 = t49 + 0.0018*t50 + d5*t53
+    t59 = 1.219*t10
+    t60 = t59 + t12*t53 - t14*t55
+    t61 = t12*t55 + t14*t53
+    t62 = t51 - t54
+    t63 = -0.0018*t51 + d4*t62 + t12*t56 - t14*t58
+    t64 = 0.01634*t59 + t12*t58 + t14*t56
+    t65 = -t57 + 0.0018*t59 - d4*t60
+    t66 = 2.33*t6
+    t67 = 2.33*t7
+    t68 = t66 + t60*t8 + t62*t9
+    t69 = t67 + t60*t9 - t62*t8
+    t70 = -0.0265*t67 + t63*t8 + t65*t9
+    t71 = 0.0265*t66 + t63*t9 - a3*t61 - t65*t8
+    t72 = t64 + 0.15*t67 + a3*t69
+    t73 = 8.393*t1
+    t74 = 8.393*t3
+    t75 = t74 + t4*t69 + t5*t68
+    t76 = -0.11336*t74 + t4*t70 - t5*t71
+    t77 = 0.11336*t73 + t4*t71 + t5*t70 - a2*t61
+    t78 = t72 + 0.2125*t74 + a2*t75
+    t79 = t0*t76 + t2*t77
+    tau_s = numpy.zeros(batch + (6,))
+    tau_s[..., 0] = t79
+    tau_s[..., 1] = t78
+    tau_s[..., 2] = t72
+    tau_s[..., 3] = t64
+    tau_s[..., 4] = -t57
+    tau_s[..., 5] = t49
+    return tau_s
+
+
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 605 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad), 6 values.
+    Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
+    Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
+    Returns lagrangian: Lagrangian L = T - V, shape (..., ).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d1 = p[..., 0]
+    a2 = p[..., 1]
+    a3 = p[..., 2]
+    d4 = p[..., 3]
+    d5 = p[..., 4]
+    d6 = p[..., 5]
+    t0 = numpy.sin(q2)
+    t1 = numpy.cos(q2)
+    t2 = a2*t1
+    t3 = numpy.cos(q3)
+    t4 = numpy.sin(q3)
+    t5 = t0*t3 + t1*t4
+    t6 = t1*t3 - t0*t4
+    t7 = t2 + a3*t6
+    t8 = numpy.cos(q4)
+    t9 = numpy.sin(q4)
+    t10 = t5*t8 + t6*t9
+    t11 = t5*t9 - t6*t8
+    t12 = d4*t11
+    t13 = d4*t10
+    t14 = numpy.cos(q5)
+    t15 = t10*t14
+    t16 = numpy.sin(q5)
+    t17 = t10*t16
+    t18 = d5*t17 + t12*t14 + t16*t7
+    t19 = t12*t16 - d5*t15 - t14*t7
+    t20 = numpy.sin(q6)
+    t21 = numpy.cos(q6)
+    t22 = t15*t21 - t11*t20
+    t23 = t11*t21 + t15*t20
+    t24 = d6*t23 + t13*t20 + t18*t21
+    t25 = t18*t20 - d6*t22 - t13*t21
+    t26 = 0.0002198623*t23 - 0.1897*t24
+    t27 = 0.0002198623*t22 + 0.1897*t25
+    t28 = 0.001159 - d6
+    t29 = 0.0001652*t22 + t27*t28
+    t30 = 0.0001652*t23 + t26*t28
+    t31 = 0.0001162*t17
+    t32 = 0.0021942*t17 + 1.219*t18 + 0.01991846*t11
+    t33 = 1.219*t13
+    t34 = t33 + 0.01991846*t15
+    t35 = 1.219*t19 - 0.0021942*t15
+    t36 = -t32 + t21*t26 - t20*t27
+    t37 = -t34 + t20*t26 + t21*t27
+    t38 = t35 + 0.1897*t19
+    t39 = 0.01634*t34 + 0.001527*t15 - 0.0018*t35 + t20*t30 + t21*t29 - d5*t38
+    t40 = -0.01634*t32 - 0.001234*t11 + t20*t29 - t21*t30
+    t41 = -t31 - 0.0018*t32 - 0.001527*t17 + d5*t36
+    t42 = 0.0021942*t11 - 1.219*t12
+    t43 = 1.219*t7 + 0.01991846*t10
+    t44 = t33 - 0.0021942*t10
+    t45 = t42 + t14*t36 - t16*t38
+    t46 = t44 - t37
+    t47 = 0.01634*t43 + 0.001827*t10 - 0.0018*t44 + d4*t46 + t14*t39 - t16*t41
+    t48 = 0.01634*t42 + t14*t41 + t16*t39
+    t49 = -t40 + 0.0018*t42 + 0.001827*t11 - d4*t45
+    t50 = 0.061745*t6
+    t51 = 0.061745*t5
+    t52 = 2.33*t7 + 0.3495*t6
+    t53 = t50 + t45*t8 + t46*t9
+    t54 = -t51 + t45*t9 - t46*t8
+    t55 = -t43 - t52 + t14*t38 + t16*t36
+    t56 = 0.002359*t5 + 0.0265*t51 + t47*t8 + t49*t9
+    t57 = 0.03105*t6 + 0.15*t52 + 0.0265*t50 + t47*t9 - a3*t55 - t49*t8
+    t58 = t48 - 0.15*t51 + a3*t54
+    t59 = 0.95143048*t1
+    t60 = 0.95143048*t0
+    t61 = 8.393*t2 + 1.7835125*t1
+    t62 = -t60 + t3*t54 + t4*t53
+    t63 = t55 - t61
+    t64 = 0.11336*t60 + 0.01511*t0 + t3*t56 - t4*t57
+    t65 = 0.1339*t1 + 0.2125*t61 + 0.11336*t59 + t3*t57 + t4*t56 - a2*t63
+    t66 = t58 - 0.2125*t60 + a2*t62
+    t67 = 0.00667378213 + t0*t64 + t1*t65
+    t68 = a2*t4
+    t69 = a3 + a2*t3
+    t70 = t68*t8 + t69*t9
+    t71 = t68*t9 - t69*t8
+    t72 = d5 + t70
+    t73 = t14*t72
+    t74 = t16*t72
+    t75 = t16*t21
+    t76 = t16*t20
+    t77 = t21*t73 - d6*t76 - t20*t71
+    t78 = d6*t75 + t20*t73 + t21*t71
+    t79 = 0.0002198623*t76 + 0.1897*t77
+    t80 = 0.0002198623*t75 - 0.1897*t78
+    t81 = 0.0001652*t75 + t28*t80
+    t82 = 0.0001652*t76 + t28*t79
+    t83 = 0.0001162*t14
+    t84 = 0.0021942*t14 + 1.219*t73
+    t85 = 1.219*t71
+    t86 = t85 + 0.01991846*t16
+    t87 = 0.0021942*t16 + 1.219*t74
+    t88 = t84 + t21*t79 - t20*t80
+    t89 = -t86 + t20*t79 + t21*t80
+    t90 = t87 + 0.1897*t74
+    t91 = 0.01634*t86 + 0.0018*t87 + 0.001527*t16 + d5*t90 + t20*t82 + t21*t81
+    t92 = 0.01634*t84 + t20*t81 - t21*t82
+    t93 = t83 + 0.0018*t84 + 0.001527*t14 + d5*t88
+    t94 = 0.01991846 + 1.219*t70
+    t95 = t94 + t14*t88 + t16*t90
+    t96 = t85 - t89
+    t97 = 0.001234 + 0.01634*t94 + t14*t93 + t16*t91
+    t98 = 0.3495 + 2.33*t69
+    t99 = 2.33*t68 + t8*t95 + t9*t96
+    t100 = t98 + t9*t95 - t8*t96
+    t101 = 0.03105 + t97 + 0.15*t98 + a3*t100
+    t102 = 1.7835125 + 8.393*a2
+    t103 = t102 + t100*t3 + t4*t99
+    t104 = 0.1339 + t101 + 0.2125*t102 + a2*t103
+    t105 = a3*t9
+    t106 = a3*t8
+    t107 = d5 + t105
+    t108 = t107*t14
+    t109 = t107*t16
+    t110 = t106*t20 + t108*t21 - d6*t76
+    t111 = t106*t21 - d6*t75 - t108*t20
+    t112 = 0.0002198623*t76 + 0.1897*t110
+    t113 = 0.0002198623*t75 + 0.1897*t111
+    t114 = 0.0001652*t75 + t113*t28
+    t115 = 0.0001652*t76 + t112*t28
+    t116 = 0.0021942*t14 + 1.219*t108
+    t117 = 1.219*t106
+    t118 = t117 - 0.01991846*t16
+    t119 = 0.0021942*t16 + 1.219*t109
+    t120 = t116 + t112*t21 - t113*t20
+    t121 = t118 + t112*t20 + t113*t21
+    t122 = t119 + 0.1897*t109
+    t123 = 0.0018*t119 + 0.001527*t16 - 0.01634*t118 + d5*t122 + t114*t21 + t115*t20
+    t124 = 0.01634*t116 + t114*t20 - t115*t21
+    t125 = t83 + 0.0018*t116 + 0.001527*t14 + d5*t120
+    t126 = 0.01991846 + 1.219*t105
+    t127 = t126 + t120*t14 + t122*t16
+    t128 = t117 + t121
+    t129 = 0.001234 + 0.01634*t126 + t123*t16 + t125*t14
+    t130 = 0.3495 + 2.33*a3
+    t131 = t130 + t127*t9 + t128*t8
+    t132 = 0.03105 + t129 + 0.15*t130 + a3*t131
+    t133 = d5*t14
+    t134 = d5*t16
+    t135 = t133*t21 - d6*t76
+    t136 = d6*t75 + t133*t20
+    t137 = 0.0002198623*t76 + 0.1897*t135
+    t138 = 0.0002198623*t75 - 0.1897*t136
+    t139 = 0.0001652*t75 + t138*t28
+    t140 = 0.0001652*t76 + t137*t28
+    t141 = 0.0021942*t14 + 1.219*t133
+    t142 = 0.01991846*t16
+    t143 = 0.0021942*t16 + 1.219*t134
+    t144 = t141 + t137*t21 - t138*t20
+    t145 = t143 + 0.1897*t134
+    t146 = 0.01634*t142 + 0.0018*t143 + 0.001527*t16 + d5*t145 + t139*t21 + t140*t20
+    t147 = 0.01634*t141 + t139*t20 - t140*t21
+    t148 = t83 + 0.0018*t141 + 0.001527*t14 + d5*t144
+    t149 = 0.0015594676364 + t14*t148 + t146*t16
+    t150 = d6*t21
+    t151 = d6*t20
+    t152 = 0.0002198623*t21 - 0.1897*t150
+    t153 = 0.1897*t151 - 0.0002198623*t20
+    t154 = -0.0001652*t20 + t153*t28
+    t155 = 0.0001652*t21 + t152*t28
+    t156 = -0.0015594676364 + t154*t20 - t155*t21
+    t157 = dq1*t48 + dq2*t97 + dq3*t129 + dq6*t83 - dq5*t147
+    t158 = dq1**2*(0.2 + t67) + dq2**2*(0.2 + t104) + dq3**2*(0.2 + t132) + dq4**2*(0.05 + t149) + dq5**2*(0.05 - t156)
+    t159 = dq1*t58 + dq2*t101 + dq6*t83 - dq5*t124
+    t160 = dq1*t66 + dq6*t83 - dq5*t92
+    t161 = dq5*t40 + dq6*t31
+    t162 = (1/2)*t158 + 0.0250581*dq6**2 + dq2*t160 + dq3*t159 + dq4*t157 - dq1*t161
+    t163 = 167.267367*d1
+    t164 = 17.496257625*t0
+    t165 = 130.970367*a2*t0
+    t166 = q2 + q3
+    t167 = numpy.sin(t166)
+    t168 = 3.428595*t167
+    t169 = 48.635037*a3*t167
+    t170 = q4 + t166
+    t171 = numpy.cos(t170)
+    t172 = 0.2169251946*t171
+    t173 = 13.819347*d5*t171
+    t174 = t16*numpy.sin(t170)
+    t175 = 0.193243243437*t174
+    t176 = 1.860957*d6*t174
+    kinetic = numpy.zeros(batch + ())
+    kinetic[...] = t162
+    potential = numpy.zeros(batch + ())
+    potential[...] = -0.92956617 + t163 + t164 + t165 + t168 + t169 - t172 - t173 - t175 - t176
+    lagrangian = numpy.zeros(batch + ())
+    lagrangian[...] = 0.92956617 + t162 + t172 + t173 + t175 + t176 - t163 - t164 - t165 - t168 - t169
+    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -33,6 +33,7 @@ from symkin.cli.values import (
     seconds_from_text,
     target_from_text,
     task_rows_from_text,
+    wrench_from_text,
 )
 from symkin.derive import derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
@@ -52,6 +53,7 @@ from symkin.solve.trajopt import (
     summary_text,
     write_trajectory,
 )
+from symkin.spatial import orientation_from_rotation
 
 # Arguments that do not shape a command's text (where it goes, how the run is shown or
 # limited); every other argument, present or future, is part of the cache key.
@@ -115,19 +117,34 @@ def command_eval(args: argparse.Namespace) -> None:
     if ddq is not None and dq is None:
         raise SymkinError("--ddq needs --dq as well (acceleration depends on both)")
     q = joint_values(args.q, "--q", robot)
+    wrench = wrench_from_text(args.wrench) if args.wrench else None
+    if wrench is not None and not args.dynamics:
+        raise SymkinError("--wrench needs --dynamics (it enters the joint torques)")
     kinematic_overrides = {k: v for k, v in overrides.items() if k in dict(robot.parameters)}
     points = [point_from_text(p, robot) for p in args.point]
     with np.errstate(all="ignore"):  # an overflow is reported once, by json_text below
-        dynamics = dynamic_state(model, q, dq, ddq, overrides) if args.dynamics else None
+        dynamics = dynamic_state(model, q, dq, ddq, overrides, wrench) if args.dynamics else None
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
-    data = eval_json(state) | dynamics_json(dynamics)
+    orientation = orientation_report(state.transform, args.euler)
+    data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + dynamics_text(dynamics))
+        print(eval_text(state) + orientation[1] + dynamics_text(dynamics))
+
+
+def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
+    """``--euler KIND``: the tool orientation as JSON entries and a text line (or nothing)."""
+    if kind is None:
+        return {}, ""
+    values, singular = orientation_from_rotation(transform[:3, :3], kind)[1:]
+    values = [float(v) for v in values]
+    note = "  (singular: the first and last angles share one free sum; last set to 0)"
+    line = f"\norientation {kind} = {[round(v, 9) for v in values]}" + (note if singular else "")
+    return {"orientation": {"kind": kind, "values": values, "singular": bool(singular)}}, line
 
 
 def derive_flags(args: argparse.Namespace) -> list[str]:

@@ -42,10 +42,11 @@ from symkin.solve.ik.target import pose_from_target
 
 
 def ik_problem(
-    values: list[float], task_text: str | None
+    values: list[float], task_text: str | None, orientation: str | None = None
 ) -> tuple[np.ndarray, bool, tuple[str, ...] | None]:
-    """Pose, position-only flag and task rows of a target: ``x,y`` matches the rows x, y only."""
-    pose = pose_from_target([*values, 0.0] if len(values) == 2 else values)
+    """Pose, position-only flag and task rows of a target: ``x,y`` matches the rows x, y only;
+    ``orientation``: how the three rotation values read (``--euler``; default Z-Y-X)."""
+    pose = pose_from_target([*values, 0.0] if len(values) == 2 else values, orientation)
     task = task_rows_from_text(task_text) or (("x", "y") if len(values) == 2 else None)
     return pose, len(values) < 6, task
 
@@ -80,8 +81,8 @@ def ik_follow(
     overrides: dict[str, float],
 ) -> int:
     """The path follower: every waypoint solved from the previous solution."""
-    start_pose, position_only, task = ik_problem(start, args.task)
-    end_pose = ik_problem(end, args.task)[0]
+    start_pose, position_only, task = ik_problem(start, args.task, args.euler)
+    end_pose = ik_problem(end, args.task, args.euler)[0]
     path = follow_path(
         model,
         start_pose,
@@ -185,7 +186,7 @@ def command_ik(args: argparse.Namespace) -> int:
     if args.to is not None or args.steps is not None or args.table or args.latex:
         raise SymkinError("--to, --steps, --table and --latex go with --path-from, not --target")
     values = target_from_text(args.target, "--target")
-    pose, position_only, task = ik_problem(values, args.task)
+    pose, position_only, task = ik_problem(values, args.task, args.euler)
     rows = task or model.task_rows
     if len(values) == 6 and any(values[3:]) and not {"wx", "wy", "wz"} & set(rows):
         warnings.warn(

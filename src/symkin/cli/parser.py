@@ -21,6 +21,7 @@ from symkin.cli.commands import (
 from symkin.cli.commands_check import add_check
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_ik import command_ik
+from symkin.cli.parser_workspace import add_euler_option, add_workspace_commands
 from symkin.cli.values import (
     DEFAULT_TIME_LIMIT,
     budget_from_text,
@@ -39,6 +40,10 @@ from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
 Commands = argparse._SubParsersAction
 # Commands whose text products the derivation cache keeps (symkin.cache).
 CACHED_COMMANDS = ("show", "derive", "latex")
+IK_EULER_HELP = (
+    "how the three rotation values of a target read: an intrinsic Euler order (angles in that "
+    "order) or rotvec (axis * angle); default: rx,ry,rz of R = Rz(rz) Ry(ry) Rx(rx)"
+)
 TASK_HELP = "task Jacobian rows, e.g. x,y,wz (default: the n non-zero rows of x y z wz wx wy)"
 
 
@@ -111,6 +116,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_trajopt(commands)
     add_dh(commands)
     add_urdf(commands)
+    add_workspace_commands(commands, add_robot_argument)
     add_check(commands)
     for name, command in commands.choices.items():
         add_run_options(command, cached=name in CACHED_COMMANDS)
@@ -204,10 +210,21 @@ def add_eval(commands: Commands) -> None:
     evaluate.add_argument(
         "--dynamics",
         action="store_true",
-        help="add M, c, G and tau (c needs --dq, tau --dq and --ddq); links without inertial "
-        "data need --set m1=...,cx1=...",
+        help="add M, c, G, tau and the energies T, V, L (c, T and L need --dq, tau --dq and "
+        "--ddq); links without inertial data need --set m1=...,cx1=...",
+    )
+    evaluate.add_argument(
+        "--wrench",
+        metavar="FX,FY,FZ,MX,MY,MZ",
+        help="with --dynamics: an external wrench on the tool (N, N m; base frame, at the tool "
+        "point): tau includes -J^T w, and the static torque G - J^T w is printed",
     )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
+    add_euler_option(
+        evaluate,
+        "also the tool orientation as intrinsic Euler angles of this "
+        "order, or as the rotation vector (rotvec)",
+    )
     evaluate.set_defaults(run=command_eval)
 
 
@@ -307,6 +324,7 @@ def add_ik(commands: Commands) -> None:
     )
     add_robot_argument(ik)
     ik.add_argument("--target", metavar="X,Y,Z[,RX,RY,RZ]", help="the tool pose to reach")
+    add_euler_option(ik, IK_EULER_HELP)
     ik.add_argument(
         "--q0", metavar="V1,V2,...", help="first guess (with --table: joint values at the start)"
     )

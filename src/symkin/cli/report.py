@@ -322,6 +322,11 @@ def dynamics_json(state: DynamicState | None) -> dict:
         "c": _array(state.coriolis),
         "G": _array(state.gravity),
         "tau": _array(state.torque),
+        "wrench_torque": _array(state.wrench_torque),
+        "static_torque": _array(state.static_torque),
+        "kinetic_energy": state.kinetic_energy,
+        "potential_energy": state.potential_energy,
+        "lagrangian": state.lagrangian,
     }
 
 
@@ -333,6 +338,16 @@ def dynamics_text(state: DynamicState | None) -> str:
         lines.append(f"c = C dq = {_format(state.coriolis)}")
     if state.torque is not None:
         lines.append(f"tau = {_format(state.torque)}")
+    if state.wrench_torque is not None:
+        lines.append(f"-J^T w = {_format(state.wrench_torque)}")
+        lines.append(f"static torque G - J^T w = {_format(state.static_torque)}")
+    energies = (state.kinetic_energy, state.potential_energy, state.lagrangian)
+    names = ("T (kinetic energy)", "V (potential energy)", "L = T - V")
+    lines += [
+        f"{name} = {value:.6g} J"
+        for name, value in zip(names, energies, strict=True)
+        if value is not None
+    ]
     return "\n".join(lines)
 
 

@@ -125,6 +125,21 @@ def parameter_overrides(items: Sequence[str]) -> dict[str, float]:
     return overrides
 
 
+def wrench_from_text(text: str) -> list[float]:
+    """``"fx,fy,fz,nx,ny,nz"`` (N and N m) for ``--wrench``."""
+    parts = text.split(",")
+    if len(parts) != 6:
+        raise SymkinError(
+            f"--wrench: expected six values FX,FY,FZ,MX,MY,MZ (N, N m), got {len(parts)} "
+            f"in {text!r}"
+        )
+    names = ("FX", "FY", "FZ", "MX", "MY", "MZ")
+    for name, part in zip(names, parts, strict=True):
+        if part.strip().endswith("deg"):
+            raise SymkinError(f"--wrench {name}: a force or moment, not an angle: {part!r}")
+    return [number_from_text(p, f"--wrench {n}") for n, p in zip(names, parts, strict=True)]
+
+
 def point_from_text(text: str, robot: Robot) -> tuple[int, list[float]]:
     """``"LINK:X,Y,Z"`` as ``(link, [x, y, z])``."""
     link_text, sep, coordinates = text.partition(":")

@@ -25,18 +25,29 @@ from symkin.derive.budget import (
     not_attempted,
 )
 from symkin.derive.determinant import factored_determinant, factored_gram_determinant
+from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
+from symkin.derive.energy import Energies, energies_from_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
 from symkin.derive.readable import Readable, readable_form
+from symkin.derive.wrench import tip_load, wrench_torque
 from symkin.errors import ParameterError, SymkinError
 from symkin.progress import phase
 from symkin.robot import Robot
-from symkin.symbols import joint_symbols
+from symkin.symbols import joint_symbols, wrench_symbols
 
-__all__ = ["ClosedForm", "DerivationError", "Dynamics", "Model", "PointMotion", "derive"]
+__all__ = [
+    "ClosedForm",
+    "DerivationError",
+    "Dynamics",
+    "Energies",
+    "Model",
+    "PointMotion",
+    "derive",
+]
 
 Method = TypeVar("Method", bound=Callable[..., Any])
 
@@ -91,6 +102,14 @@ class Model:
             raise ParameterError(
                 f"{{budget}} must be a positive number of seconds or None, got {self.budget!r}"
             )
+
+    def _repr_png_(self) -> bytes | None:
+        """Jupyter: the arm at its pose ``home`` (or q = 0), see :mod:`symkin.derive.display`."""
+        return rich_display("png", self)
+
+    def _repr_latex_(self) -> str | None:
+        """Jupyter: the forward kinematics ``T`` in LaTeX, see :mod:`symkin.derive.display`."""
+        return rich_display("latex", self)
 
     @cached_property
     @derivation_step("the link transforms and forward kinematics")
@@ -323,6 +342,45 @@ class Model:
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
         return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+
+    @cached_property
+    def wrench(self) -> tuple[sp.Symbol, ...]:
+        """``w = (f, n)`` on the tool, base frame, at the tool point (``w_fx .. w_nz``)."""
+        return wrench_symbols()
+
+    @cached_property
+    @derivation_step("the torques of an external wrench")
+    def wrench_torque(self) -> sp.ImmutableMatrix:
+        """``-J^T w`` (docs/conventions.md, External wrench): add it to ``tau``."""
+        return wrench_torque(self.geometric_jacobian, self.wrench)
+
+    @cached_property
+    @derivation_step("the Newton-Euler recursion with an external wrench")
+    def inverse_dynamics_wrench_recursion(
+        self,
+    ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
+        """``tau = M ddq + C dq + G + F - J^T w`` in one Newton–Euler pass, ``-w`` as the
+        outer boundary force (:func:`symkin.derive.wrench.tip_load`)."""
+        tip = tip_load(self.robot, self.kinematics, self.wrench)
+        return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq, tip)
+
+    @cached_property
+    @derivation_step("the static torques")
+    def static_torque_recursion(
+        self,
+    ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
+        """``G - J^T w``: the torques that hold the arm at rest against gravity and ``w``
+        (one Newton–Euler pass at ``dq = ddq = 0``)."""
+        tip = tip_load(self.robot, self.kinematics, self.wrench)
+        zeros = [sp.Integer(0)] * self.robot.dof
+        return inverse_dynamics_recursion(self.robot, self.kinematics, zeros, zeros, tip)
+
+    @cached_property
+    @derivation_step("the energies")
+    def energies(self) -> Energies:
+        """Kinetic and potential energy and the Lagrangian (:mod:`symkin.derive.energy`); the
+        kinetic energy is written in the Newton–Euler mass matrix's intermediates."""
+        return energies_from_dynamics(self.robot, self.kinematics, self.newton_euler)
 
     @derivation_step("the point kinematics")
     def point_motion(self, link: int, point: Sequence[sp.Expr | float]) -> PointMotion:

@@ -48,6 +48,15 @@ def geometric_jacobian(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatr
     return kinematics.contract(sp.Matrix.hstack(*columns))
 
 
+def frame_jacobian(robot: Robot, kinematics: Kinematics, index: int) -> sp.ImmutableMatrix:
+    """6 x n geometric Jacobian of the origin of frame ``index`` (1..n), base frame: the
+    joints past ``index`` do not move it (zero columns)."""
+    point = kinematics.frame_transforms[index][:3, 3]
+    columns = _geometric_columns(robot, kinematics, point)
+    moving = [c if j < index else sp.zeros(6, 1) for j, c in enumerate(columns)]
+    return sp.ImmutableMatrix(sp.Matrix.hstack(*moving))
+
+
 def rotate_jacobian(
     kinematics: Kinematics, jacobian: sp.MatrixBase, rotation: sp.MatrixBase
 ) -> sp.ImmutableMatrix:

@@ -96,12 +96,14 @@ def inverse_dynamics_recursion(
     kinematics: Kinematics,
     dq: Sequence[sp.Symbol],
     ddq: Sequence[sp.Symbol],
+    tip: tuple[sp.MatrixBase, sp.MatrixBase] | None = None,
 ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
     """``tau(q, dq, ddq)`` in one recursion (the cheapest form for code), with friction and
-    rotor inertia added after it.  Returns the named intermediates and ``tau``."""
+    rotor inertia added after it.  Returns the named intermediates and ``tau``.  ``tip``: the
+    load of an external wrench as the outer boundary (:func:`symkin.derive.wrench.tip_load`)."""
     recorder = Recorder("s")
     inertial = base_parameters(robot, kinematics)
-    rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, inertial)
+    rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, inertial, tip)
     rotor = motor_inertia_matrix(robot) * sp.Matrix(ddq)
     torque = sp.Matrix(rigid) + rotor + friction_vector(robot, dq)
     return tuple(recorder.assignments), sp.ImmutableMatrix(torque)

@@ -314,11 +314,15 @@ def joint_torques(
     ddq: Sequence[sp.Expr],
     gravity: Sequence[sp.Expr],
     inertial: Sequence[BarycentricParameters] | None = None,
+    tip: tuple[sp.MatrixBase, sp.MatrixBase] | None = None,
 ) -> list[sp.Expr]:
     """``tau`` of the rigid bodies for the given joint rates (no friction, no rotor inertia).
 
     The links carry the robot file's data (mass, centre of mass, inertia about it) unless
     ``inertial`` gives each link's barycentric parameters (the base parameters, say).
+    ``tip``: the force and the moment about origin n that the last link exerts on its
+    surroundings (frame-n axes), the outer boundary condition ``f_{n+1}, m_{n+1}`` of the
+    inward pass (zero when None; see :mod:`symkin.derive.wrench`).
     """
     geometry = _joint_geometry(robot, kinematics)
     base_rotation = sp.Matrix(robot.base[:3, :3])
@@ -340,6 +344,8 @@ def joint_torques(
             child = geometry[i + 1]
             carried_force = child.rotation * force
             carried_moment = child.rotation * about_joint + child.point.cross(carried_force)
+        elif tip is not None:
+            carried_force, carried_moment = sp.Matrix(tip[0]), sp.Matrix(tip[1])
         else:
             carried_force = carried_moment = sp.zeros(3, 1)
         force = recorder.vector(body_force + carried_force)

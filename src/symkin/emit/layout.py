@@ -60,7 +60,7 @@ class OutputLayout:
 
 
 # Inputs that change from state to state (a batch has one row each); others are shared.
-STATE_INPUTS = ("q", "dq", "ddq")
+STATE_INPUTS = ("q", "dq", "ddq", "wrench")
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from symkin.emit.layout import STATE_INPUTS, kernel_layout
+from symkin.emit.layout import kernel_layout
 from symkin.emit.render import forward_dynamics_context, preamble_lines, render
 from symkin.kernels import Kernel
 from symkin.robot import Robot
@@ -29,6 +29,7 @@ class Binding:
     name: str
     description: str
     states: tuple[str, ...]
+    state_sizes: tuple[int, ...]
     takes_pi: bool
     outputs: tuple[tuple[str, tuple[int, ...]], ...]
     batched: bool = True
@@ -55,7 +56,8 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
             Binding(
                 name=layout.name,
                 description=layout.description,
-                states=tuple(n for n in names if n in STATE_INPUTS),
+                states=tuple(i.name for i in layout.inputs if i.per_state),
+                state_sizes=tuple(i.size for i in layout.inputs if i.per_state),
                 takes_pi="pi" in names,
                 outputs=tuple((o.name, o.numpy_shape) for o in layout.outputs),
             )
@@ -67,6 +69,7 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 name="forward_dynamics",
                 description="forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky)",
                 states=("q", "dq", "tau"),
+                state_sizes=(robot.dof,) * 3,
                 takes_pi=bool(forward["pi"]),
                 outputs=(("ddq", (robot.dof,)),),
                 batched=False,

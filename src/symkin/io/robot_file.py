@@ -27,6 +27,7 @@ import sympy as sp
 from symkin.errors import RobotError
 from symkin.io.context import Context, check_keys, did_you_mean, read_choice, read_text, show
 from symkin.io.placement import canonical_joints
+from symkin.io.poses import read_poses
 from symkin.io.robot_tables import (
     check_link_symbol_clash,
     read_frame,
@@ -49,7 +50,7 @@ __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
 
 TOP_KEYS = (
     "name", "title", "source", "convention", "angles", "gravity",
-    "parameters", "joints", "tool", "base",
+    "parameters", "joints", "tool", "base", "poses",
 )  # fmt: skip
 CONVENTIONS = ("standard", "modified", "placement")
 ANGLE_UNITS = ("deg", "rad")
@@ -209,6 +210,8 @@ def _robot_from_document(document: dict[str, Any], file: str) -> Robot:
     else:
         joints = read_joints(document, ctx)
     check_link_symbol_clash(parameters, joints, ctx)
+    if "poses" in document:
+        extra["poses"] = read_poses(document["poses"], joints, ctx)
     extra["title"] = read_text(document, "title", ctx)
     extra["source"] = read_text(document, "source", ctx)
     try:

@@ -31,6 +31,7 @@ from symkin.io.placement import unit_axis, warn_normalised
 from symkin.names import reserved_reason
 from symkin.robot import NAME_PATTERN, Joint, Link
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
+from symkin.symbols import WRENCH_NAMES
 from symkin.text import unprintable_characters
 
 # Allowed keys per table.  Anything else is an error with a "did you mean" hint.
@@ -90,6 +91,8 @@ def _check_parameter_name(name: str, key: str, ctx: Context) -> None:
         raise ctx.error(f"{key!r}: {name!r} is reserved ({reason}); rename the parameter")
     if JOINT_VARIABLE_PATTERN.match(name):
         raise ctx.error(f"{key!r}: {name!r} is reserved for a joint variable (q<i>, dq<i>, ddq<i>)")
+    if name in WRENCH_NAMES:
+        raise ctx.error(f"{key!r}: {name!r} is reserved for the external wrench on the tool")
 
 
 def check_link_symbol_clash(

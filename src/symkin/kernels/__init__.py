@@ -24,6 +24,7 @@ from symkin.kernels.spec import (
     count_operations,
     kernel_from_outputs,
 )
+from symkin.kernels.statics import statics_kernels
 
 __all__ = [
     "OPERATION_KINDS",
@@ -40,4 +41,5 @@ __all__ = [
     "point_kernels",
     "pose_kernels",
     "state_inputs",
+    "statics_kernels",
 ]

@@ -37,7 +37,7 @@ def state_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     return tuple(inputs)
 
 
-def _shortest_kernel(
+def shortest_kernel(
     name: str,
     description: str,
     inputs: Sequence[KernelInput],
@@ -137,7 +137,7 @@ def pose_kernels(model: Model, names: Collection[str] | None = None) -> tuple[Ke
         "fk_jacobian": ("forward kinematics and Jacobian", ("T", "J")),
     }
     return tuple(
-        _shortest_kernel(name, description, inputs, outputs(*keys))
+        shortest_kernel(name, description, inputs, outputs(*keys))
         for name, (description, keys) in kernels.items()
         if names is None or name in names
     )

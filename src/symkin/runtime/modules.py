@@ -88,14 +88,14 @@ def _remembered(
 @lru_cache(maxsize=32)
 def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
     # Imported here, not at the top: ``import symkin`` should not load the code generators.
-    from symkin.kernels import dynamics_kernels, pose_kernels
+    from symkin.kernels import dynamics_kernels, pose_kernels, statics_kernels
 
     if kind not in KINDS:
         raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(KINDS)}")
     if kind == "kinematics":
         kernels = pose_kernels(model, POSE_KERNELS)
     else:
-        kernels = dynamics_kernels(model, coriolis_matrix=False)
+        kernels = dynamics_kernels(model, coriolis_matrix=False) + statics_kernels(model)
     return _module_from_kernels(model, backend, kind, kernels)
 
 

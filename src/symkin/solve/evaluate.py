@@ -166,16 +166,25 @@ def _point_states(
 
 @dataclass(frozen=True)
 class DynamicState:
-    """Numeric equations of motion at one state: ``tau = M ddq + c + G + F``.
+    """Numeric equations of motion at one state: ``tau = M ddq + c + G + F - J^T w``.
 
     ``c`` needs joint velocities and ``tau`` velocities and accelerations; either is ``None``
-    when they were not given.
+    when they were not given.  With a wrench ``w`` on the tool (docs/conventions.md, External
+    wrench), ``wrench_torque = -J^T w`` (included in ``tau``) and the statics
+    ``static_torque = G - J^T w``; without one both are ``None``.  The energies
+    ``T = 1/2 dq^T M dq``, ``V = -sum m g^T p_c`` and ``L = T - V`` (``T`` and ``L`` need
+    ``dq``).
     """
 
     mass_matrix: np.ndarray
     gravity: np.ndarray
     coriolis: np.ndarray | None
     torque: np.ndarray | None
+    wrench_torque: np.ndarray | None = None
+    static_torque: np.ndarray | None = None
+    kinetic_energy: float | None = None
+    potential_energy: float | None = None
+    lagrangian: float | None = None
 
 
 def dynamics_arguments(
@@ -212,27 +221,53 @@ def dynamic_state(
     dq: Sequence[float] | None = None,
     ddq: Sequence[float] | None = None,
     overrides: Mapping[str, float] | None = None,
+    wrench: Sequence[float] | None = None,
 ) -> DynamicState:
-    """``M``, ``G``, ``c`` and ``tau`` from the Newton–Euler kernels.
+    """``M``, ``G``, ``c``, ``tau``, the energies and, given ``wrench = (fx, fy, fz, nx, ny,
+    nz)`` on the tool (base frame, at the tool point), ``-J^T w`` and ``G - J^T w``, from the
+    Newton–Euler kernels.
 
     ``overrides`` may name robot parameters and the inertial symbols of links the robot file
     leaves without data (``m1``, ``cx1``, ..., ``iyz1``); every such symbol needs a value.
     """
     _check_lengths(model, q, dq, ddq)
+    _check_wrench(wrench)
     shared = dynamics_arguments(model, overrides)
     module = generated_numpy_module(model)
     with np.errstate(all="ignore"):
+        external = None if wrench is None else module.wrench_torque(q, wrench, shared["p"])
+        torque = None
+        if dq is not None and ddq is not None:
+            torque = module.inverse_dynamics(q, dq, ddq, **shared)
+            torque = torque if external is None else torque + external
+        kinetic, potential, lagrangian = module.energy(
+            q, np.zeros(len(q)) if dq is None else dq, **shared
+        )
         state = DynamicState(
             mass_matrix=module.mass_matrix(q, **shared),
             gravity=module.gravity(q, **shared),
             coriolis=None if dq is None else module.coriolis(q, dq, **shared),
-            torque=None
-            if dq is None or ddq is None
-            else module.inverse_dynamics(q, dq, ddq, **shared),
+            torque=torque,
+            wrench_torque=external,
+            static_torque=None if wrench is None else module.static_torque(q, wrench, **shared),
+            kinetic_energy=None if dq is None else float(kinetic),
+            potential_energy=float(potential),
+            lagrangian=None if dq is None else float(lagrangian),
         )
-    values = (state.mass_matrix, state.gravity, state.coriolis, state.torque)
+    values = (state.mass_matrix, state.gravity, state.coriolis, state.torque, potential, kinetic)
     _require_finite(model, shared["p"], "dynamics", *(v for v in values if v is not None))
     return state
+
+
+def _check_wrench(wrench: Sequence[float] | None) -> None:
+    """Six finite numbers, or ``None``."""
+    if wrench is None:
+        return
+    values = np.asarray(wrench, dtype=float).ravel()
+    if values.size != 6 or not np.all(np.isfinite(values)):
+        raise ParameterError(
+            f"{{wrench}} needs six finite numbers (fx, fy, fz, nx, ny, nz), got {list(wrench)}"
+        )
 
 
 def _require_finite(

@@ -1,16 +1,27 @@
-"""Euler angles: Z-Y-X (= roll-pitch-yaw about fixed X, Y, Z) and Z-Y-Z, both directions.
+"""Euler and Tait-Bryan angles in all twelve orders, both directions, symbolic and numeric.
 
-``R = Rz(psi) Ry(theta) Rx(phi)`` (moving axes z, y', x'') is the same matrix as roll ``phi``,
-pitch ``theta``, yaw ``psi`` about fixed axes X, Y, Z; Z-Y-Z is ``R = Rz(alpha) Ry(beta)
-Rz(gamma)``.  The inverse maps return the angles with a ``singular`` flag (gimbal lock).
+An order is three axis letters, e.g. ``"zyx"``.  **Intrinsic** (the default, moving axes):
+``R = R_a(θ1) R_b(θ2) R_c(θ3)`` for order ``"abc"`` — rotate about a, then about the new b',
+then about the new c''.  **Extrinsic** (fixed axes) order ``"abc"`` rotates about the fixed a
+first, then the fixed b, then the fixed c: ``R = R_c(θ3) R_b(θ2) R_a(θ1)``, which is the
+intrinsic order reversed (``"cba"``) with the angles reversed.  Orders with three different
+axes are Tait-Bryan (``xyz xzy yxz yzx zxy zyx``), those whose first and last axes agree are
+proper Euler (``xyx xzx yxy yzy zxz zyz``).
+
+Z-Y-X (``R = Rz(psi) Ry(theta) Rx(phi)``) is the same matrix as roll ``phi``, pitch ``theta``,
+yaw ``psi`` about the fixed axes X, Y, Z (extrinsic ``"xyz"``); Z-Y-Z is
+``R = Rz(alpha) Ry(beta) Rz(gamma)``.  The inverse maps return the angles with a ``singular``
+flag (gimbal lock); the choice made there is documented on :func:`euler_from_rotation`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
 from symkin.errors import SymkinError
 from symkin.spatial.backend import (
+    Backend,
     Matrix,
     MatrixLike,
     Scalar,
@@ -18,16 +29,135 @@ from symkin.spatial.backend import (
     rotation_input,
     singular_flag,
 )
+from symkin.spatial.rotations import rot_x, rot_y, rot_z
+
+TAIT_BRYAN_ORDERS = ("xyz", "xzy", "yxz", "yzx", "zxy", "zyx")
+PROPER_EULER_ORDERS = ("xyx", "xzx", "yxy", "yzy", "zxz", "zyz")
+#: The twelve orders, Tait-Bryan first.
+EULER_ORDERS = TAIT_BRYAN_ORDERS + PROPER_EULER_ORDERS
+
+_AXIS = {"x": 0, "y": 1, "z": 2}
+_ELEMENTARY = (rot_x, rot_y, rot_z)
+
+
+class EulerAngles(NamedTuple):
+    """Angles ``(θ1, θ2, θ3)`` of ``order`` (applied in that order; see the module docstring).
+
+    ``singular`` is True at gimbal lock (the middle angle at ``±pi/2`` for Tait-Bryan, at ``0``
+    or ``pi`` for proper Euler), False otherwise, None for SymPy input where it cannot be
+    decided.
+    """
+
+    angles: tuple[Scalar, Scalar, Scalar]
+    order: str
+    extrinsic: bool
+    singular: bool | None
+
+
+def _axes(order: str) -> tuple[int, int, int]:
+    """Axis indices of an order, checked."""
+    if not isinstance(order, str) or order.lower() not in EULER_ORDERS:
+        raise SymkinError(f"Euler order must be one of {', '.join(EULER_ORDERS)}, got {order!r}")
+    i, j, k = (_AXIS[letter] for letter in order.lower())
+    return i, j, k
+
+
+def _parity(i: int, j: int) -> int:
+    """+1 if ``(i, j, third axis)`` is a cyclic permutation of ``(x, y, z)``, else -1.
+
+    ``e_i x e_j = parity * e_k``; it fixes the signs of the inverse formulas below.
+    """
+    return 1 if (j - i) % 3 == 1 else -1
+
+
+def rotation_from_euler(order: str, angles: Sequence[Scalar], extrinsic: bool = False) -> Matrix:
+    """Rotation matrix of three angles in ``order`` (intrinsic unless ``extrinsic``).
+
+    Intrinsic ``"abc"``: ``R = R_a(θ1) R_b(θ2) R_c(θ3)``; extrinsic ``"abc"``:
+    ``R = R_c(θ3) R_b(θ2) R_a(θ1)``.  SymPy angles give the exact product (SymPy's canonical
+    form, the textbook entries); numbers give a float64 array.
+    """
+    axes = _axes(order)
+    if len(angles) != 3:
+        raise SymkinError(f"Euler angles are three values, got {len(angles)}")
+    be = backend_of(*angles)
+    # One backend for all three: a literal 0 beside a SymPy angle must stay exact.
+    angles = [be.scalar(angle, "Euler angle") for angle in angles]
+    factors = [_ELEMENTARY[axis](angle) for axis, angle in zip(axes, angles, strict=True)]
+    if extrinsic:
+        factors.reverse()
+    first, second, third = factors
+    return first @ second @ third
+
+
+def euler_from_rotation(R: MatrixLike, order: str, extrinsic: bool = False) -> EulerAngles:
+    """The angles of ``order`` with ``rotation_from_euler(order, angles, extrinsic) == R``.
+
+    Intrinsic order ``(i, j, k)``, ``ε = +1`` when ``i j`` is cyclic (``xy, yz, zx``), else -1.
+    Tait-Bryan (``k ≠ i``), middle angle in ``[-pi/2, pi/2]``::
+
+        θ1 = atan2(-ε r_jk, r_kk)
+        θ2 = atan2(ε r_ik, sqrt(r_jk² + r_kk²))
+        θ3 = atan2(-ε r_ij, r_ii)
+
+    Proper Euler (``k = i``; ``m`` the third axis), middle angle in ``[0, pi]``::
+
+        θ1 = atan2(r_ji, -ε r_mi)
+        θ2 = atan2(sqrt(r_ji² + r_mi²), r_ii)
+        θ3 = atan2(r_ij, ε r_im)
+
+    Gimbal lock (the ``sqrt`` term below ``SINGULAR_TOL``): only the sum or the difference of
+    the outer angles is defined.  The documented choice: the last angle applied (intrinsic
+    ``θ3``; for an extrinsic order its first angle, the one applied first about the fixed
+    axes) is 0, and the first one comes from column ``j`` (``R e_j = R_i(θ1) e_j`` there):
+    ``θ1 = atan2(ε r_mj, r_jj)``; ``singular=True``.  For Z-Y-X and Z-Y-Z these are exactly
+    the formulas of :func:`euler_zyx_from_rotation` and :func:`euler_zyz_from_rotation`.
+    SymPy input returns the regular formulas with ``singular=None`` unless the ``sqrt`` term
+    is decidably zero (then the locked branch, exactly) or decidably non-zero.
+    """
+    axes = _axes(order)
+    be, M = rotation_input(R)
+    if extrinsic:
+        axes = axes[::-1]
+    first, middle, last, singular = _intrinsic_angles(be, M, axes)
+    angles = (last, middle, first) if extrinsic else (first, middle, last)
+    return EulerAngles(angles, order.lower(), extrinsic, singular)
+
+
+def _intrinsic_angles(
+    be: Backend, M: Matrix, axes: tuple[int, int, int]
+) -> tuple[Scalar, Scalar, Scalar, bool | None]:
+    i, j, k = axes
+    eps = _parity(i, j)
+    proper = k == i
+    m = 3 - i - j  # the axis not in the sequence (= k for Tait-Bryan)
+    if proper:
+        off_axis = be.sqrt(M[j, i] ** 2 + M[m, i] ** 2)  # = |sin θ2|
+        middle = be.atan2(off_axis, M[i, i])
+    else:
+        off_axis = be.sqrt(M[j, k] ** 2 + M[k, k] ** 2)  # = |cos θ2|
+        middle = be.atan2(eps * M[i, k], off_axis)
+    locked = be.is_zero(off_axis)
+    if locked:
+        return be.atan2(eps * M[m, j], M[j, j]), middle, be.scalar(0), True
+    if proper:
+        first = be.atan2(M[j, i], -eps * M[m, i])
+        last = be.atan2(M[i, j], eps * M[i, m])
+    else:
+        first = be.atan2(-eps * M[j, k], M[k, k])
+        last = be.atan2(-eps * M[i, j], M[i, i])
+    return first, middle, last, singular_flag(locked)
+
 
 # --------------------------------------------------------------------------------------------
-# Z-Y-X Euler angles = roll-pitch-yaw about fixed X, Y, Z
+# Z-Y-X Euler angles = roll-pitch-yaw about fixed X, Y, Z; Z-Y-Z: the named textbook cases
 # --------------------------------------------------------------------------------------------
 
 
 def rotation_from_euler_zyx(psi: Scalar, theta: Scalar, phi: Scalar) -> Matrix:
     """Z-Y-X Euler angles (moving axes z, y', x'') to a rotation matrix.
 
-    ``R = Rz(psi) Ry(theta) Rx(phi)``, written out in closed form::
+    ``R = Rz(psi) Ry(theta) Rx(phi)``::
 
         [ cψ cθ   cψ sθ sφ - sψ cφ   cψ sθ cφ + sψ sφ ]
         [ sψ cθ   sψ sθ sφ + cψ cφ   sψ sθ cφ - cψ sφ ]
@@ -36,29 +166,17 @@ def rotation_from_euler_zyx(psi: Scalar, theta: Scalar, phi: Scalar) -> Matrix:
     The same matrix is roll ``phi`` / pitch ``theta`` / yaw ``psi`` about fixed axes X, Y, Z,
     see :func:`rotation_from_rpy`.
     """
-    be = backend_of(psi, theta, phi)
-    psi, theta, phi = (be.scalar(v, n) for v, n in ((psi, "psi"), (theta, "theta"), (phi, "phi")))
-    cps, sps = be.cos(psi), be.sin(psi)
-    cth, sth = be.cos(theta), be.sin(theta)
-    cph, sph = be.cos(phi), be.sin(phi)
-    # Closed form rather than three products: SymPy then prints exactly the textbook entries.
-    return be.matrix(
-        [
-            [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
-            [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
-            [-sth, cth * sph, cth * cph],
-        ]
-    )
+    return rotation_from_euler("zyx", (psi, theta, phi))
 
 
 def rotation_from_rpy(roll: Scalar, pitch: Scalar, yaw: Scalar) -> Matrix:
     """Roll-pitch-yaw about **fixed** axes (``rpy_xyz_fixed``) to a rotation matrix.
 
     Roll about X first, then pitch about Y, then yaw about Z, all about the fixed (world) axes:
-    ``R = Rz(yaw) Ry(pitch) Rx(roll)``.  This is exactly the Z-Y-X Euler matrix with
+    ``R = Rz(yaw) Ry(pitch) Rx(roll)``, extrinsic ``"xyz"`` = the Z-Y-X Euler matrix with
     ``psi = yaw, theta = pitch, phi = roll`` (:func:`rotation_from_euler_zyx`).
     """
-    return rotation_from_euler_zyx(yaw, pitch, roll)
+    return rotation_from_euler("xyz", (roll, pitch, yaw), extrinsic=True)
 
 
 class EulerZYX(NamedTuple):
@@ -106,11 +224,14 @@ def euler_zyx_from_rotation(R: MatrixLike, method: str = "atan2") -> EulerZYX:
     ``theta = +pi/2``) or ``psi + phi`` (at ``-pi/2``) is defined.  We return ``phi = 0`` and,
     from the second column of ``R Rx(phi)^T = Rz(psi) Ry(theta)``, ``psi = atan2(-r12, r22)``, so
     that ``rotation_from_euler_zyx(psi, theta, phi)`` reproduces ``R``; ``singular=True``.
-
-    SymPy input returns the regular formulas with ``singular=None`` unless ``cos theta`` is
-    decidably zero (then the gimbal-lock branch, exactly) or decidably non-zero.
+    These are the formulas of :func:`euler_from_rotation` for order ``"zyx"``.
     """
-    psi, theta, phi, singular = _euler_zyx_inverse(R, method)
+    if method not in _ZYX_METHODS:
+        raise SymkinError(f"method must be one of {', '.join(_ZYX_METHODS)}, got {method!r}")
+    (psi, theta, phi), _, _, singular = euler_from_rotation(R, "zyx")
+    if method == "lecture" and not singular:
+        be, M = rotation_input(R)
+        theta = be.atan2(-M[2, 0], M[0, 0] * be.cos(psi) + M[1, 0] * be.sin(psi))
     return EulerZYX(psi, theta, phi, singular)
 
 
@@ -121,34 +242,8 @@ def rpy_from_rotation(R: MatrixLike, method: str = "atan2") -> RPY:
     ``roll = phi, pitch = theta, yaw = psi`` (same formulas, same gimbal-lock handling:
     ``roll = 0`` at ``pitch = +-pi/2``).
     """
-    psi, theta, phi, singular = _euler_zyx_inverse(R, method)
+    psi, theta, phi, singular = euler_zyx_from_rotation(R, method)
     return RPY(roll=phi, pitch=theta, yaw=psi, singular=singular)
-
-
-def _euler_zyx_inverse(R: MatrixLike, method: str) -> tuple[Scalar, Scalar, Scalar, bool | None]:
-    if method not in _ZYX_METHODS:
-        raise SymkinError(f"method must be one of {', '.join(_ZYX_METHODS)}, got {method!r}")
-    be, M = rotation_input(R)
-    r11, r12 = M[0, 0], M[0, 1]
-    r21, r22 = M[1, 0], M[1, 1]
-    r31, r32, r33 = M[2, 0], M[2, 1], M[2, 2]
-    cos_theta = be.sqrt(r11**2 + r21**2)  # = |cos theta| = sqrt(r32² + r33²)
-    locked = be.is_zero(cos_theta)
-    if locked:
-        theta = be.atan2(-r31, cos_theta)  # +-pi/2
-        return be.atan2(-r12, r22), theta, be.scalar(0), True
-    phi = be.atan2(r32, r33)
-    psi = be.atan2(r21, r11)
-    if method == "lecture":
-        theta = be.atan2(-r31, r11 * be.cos(psi) + r21 * be.sin(psi))
-    else:
-        theta = be.atan2(-r31, cos_theta)
-    return psi, theta, phi, singular_flag(locked)
-
-
-# --------------------------------------------------------------------------------------------
-# Z-Y-Z Euler angles
-# --------------------------------------------------------------------------------------------
 
 
 class EulerZYZ(NamedTuple):
@@ -167,26 +262,13 @@ class EulerZYZ(NamedTuple):
 def rotation_from_euler_zyz(alpha: Scalar, beta: Scalar, gamma: Scalar) -> Matrix:
     """Z-Y-Z Euler angles to a rotation matrix.
 
-    ``R = Rz(alpha) Ry(beta) Rz(gamma)``, in closed form::
+    ``R = Rz(alpha) Ry(beta) Rz(gamma)``::
 
         [ cα cβ cγ - sα sγ   -cα cβ sγ - sα cγ   cα sβ ]
         [ sα cβ cγ + cα sγ   -sα cβ sγ + cα cγ   sα sβ ]
         [ -sβ cγ              sβ sγ              cβ    ]
     """
-    be = backend_of(alpha, beta, gamma)
-    alpha, beta, gamma = (
-        be.scalar(v, n) for v, n in ((alpha, "alpha"), (beta, "beta"), (gamma, "gamma"))
-    )
-    ca, sa = be.cos(alpha), be.sin(alpha)
-    cb, sb = be.cos(beta), be.sin(beta)
-    cg, sg = be.cos(gamma), be.sin(gamma)
-    return be.matrix(
-        [
-            [ca * cb * cg - sa * sg, -ca * cb * sg - sa * cg, ca * sb],
-            [sa * cb * cg + ca * sg, -sa * cb * sg + ca * cg, sa * sb],
-            [-sb * cg, sb * sg, cb],
-        ]
-    )
+    return rotation_from_euler("zyz", (alpha, beta, gamma))
 
 
 def euler_zyz_from_rotation(R: MatrixLike) -> EulerZYZ:
@@ -201,15 +283,8 @@ def euler_zyz_from_rotation(R: MatrixLike) -> EulerZYZ:
     Singular case ``sin beta = sqrt(r13² + r23²) < SINGULAR_TOL`` (``beta = 0``: only
     ``alpha + gamma`` is defined; ``beta = pi``: only ``alpha - gamma``): ``gamma = 0`` and
     ``alpha = atan2(-r12, r22)``, which is right in both cases (``r12 = -sin(alpha +- gamma)``,
-    ``r22 = cos(alpha +- gamma)``); ``singular=True``.  SymPy input as in
-    :func:`euler_zyx_from_rotation`.
+    ``r22 = cos(alpha +- gamma)``); ``singular=True``.  These are the formulas of
+    :func:`euler_from_rotation` for order ``"zyz"``.
     """
-    be, M = rotation_input(R)
-    sin_beta = be.sqrt(M[0, 2] ** 2 + M[1, 2] ** 2)
-    beta = be.atan2(sin_beta, M[2, 2])
-    at_pole = be.is_zero(sin_beta)
-    if at_pole:
-        return EulerZYZ(be.atan2(-M[0, 1], M[1, 1]), beta, be.scalar(0), True)
-    alpha = be.atan2(M[1, 2], M[0, 2])
-    gamma = be.atan2(M[2, 1], -M[2, 0])
-    return EulerZYZ(alpha, beta, gamma, singular_flag(at_pole))
+    (alpha, beta, gamma), _, _, singular = euler_from_rotation(R, "zyz")
+    return EulerZYZ(alpha, beta, gamma, singular)

@@ -4,7 +4,7 @@ The arm is drawn as a stick figure through the origins of the frames ``T_0_0 (ba
 ..., T_0_n`` and the tool point, in 2D (x-y plane) for a planar arm (its Jacobian has no
 ``z``, ``wx``, ``wy`` rows) and in 3D otherwise.  A path plot shows the targets against the
 points reached and, beside it, the joint values over the waypoints: the lecture's figure of
-the Newton path.  Needs matplotlib (:func:`symkin.solve.plotting.pyplot`).
+the Newton path.  Needs matplotlib (:func:`symkin.solve.plotting.new_figure`).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import sympy as sp
 
 from symkin.derive import Model
 from symkin.derive.numeric import numeric_function
-from symkin.solve.plotting import pyplot, save_figure
+from symkin.solve.plotting import colormap, new_figure, save_figure
 
 PLANAR_ZERO_ROWS = (2, 3, 4)  # z, wx, wy
 
@@ -84,11 +84,10 @@ def plot_solutions(
     overrides: Mapping[str, float] | None = None,
 ) -> Path:
     """The arm in each configuration of ``solutions``, overlaid, with the target position."""
-    plt = pyplot()
     planar = is_planar(model)
-    figure = plt.figure(figsize=(6, 6))
+    figure = new_figure(figsize=(6, 6))
     axes = _axes(figure, planar)
-    colours = plt.get_cmap("tab10")
+    colours = colormap("tab10")
     every = []
     for k, q in enumerate(solutions):
         points = joint_points(model, q, overrides)
@@ -143,12 +142,11 @@ def plot_path(
 ) -> Path:
     """Targets against points reached (task coordinates ``task``, one row per waypoint), the
     arm at the first and last waypoint, and the joint values over the waypoints."""
-    plt = pyplot()
     targets, reached, qs = (
         np.atleast_2d(np.asarray(a, dtype=float)) for a in (targets, reached, qs)
     )
     planar = len(task) < 3 or is_planar(model)
-    figure = plt.figure(figsize=(12, 5.5))
+    figure = new_figure(figsize=(12, 5.5))
     axes = _axes(figure, planar, 121)
     index = {name: k for k, name in enumerate(task)}
 

@@ -10,17 +10,17 @@ from pathlib import Path
 
 import numpy as np
 
-from symkin.solve.plotting import pyplot, save_figure
+from symkin.solve.plotting import colour_cycle, new_figure, save_figure
 from symkin.solve.trajopt.problem import units
 from symkin.solve.trajopt.solve import Trajectory
 
 
 def trajectory_figure(trajectory: Trajectory) -> object:
     """A matplotlib figure with three panels (q, dq, tau) sharing the time axis."""
-    plt = pyplot()
     robot, problem = trajectory.robot, trajectory.problem
-    figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    figure = new_figure(figsize=(8, 8))
+    top, middle, bottom = figure.subplots(3, 1, sharex=True)
+    colours = colour_cycle()
     t = trajectory.t
     tau = np.vstack([trajectory.tau, trajectory.tau[-1:]])  # the last step drawn to T
     for i, joint in enumerate(robot.joints):
