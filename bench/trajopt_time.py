@@ -115,6 +115,7 @@ def problem(example: Example, objective: str, method: str, **changes):
         method=method,
         torque_limits=example.torque_limits,
         velocity_limits=example.velocity_limits,
+        tolerance=None,  # the fixed 40-interval mesh; bench/trajopt_peers.py times the refined
         **changes,
     )
 
@@ -122,9 +123,10 @@ def problem(example: Example, objective: str, method: str, **changes):
 # --------------------------------------------------------------------------- peer
 
 
-def newton_euler_forward_dynamics(robot):
+def newton_euler_forward_dynamics(robot, inverse: bool = False):
     """``ddq = FD(q, dq, tau, p)`` from a recursive Newton–Euler in CasADi SX (``p`` unused:
-    the geometry is numeric), for standard-DH robots with revolute joints."""
+    the geometry is numeric), for standard-DH robots with revolute joints; with ``inverse``,
+    the recursion itself, ``tau = ID(q, dq, ddq, p)``."""
     import casadi as ca
     import sympy as sp
 
@@ -196,6 +198,15 @@ def newton_euler_forward_dynamics(robot):
             R_next = rotations[i]
         return ca.vertcat(*torques)
 
+    if inverse:
+        ddq = ca.SX.sym("ddq", n)
+        return ca.Function(
+            "peer_inverse_dynamics",
+            [q, dq, ddq, p],
+            [rnea(dq, ddq, gravity)],
+            ["q", "dq", "ddq", "p"],
+            ["tau"],
+        )
     zeros = ca.SX.zeros(n)
     bias = rnea(dq, zeros, gravity)
     mass = ca.horzcat(*(rnea(zeros, ca.DM.eye(n)[:, j], np.zeros(3)) for j in range(n)))

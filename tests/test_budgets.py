@@ -8,7 +8,9 @@ determinant on small matrices, and the arms' structure.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
+import time
 import warnings
 from pathlib import Path
 
@@ -21,13 +23,19 @@ import symkin
 from codegen_helpers import import_path, write_tree
 from numeric_dh import NumericRobot, function, model, robot, samples
 from symkin.cli import main
-from symkin.derive import Model
-from symkin.derive.budget import OverBudgetError, run_within
-from symkin.derive.determinant import determinant_by_minors, factored_gram_determinant
+from symkin.derive import Model, jacobians
+from symkin.derive.budget import WALL_FACTOR, OverBudgetError, child_cpu_seconds, run_within
+from symkin.derive.determinant import (
+    MAX_EXPANSION_ESTIMATE,
+    determinant_by_minors,
+    expansion_size_estimate,
+    factored_gram_determinant,
+)
 from symkin.errors import BudgetWarning, ParameterError
 from symkin.generate import files_for_robot
 
 DATA = Path(__file__).parent / "data"
+GENERIC = "random_6r_generic_1.toml"  # generic twists: its determinant does not factor
 
 
 def _reference_det(rob: symkin.Robot, q: np.ndarray, rows: slice = slice(None)) -> float:
@@ -89,6 +97,40 @@ def test_generic_arm_determinant_matches_reference(file: str) -> None:
         assert value(*q) == pytest.approx(expected, rel=1e-8)
 
 
+def _middle_frame(rob: symkin.Robot) -> sp.Matrix:
+    kinematics = Model(rob).product_form.kinematics
+    return jacobians.middle_frame_jacobian(rob, kinematics)
+
+
+def test_size_measure_tells_factorable_from_hopeless() -> None:
+    """The PUMA's and a right-angle arm's determinants factor (asserted elsewhere); the
+    generic-twist arm's is a polynomial of thousands of terms.  The measure is a product of
+    column lengths: the PUMA's middle-frame columns have at most 8, 4, 2, 1, 1, 1 terms."""
+    assert expansion_size_estimate(_middle_frame(robot("puma560"))) == 8 * 4 * 2
+    right = symkin.robot_from_toml((DATA / "random_6r_right_3.toml").read_text(), "right.toml")
+    generic = symkin.robot_from_toml((DATA / GENERIC).read_text(), "generic.toml")
+    assert expansion_size_estimate(_middle_frame(right)) <= MAX_EXPANSION_ESTIMATE
+    assert expansion_size_estimate(_middle_frame(generic)) > MAX_EXPANSION_ESTIMATE
+    x, y = sp.symbols("x y")
+    assert expansion_size_estimate(sp.Matrix([[x + y, 0], [3, x * (x + y + 1)]])) == 2 * 3
+
+
+@pytest.mark.slow
+def test_hopeless_determinant_is_not_attempted_and_falls_back(tmp_path: Path) -> None:
+    """A generic-twist 6R arm: one warning, no child started, and the numeric fallback
+    kernel equals det of the reference Jacobian (numeric DH product, complex step)."""
+    rob = symkin.robot_from_toml((DATA / GENERIC).read_text(), GENERIC)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        form = Model(rob).determinant_form()
+    assert (form.status, form.value) == ("over budget", None)
+    assert "not attempted" in form.note and "numerically" in form.note
+    assert [w.category for w in caught] == [BudgetWarning]
+    module = _numpy_module(rob, tmp_path)
+    for q in np.random.default_rng(8).uniform(-np.pi, np.pi, size=(4, 6)):
+        assert module.det(q) == pytest.approx(_reference_det(rob, q), rel=1e-9, abs=1e-12)
+
+
 def test_right_angle_arm_keeps_its_sine_factors() -> None:
     rob = symkin.robot_from_toml((DATA / "random_6r_right_3.toml").read_text(), "arm.toml")
     factors = sp.Mul.make_args(Model(rob).determinant())
@@ -128,6 +170,36 @@ def test_run_within_returns_values_raises_errors_and_stops() -> None:
         run_within(5, lambda: 1 / 0)
     with pytest.raises(OverBudgetError):
         run_within(0.2, lambda: [i for i in iter(int, 1)])  # never ends
+
+
+def _burn() -> None:
+    while True:
+        pass
+
+
+def test_a_child_burning_cpu_is_stopped_by_its_cpu_time() -> None:
+    """A wall backstop far away (1000 budgets): only the CPU measure can stop it, and it does
+    so after at least the budget of wall time (CPU time never outruns it on one thread)."""
+    start = time.monotonic()
+    with pytest.raises(OverBudgetError) as stopped:
+        run_within(0.3, _burn, wall_factor=1000)
+    assert stopped.value.clock == "cpu"
+    assert 0.3 <= time.monotonic() - start < 60
+
+
+def test_a_sleeping_child_is_not_charged_but_meets_the_wall_backstop() -> None:
+    # Sleeping 1 s uses no CPU: within a 0.5 s CPU budget (backstop 1.5 s) the value comes.
+    assert run_within(0.5, lambda: (time.sleep(1.0), 7)[1]) == 7
+    start = time.monotonic()
+    with pytest.raises(OverBudgetError) as stopped:
+        run_within(0.2, lambda: time.sleep(30))
+    assert stopped.value.clock == "wall"
+    assert 0.2 * WALL_FACTOR <= time.monotonic() - start < 20
+
+
+def test_child_cpu_seconds_reads_proc() -> None:
+    own = child_cpu_seconds(os.getpid())
+    assert own is not None and own == pytest.approx(sum(os.times()[:2]), abs=0.05)
 
 
 def test_show_json_over_budget(capsys: pytest.CaptureFixture[str]) -> None:

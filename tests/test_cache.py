@@ -507,3 +507,19 @@ def test_a_dangling_link_in_the_package_does_not_break_the_key(
     finally:
         monkeypatch.undo()
         cache_module._software.cache_clear()
+
+
+@pytest.mark.slow
+def test_a_budget_fallback_is_not_served_to_a_larger_budget(
+    cache_root: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The budget is part of the key: the over-budget answer of a tiny budget is kept for that
+    budget only, and a larger one derives again and finds the closed form (the PUMA's
+    determinant needs about 0.1 s of CPU)."""
+    tiny, tiny_err = run(capsys, "show", "puma560", "--json", "--budget", "0.0014")
+    assert json.loads(tiny)["det_status"] == "over budget" and "--budget" in tiny_err
+    again, again_err = run(capsys, "show", "puma560", "--json", "--budget", "0.0014", "--verbose")
+    assert again == tiny and "cache: show of puma560 from" in again_err
+    larger, _ = run(capsys, "show", "puma560", "--json", "--budget", "30")
+    assert json.loads(larger)["det_status"] == "found"
+    assert len(entries(cache_root)) == 2

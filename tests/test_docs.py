@@ -2,7 +2,7 @@
 
 Rules for the Markdown files checked here (README.md, docs/tutorial.md, docs/cli.md,
 docs/backends.md, docs/dynamics.md, docs/latex.md, docs/ik.md, docs/ik-generated.md,
-docs/trajopt.md, docs/workspace.md):
+docs/trajopt.md, docs/workspace.md, docs/identification.md):
 
 * Each file runs in a fresh temporary directory, its fenced blocks in document order.
 * A ```toml block whose first line is a comment naming a file (``# two_link.toml: ...``) is
@@ -216,6 +216,11 @@ def test_trajopt_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[st
     """Run from the repository's point of view: the examples load ``examples/arm_2r.toml``."""
     shutil.copytree(ROOT / "examples", in_tmp_dir / "examples")
     run_document(ROOT / "docs" / "trajopt.md", capsys)
+
+
+@pytest.mark.slow
+def test_identification_examples_run(in_tmp_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run_document(ROOT / "docs" / "identification.md", capsys)
 
 
 def test_doc_links_resolve() -> None:

@@ -19,7 +19,7 @@ import symkin
 from numeric_dh import NumericRobot
 from symkin.cli import main
 from symkin.derive import Model
-from symkin.derive.readable import INLINE_TERMS, expanded_size
+from symkin.derive.readable import INLINE_TERMS, MAX_TERMS, expanded_size, readable_form
 from symkin.errors import BudgetWarning
 
 DATA = Path(__file__).parent / "data"
@@ -80,3 +80,31 @@ def test_cli_over_budget_prints_one_line_and_exits_0(capsys: pytest.CaptureFixtu
     lines = [line for line in captured.err.splitlines() if "angle-sum contraction" in line]
     assert len(lines) == 1 and "--budget" in lines[0] and "random_8r_right_numeric_1" in lines[0]
     assert "q1" in captured.out
+
+
+def _long_arm(joints: int) -> symkin.Robot:
+    """Right-angle twists, every a and d non-zero: nothing collapses."""
+    rows = "".join(
+        f'[[joints]]\ntype = "revolute"\na = {0.1 + 0.03 * k}\nd = {0.2 - 0.02 * k}\n'
+        f'alpha = "{"pi/2" if k % 2 else "-pi/2"}"\n\n'
+        for k in range(joints)
+    )
+    text = f'name = "long_{joints}r"\nconvention = "standard"\n\n{rows}'
+    return symkin.robot_from_toml(text, f"long_{joints}r.toml")
+
+
+@pytest.mark.slow
+def test_hopeless_contraction_is_not_attempted() -> None:
+    """A 12-joint chain's T expands to thousands of terms: the contraction is refused at once
+    (one warning, product form kept) instead of spending the budget; FK stays right."""
+    arm = _long_arm(12)
+    assert expanded_size(arm) > MAX_TERMS
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        form = readable_form(arm, 20.0)
+        assert not Model(arm, budget=20.0).kinematics.simplified
+    assert form.status == "over budget" and "not attempted" in form.note
+    assert [w.category for w in caught] == [BudgetWarning, BudgetWarning]
+    q = np.linspace(-1.0, 1.0, 12)
+    value = sp.lambdify(symkin.joint_symbols(12), Model(arm).forward_kinematics)(*q)
+    assert np.allclose(np.array(value, dtype=float), NumericRobot.from_robot(arm).fk(q))

@@ -83,16 +83,18 @@ def two_link_acceleration(
     return np.linalg.solve([[m11, m12], [m12, m22]], tau - coriolis - weight)
 
 
-def resimulate(trajectory: Trajectory, acceleration) -> np.ndarray:
-    """States (N+1 x 2n) from integrating the torques, each held on its interval."""
+def resimulate(trajectory: Trajectory, acceleration, from_nodes: bool = False) -> np.ndarray:
+    """States (N+1 x 2n) from integrating the torques, each held on its interval, end to end
+    or (``from_nodes``) each interval from its own node: the local defects' end points."""
     n = trajectory.robot.dof
-    state = np.concatenate([trajectory.q[0], trajectory.dq[0]])
+    nodes = np.hstack([trajectory.q, trajectory.dq])
+    state = nodes[0]
     states = [state]
     for k, tau in enumerate(trajectory.tau):
         solution = solve_ivp(
             lambda _, x, tau=tau: np.concatenate([x[n:], acceleration(x[:n], x[n:], tau)]),
             (trajectory.t[k], trajectory.t[k + 1]),
-            state,
+            nodes[k] if from_nodes else state,
             method="DOP853",
             rtol=1e-10,
             atol=1e-10,
@@ -126,6 +128,7 @@ def swing(**changes) -> TrajectoryProblem:
         "torque_limits": TORQUE_LIMITS,
         "velocity_limits": VELOCITY_LIMITS,
         "substeps": 4,
+        "tolerance": None,  # the fixed 40-interval mesh: tests/test_trajopt_accuracy.py refines
     }
     return TrajectoryProblem(**(settings | changes))
 
@@ -339,7 +342,7 @@ def test_cli_writes_csv_json_and_plot(capsys, tmp_path) -> None:
     status, stdout, _ = run(
         capsys, "trajopt", str(ARM), "--from", "-90deg,0", "--to", "30deg,45deg",
         "--time", "1.5", "--torque-limit", "20,10", "--velocity-limit", "8",
-        "--intervals", "20", "--out", str(out), "--plot",
+        "--intervals", "20", "--max-refinements", "0", "--out", str(out), "--plot",
     )  # fmt: skip
     assert status == 0
     assert "arm_2r: minimum effort, multiple shooting, 20 intervals" in stdout
@@ -446,6 +449,7 @@ def test_puma560_transfer_resimulated_with_robotics_toolbox() -> None:
             method=method,
             torque_limits=torque_limits,
             velocity_limits=(3.0,) * 6,
+            tolerance=None,
         )
         for method in ("multiple-shooting", "collocation")
     }

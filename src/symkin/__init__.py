@@ -6,6 +6,7 @@ The public API::
     model = symkin.derive(robot)               # closed-form kinematics (SymPy)
     model.forward_kinematics, model.geometric_jacobian, model.determinant()
     state = symkin.kinematic_state(model, q=[0.1, 0.2, 0.0])   # numbers
+    d = symkin.dynamics_derivatives(model, q, dq, ddq)   # dtau/dq, dddq/dq, dJ/dt, ...
     result = symkin.solve_ik(model, symkin.pose_from_target([0.5, 0.2, 0.1]))  # inverse
     motion = symkin.optimal_trajectory(model, symkin.TrajectoryProblem(start=..., goal=...,
                                        final_time=2.0))   # optimal control (CasADi + IPOPT)
@@ -13,11 +14,14 @@ The public API::
 
 from symkin.derive import DerivationError, Model, PointMotion, derive
 from symkin.derive.numeric import numeric_function
+from symkin.derive.regressor import Regressor, regressor
+from symkin.derive.regressor_base import BaseRegressor, base_regressor
 from symkin.emit.latex import jupyter as _jupyter  # noqa: F401  registers Model._repr_latex_
 from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
 from symkin.robot import Joint, Link, Robot
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.draw import arm_figure, draw_arm
 from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
 from symkin.solve.evaluate import (
@@ -26,6 +30,9 @@ from symkin.solve.evaluate import (
     kinematic_state,
     operational_space_inertia,
 )
+from symkin.solve.identify import Identification, identify
+from symkin.solve.identify_consistency import Consistency, physical_consistency
+from symkin.solve.identify_excite import Excitation, exciting_trajectory
 from symkin.solve.ik import IKResult, pose_from_target, solve_ik
 from symkin.solve.trajopt import (
     InfeasibleTrajectoryError,
@@ -57,9 +64,14 @@ from symkin.spatial.inertia import (
 from symkin.symbols import joint_symbols
 
 __all__ = [
+    "BaseRegressor",
+    "Consistency",
     "DerivationError",
+    "DynamicsDerivatives",
     "Ellipsoids",
+    "Excitation",
     "IKResult",
+    "Identification",
     "InfeasibleTrajectoryError",
     "Joint",
     "KinematicState",
@@ -67,6 +79,7 @@ __all__ = [
     "Model",
     "PointMotion",
     "PointState",
+    "Regressor",
     "RigidBody",
     "Robot",
     "RobotError",
@@ -76,14 +89,18 @@ __all__ = [
     "Workspace",
     "adjoint_from_transform",
     "arm_figure",
+    "base_regressor",
     "box_inertia",
     "catalogue_names",
     "composite_body",
     "cylinder_inertia",
     "derive",
     "draw_arm",
+    "dynamics_derivatives",
     "ellipsoids_at",
+    "exciting_trajectory",
     "hollow_cylinder_inertia",
+    "identify",
     "inertia_about_com",
     "inertia_about_point",
     "joint_symbols",
@@ -92,9 +109,11 @@ __all__ = [
     "numeric_function",
     "operational_space_inertia",
     "optimal_trajectory",
+    "physical_consistency",
     "pose_from_target",
     "quaternion_product",
     "quaternion_slerp",
+    "regressor",
     "robot_from_toml",
     "rotated_inertia",
     "rotation_from_rotation_vector",

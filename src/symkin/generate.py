@@ -30,6 +30,8 @@ from symkin.kernels import (
     point_kernels,
     statics_kernels,
 )
+from symkin.kernels.derivatives import derivative_kernels
+from symkin.kernels.regressor import identification_kernels
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,
@@ -60,15 +62,22 @@ def check_backends(backends: Iterable[str]) -> tuple[str, ...]:
     return chosen
 
 
-def robot_kernels(model: Model, dynamics: bool = True) -> tuple[Kernel, ...]:
+def robot_kernels(
+    model: Model, dynamics: bool = True, derivatives: bool = False
+) -> tuple[Kernel, ...]:
     """Every kernel generated for a robot: kinematics, then dynamics unless ``dynamics`` is
-    false (two progress phases)."""
+    false, then the derivative kernels when ``derivatives`` is true (on request: they cost
+    more than the dynamics; see :mod:`symkin.kernels.derivatives`)."""
     with phase("the kinematics kernels (CSE and rewrite passes)"):
         kinematics = kinematics_kernels(model)
     if not dynamics:
         return kinematics
     with phase("the dynamics kernels (CSE and rewrite passes)"):
-        return kinematics + dynamics_kernels(model) + statics_kernels(model)
+        kernels = kinematics + dynamics_kernels(model) + statics_kernels(model)
+    if not derivatives:
+        return kernels
+    with phase("the derivative kernels (tangent sweeps, CSE and rewrite passes)"):
+        return kernels + derivative_kernels(model)
 
 
 def files_for_robot(
@@ -81,6 +90,8 @@ def files_for_robot(
     budget: float | None = DEFAULT_BUDGET_SECONDS,
     closed_forms: bool = True,
     dynamics: bool = True,
+    derivatives: bool = False,
+    regressor: bool = False,
 ) -> dict[str, str]:
     """``{relative path: text}`` of every chosen backend for one robot.
 
@@ -88,7 +99,10 @@ def files_for_robot(
     "Regenerate with" line ends with them (``--precision float --numeric-parameters``).
     ``budget`` and ``closed_forms`` as for :func:`~symkin.derive.derive` (without a closed
     form, ``det`` and ``manipulability`` are computed numerically from the Jacobian);
-    ``dynamics=False`` leaves the dynamics kernels out.
+    ``dynamics=False`` leaves the dynamics kernels out; ``derivatives=True`` adds the
+    derivative kernels (and the forward dynamics' derivatives) to them; ``regressor=True``
+    adds the identification kernels ``regressor`` and ``base_regressor`` (opt-in: they cost
+    derivation time no other kernel needs).
     """
     if precision not in PRECISIONS:
         raise ParameterError(
@@ -97,7 +111,12 @@ def files_for_robot(
 
     # Only the code backends need kernels; a LaTeX-only request should not pay for them.
     model = derive(robot, budget, closed_forms)
-    kernels = functools.cache(lambda: robot_kernels(model, dynamics) + point_kernels(model, points))
+
+    def all_kernels() -> tuple[Kernel, ...]:
+        extra = identification_kernels(model) if regressor else ()
+        return robot_kernels(model, dynamics, derivatives) + point_kernels(model, points) + extra
+
+    kernels = functools.cache(all_kernels)
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),

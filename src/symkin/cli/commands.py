@@ -12,6 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from symkin.cache import DiskCache, remembered, user_cache
+from symkin.cli.commands_identify import base_parameters_json, base_parameters_text
+from symkin.cli.derivatives_report import derivatives_json, derivatives_text
 from symkin.cli.report import (
     dynamics_json,
     dynamics_show_json,
@@ -26,16 +28,13 @@ from symkin.cli.report import (
 )
 from symkin.cli.values import (
     joint_values,
-    limit_values,
     parameter_overrides,
     point_from_text,
     robot_from_args,
-    seconds_from_text,
-    target_from_text,
     task_rows_from_text,
     wrench_from_text,
 )
-from symkin.derive import derive
+from symkin.derive import Model, derive
 from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.latex import check_sections, latex_files
 from symkin.emit.python_ext import extension_name
@@ -45,14 +44,8 @@ from symkin.io import catalogue_names, load_robot
 from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
+from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.evaluate import dynamic_state, kinematic_state
-from symkin.solve.trajopt import (
-    TrajectoryProblem,
-    check_problem,
-    optimal_trajectory,
-    summary_text,
-    write_trajectory,
-)
 from symkin.spatial import orientation_from_rotation
 
 # Arguments that do not shape a command's text (where it goes, how the run is shown or
@@ -99,9 +92,11 @@ def command_show(args: argparse.Namespace) -> None:
     def report() -> str:
         model = derive(robot, budget, closed_forms)
         if args.json:
-            extra = dynamics_show_json(model) if dynamics else {}
+            extra = dynamics_show_json(model) | base_parameters_json(model) if dynamics else {}
             return json_text(show_json(model, rows) | extra)
-        return show_text(model, rows) + (dynamics_show_text(model) if dynamics else "")
+        if not dynamics:
+            return show_text(model, rows)
+        return show_text(model, rows) + dynamics_show_text(model) + base_parameters_text(model)
 
     print(remembered(command_cache(args), "show", robot, cache_options(args), report))
 
@@ -110,7 +105,7 @@ def command_eval(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot)
     overrides = parameter_overrides(args.set)
-    if not args.dynamics:
+    if not (args.dynamics or args.derivatives):
         robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
     ddq = joint_values(args.ddq, "--ddq", robot) if args.ddq else None
@@ -127,13 +122,36 @@ def command_eval(args: argparse.Namespace) -> None:
         state = kinematic_state(
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
+        derivatives = _eval_derivatives(args, model, q, dq, ddq, overrides)
     orientation = orientation_report(state.transform, args.euler)
     data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
+    data |= derivatives_json(derivatives)
     if args.json:
         print(json_text(data))
     else:
         json_text(data)  # the same check: no NaN or infinity printed as a result
-        print(eval_text(state) + orientation[1] + dynamics_text(dynamics))
+        print(
+            eval_text(state)
+            + orientation[1]
+            + dynamics_text(dynamics)
+            + derivatives_text(derivatives)
+        )
+
+
+def _eval_derivatives(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> DynamicsDerivatives | None:
+    """``--derivatives``: the dynamics' and the Jacobian's derivatives at (q, dq, ddq)."""
+    if not args.derivatives:
+        return None
+    if dq is None or ddq is None:
+        raise SymkinError("--derivatives needs --dq and --ddq (the derivatives depend on both)")
+    return dynamics_derivatives(model, q, dq, ddq, overrides)
 
 
 def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
@@ -156,8 +174,10 @@ def derive_flags(args: argparse.Namespace) -> list[str]:
     flags += ["--numeric-parameters"] if args.numeric_parameters else []
     flags += [word for item in args.set for word in ("--set", item)]
     flags += [word for item in args.point for word in ("--point", item)]
+    flags += ["--regressor"] if args.regressor else []
     flags += ["--budget", f"{args.budget:g}"] if args.budget != DEFAULT_BUDGET_SECONDS else []
     flags += ["--skip", ",".join(args.skip)] if args.skip else []
+    flags += ["--derivatives"] if args.derivatives else []
     return flags + (["--kinematics-only"] if args.kinematics_only else [])
 
 
@@ -187,6 +207,8 @@ def command_derive(args: argparse.Namespace) -> None:
             budget=budget,
             closed_forms=closed_forms,
             dynamics=dynamics,
+            regressor=args.regressor,
+            derivatives=args.derivatives,
         ),
     )
     out = Path(args.out)
@@ -251,41 +273,3 @@ def command_latex(args: argparse.Namespace) -> None:
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
 
-
-def command_trajopt(args: argparse.Namespace) -> None:
-    robot = robot_from_args(args)
-    if args.to is None and args.cartesian_goal is None:
-        raise SymkinError("give the goal: --to V1,V2,... or --cartesian-goal X,Y,Z")
-    if args.plot and args.out is None:
-        raise SymkinError("--plot needs --out DIR, the folder for trajectory.png")
-    if args.min_time and args.objective == "effort":
-        raise SymkinError("--min-time means --objective time, not effort")
-    objective = "time" if args.min_time else args.objective or "effort"
-    cartesian_goal = None
-    if args.cartesian_goal is not None:
-        cartesian_goal = target_from_text(args.cartesian_goal, "--cartesian-goal")
-        if len(cartesian_goal) != 3:
-            raise SymkinError(
-                f"--cartesian-goal: expected x,y,z (the tool position in metres), "
-                f"got {args.cartesian_goal!r}"
-            )
-    problem = TrajectoryProblem(
-        start=joint_values(args.from_, "--from", robot),
-        goal=joint_values(args.to, "--to", robot) if args.to is not None else None,
-        cartesian_goal=cartesian_goal,
-        intervals=args.intervals,
-        final_time=None if args.time is None else seconds_from_text(args.time, "--time"),
-        objective=objective,
-        method=args.method,
-        velocity_limits=limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True),
-        torque_limits=limit_values(args.torque_limit, "--torque-limit", robot, rates=False),
-        overrides=parameter_overrides(args.set),
-    )
-    model = derive(robot)
-    check_problem(model, problem)  # input mistakes before the progress line
-    progress(f"setting up and solving the {problem.method} problem with IPOPT ...")
-    trajectory = optimal_trajectory(model, problem)
-    print(summary_text(trajectory))
-    if args.out is not None:
-        paths = write_trajectory(trajectory, args.out, plot=args.plot)
-        print(f"wrote {', '.join(str(path) for path in paths)}")

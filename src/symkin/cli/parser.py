@@ -16,11 +16,12 @@ from symkin.cli.commands import (
     command_latex,
     command_list,
     command_show,
-    command_trajopt,
 )
 from symkin.cli.commands_check import add_check
 from symkin.cli.commands_geometry import command_dh, command_urdf
+from symkin.cli.commands_identify import command_identify
 from symkin.cli.commands_ik import command_ik
+from symkin.cli.commands_trajopt import add_trajopt_options, command_trajopt
 from symkin.cli.parser_workspace import add_euler_option, add_workspace_commands
 from symkin.cli.values import (
     DEFAULT_TIME_LIMIT,
@@ -34,7 +35,7 @@ from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
 from symkin.generate import BACKENDS
 from symkin.solve.ik.numeric import DEFAULT_RESTARTS, DEFAULT_TOLERANCE, METHODS
-from symkin.solve.trajopt import OBJECTIVES, TRANSCRIPTIONS
+from symkin.solve.trajopt import OBJECTIVES
 
 # argparse's (private) type of the object that add_subparsers returns
 Commands = argparse._SubParsersAction
@@ -114,6 +115,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_generate(commands)
     add_ik(commands)
     add_trajopt(commands)
+    add_identify(commands)
     add_dh(commands)
     add_urdf(commands)
     add_workspace_commands(commands, add_robot_argument)
@@ -219,6 +221,12 @@ def add_eval(commands: Commands) -> None:
         help="with --dynamics: an external wrench on the tool (N, N m; base frame, at the tool "
         "point): tau includes -J^T w, and the static torque G - J^T w is printed",
     )
+    evaluate.add_argument(
+        "--derivatives",
+        action="store_true",
+        help="add dtau_dq, dtau_ddq, dddq_dq, dddq_ddq, dddq_dtau, jacobian_dot and "
+        "jacobian_dot_dq (needs --dq and --ddq; row = output index)",
+    )
     evaluate.add_argument("--json", action="store_true", help="print a JSON object")
     add_euler_option(
         evaluate,
@@ -261,6 +269,18 @@ def add_derive(commands: Commands) -> None:
         help="put the parameter values (file values, or --set) into the code: no p input, "
         "constants folded, and for robots with full inertial data the dynamics run on base "
         "parameters (fewer operations)",
+    )
+    derive_parser.add_argument(
+        "--regressor",
+        action="store_true",
+        help="also the identification kernels: regressor (tau = Y pi) and base_regressor "
+        "(tau = Y_b beta); see docs/identification.md",
+    )
+    derive_parser.add_argument(
+        "--derivatives",
+        action="store_true",
+        help="also the derivative kernels: inverse_dynamics_derivatives (tau, dtau/dq, "
+        "dtau/ddq), jacobian_derivative (dJ/dt, dJ/dt dq) and forward_dynamics_derivatives",
     )
     add_set_option(derive_parser)
     add_derivation_options(derive_parser)
@@ -414,12 +434,7 @@ def add_trajopt(commands: Commands) -> None:
     trajopt.add_argument(
         "--objective", choices=OBJECTIVES, help="effort (the default) or time (= --min-time)"
     )
-    trajopt.add_argument(
-        "--method",
-        choices=list(TRANSCRIPTIONS),
-        default="multiple-shooting",
-        help="transcription: multiple-shooting (RK4, default) or collocation (Radau)",
-    )
+    add_trajopt_options(trajopt)
     trajopt.add_argument(
         "--velocity-limit",
         metavar="V[,V2,...]",
@@ -435,4 +450,64 @@ def add_trajopt(commands: Commands) -> None:
         "--out", metavar="DIR", help="write trajectory.csv and trajectory.json to DIR"
     )
     trajopt.add_argument("--plot", action="store_true", help="also write DIR/trajectory.png")
+    trajopt.add_argument("--json", action="store_true", help="print a JSON object")
     trajopt.set_defaults(run=command_trajopt)
+
+
+def add_identify(commands: Commands) -> None:
+    """``symkin identify ROBOT --data FILE.csv`` or ``--excite --out FILE.csv``."""
+    identify = commands.add_parser(
+        "identify",
+        help="base inertial parameters from logged data, or an exciting trajectory",
+        description="Fit the base parameters (least squares on the base regressor) to logged "
+        "joint states and torques, or (--excite) design a periodic Fourier-series motion "
+        "that makes the fit well conditioned. See docs/identification.md.",
+    )
+    add_robot_argument(identify)
+    identify.add_argument(
+        "--data",
+        metavar="FILE.csv",
+        help="columns q1..qn, dq1..dqn, ddq1..ddqn, tau1..taun by header name (with --filter: "
+        "t, q1..qn, tau1..taun)",
+    )
+    identify.add_argument(
+        "--filter",
+        type=float,
+        metavar="HZ",
+        help="velocities and accelerations from q: 4th-order Butterworth low-pass at HZ, "
+        "zero phase (filtfilt), then central differences; tau filtered alike",
+    )
+    identify.add_argument(
+        "--weights",
+        metavar="W1,...,Wn|auto",
+        help="weighted least squares: one weight per joint, or auto (each joint by the "
+        "inverse variance of its residual in a first fit)",
+    )
+    identify.add_argument("--json", action="store_true", help="print a JSON object")
+    identify.add_argument(
+        "--excite", action="store_true", help="write an exciting trajectory instead of fitting"
+    )
+    identify.add_argument("--harmonics", type=int, default=5, help="Fourier harmonics (default 5)")
+    identify.add_argument(
+        "--period", type=float, default=10.0, metavar="SECONDS", help="period (default 10)"
+    )
+    identify.add_argument(
+        "--rate", type=float, default=100.0, metavar="HZ", help="samples per second (default 100)"
+    )
+    identify.add_argument(
+        "--velocity-limit",
+        metavar="V[,V2,...]",
+        help="|dq| limit (default: the robot file's max_velocity, else 1 rad/s or m/s)",
+    )
+    identify.add_argument(
+        "--simulate",
+        action="store_true",
+        help="also columns tau1..taun from the robot file's model (simulated measurements)",
+    )
+    identify.add_argument(
+        "--noise", type=float, default=0.0, metavar="SIGMA", help="with --simulate: torque noise"
+    )
+    identify.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    identify.add_argument("--out", metavar="FILE.csv", help="with --excite: the trajectory file")
+    add_set_option(identify)
+    identify.set_defaults(run=command_identify)

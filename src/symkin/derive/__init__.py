@@ -24,7 +24,12 @@ from symkin.derive.budget import (
     closed_form_within,
     not_attempted,
 )
-from symkin.derive.determinant import factored_determinant, factored_gram_determinant
+from symkin.derive.derivatives import TorqueDerivatives, torque_derivatives
+from symkin.derive.determinant import (
+    factored_determinant,
+    factored_gram_determinant,
+    too_large_to_factor,
+)
 from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
 from symkin.derive.energy import Energies, energies_from_dynamics
@@ -135,9 +140,10 @@ class Model:
         """The same model unsimplified (shortest generated code after CSE)."""
         return self if not self.simplified else dataclasses.replace(self, simplified=False)
 
-    @property
+    @cached_property
     def q(self) -> tuple[sp.Symbol, ...]:
-        return self.kinematics.q
+        # Not self.kinematics.q: naming the inputs must not start the readable contraction.
+        return joint_symbols(self.robot.dof)
 
     @cached_property
     def dq(self) -> tuple[sp.Symbol, ...]:
@@ -249,6 +255,10 @@ class Model:
         matrix = jacobians.determinant_matrix(
             self.robot, self.kinematics, self.geometric_jacobian, rows
         )
+        if rows == jacobians.ROW_NAMES:  # the middle-frame matrix, where the measure is calibrated
+            hopeless = too_large_to_factor(quantity, self.robot.name, matrix)
+            if hopeless:
+                return hopeless
         return self._within(quantity, lambda: factored_determinant(matrix, self.q))
 
     def _within(self, quantity: str, compute: Callable[[], Any]) -> ClosedForm:
@@ -333,7 +343,7 @@ class Model:
     @derivation_step("the Newton-Euler equations of motion")
     def newton_euler(self) -> Dynamics:
         """Equations of motion by recursive Newton–Euler (named intermediates; any size)."""
-        return newton_euler_dynamics(self.robot, self.kinematics, self.dq, self.ddq)
+        return newton_euler_dynamics(self.robot, self._link_kinematics, self.dq, self.ddq)
 
     @cached_property
     @derivation_step("the Newton-Euler recursion")
@@ -341,7 +351,22 @@ class Model:
         self,
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """Named intermediates and ``tau(q, dq, ddq)`` of one Newton–Euler pass."""
-        return inverse_dynamics_recursion(self.robot, self.kinematics, self.dq, self.ddq)
+        return inverse_dynamics_recursion(self.robot, self._link_kinematics, self.dq, self.ddq)
+
+    @property
+    def _link_kinematics(self) -> Kinematics:
+        """The kinematics the recursions read: only the link transforms (and the base), which
+        are the same in both forms, so the product form's (built in milliseconds), and
+        dynamics alone never waits for the readable contraction of a long chain."""
+        return self.product_form.kinematics
+
+    @cached_property
+    @derivation_step("the inverse dynamics' derivatives")
+    def inverse_dynamics_derivatives(self) -> TorqueDerivatives:
+        """``tau``, ``dtau/dq`` and ``dtau/ddq`` through the Newton–Euler recursion's named
+        intermediates (:mod:`symkin.derive.derivatives`)."""
+        assignments, torque = self.inverse_dynamics_recursion
+        return torque_derivatives(assignments, torque, self.q, self.dq)
 
     @cached_property
     def wrench(self) -> tuple[sp.Symbol, ...]:

@@ -141,7 +141,14 @@ def base_parameter_folding(robot: Robot, kinematics: Kinematics) -> Folding | No
     if not has_numeric_geometry(robot, kinematics):
         return None
     regressor = _regressor(robot, kinematics)
-    Y = regressor(seed=1)
+    return folding_from_samples(regressor(seed=1), regressor(seed=2))
+
+
+def folding_from_samples(Y: np.ndarray, check: np.ndarray) -> Folding | None:
+    """The folding of the columns of ``Y`` (the regressor stacked over random states): each
+    column is kept when it is independent of the kept ones before it (Gautier 1991), the
+    others are their least-squares combination.  ``None`` unless the folded parameters give
+    the same torques as random ones at the other states ``check``."""
     tolerance = RANK_TOLERANCE * np.linalg.norm(Y)
     kept: list[int] = []
     for k in range(Y.shape[1]):
@@ -153,7 +160,6 @@ def base_parameter_folding(robot: Robot, kinematics: Kinematics) -> Folding | No
     matrix[np.abs(matrix) <= NEGLIGIBLE * np.max(np.abs(matrix), initial=0.0)] = 0.0
     folding = Folding(tuple(kept), tuple(dropped), tuple(map(tuple, matrix.tolist())))
     delta = np.random.default_rng(3).uniform(-1.0, 1.0, Y.shape[1])
-    check = regressor(seed=2)
     error = np.max(np.abs(check @ folding.beta(delta) - check @ delta))
     return folding if error <= 1e-9 * max(1.0, np.max(np.abs(check @ delta))) else None
 

@@ -4,14 +4,20 @@ The factored determinant, the singular configurations, the adjugate inverse and 
 manipulability are extras: the generated code can compute the determinant and the
 manipulability numerically from the Jacobian.  The readable (angle-sum contracted) forward
 kinematics and Jacobian of a long chain are extras too (:mod:`symkin.derive.readable`): their
-product form has the same values.  Each is computed under a budget of wall-clock seconds
+product form has the same values.  Each is computed under a budget of CPU seconds
 (:data:`DEFAULT_BUDGET_SECONDS`); past it the result is a :class:`ClosedForm` whose
 status says so, and one :class:`BudgetWarning` line tells the user which result, which robot,
 the budget and how to change it.
 
 How the deadline is enforced: the step runs in a forked child process that sends its result
 back through a private pipe (pickled SymPy objects: the bytes come from our own child, never
-from a file); the parent waits at most the budget and then kills the child.  A process, not a
+from a file); the parent polls the child's CPU time (user + system, from
+``/proc/<pid>/stat``) and kills it once that exceeds the budget.  CPU time, not wall-clock
+time, so that the same robot gets the same closed forms on an idle machine and on a loaded
+one (two cores shared by a dozen processes gave a 20 s wall-clock budget less than 4 s of
+computing).  A wall-clock backstop of :data:`WALL_FACTOR` times the budget still stops a child
+that waits instead of computing, or one starved by load.  Where ``/proc`` does not exist
+(macOS), the budget is wall-clock time.  A process, not a
 signal, because the library may run outside the main thread (a GUI, a web worker), where
 ``SIGALRM`` cannot be used, and because a process is stopped for sure, whatever the algebra
 does.  The heavy prerequisites (kinematics, the Jacobian) are computed in the parent first, so
@@ -35,9 +41,12 @@ from typing import Any
 from symkin.errors import BudgetWarning
 from symkin.progress import reporting
 
-# Seconds per optional closed form.  Every catalogue robot needs under 0.3 s (UR5 det 0.1 s),
-# a generic 6R arm's determinant about 6 s (2 shared cores); 20 s bounds what a user waits.
+# CPU seconds per optional closed form.  Every catalogue robot needs under 0.3 s (UR5 det
+# 0.1 s); 20 s bounds what a user waits.
 DEFAULT_BUDGET_SECONDS = 20.0
+# The wall-clock backstop, in budgets: a child sleeping, blocked, or given under a third of a
+# core is stopped there.
+WALL_FACTOR = 3.0
 
 FOUND = "found"
 NOT_SQUARE = "not square"
@@ -67,7 +76,14 @@ class ClosedForm:
 
 
 class OverBudgetError(Exception):
-    """The step did not finish within its budget (internal; callers get a ClosedForm)."""
+    """The step did not finish within its budget (internal; callers get a ClosedForm).
+
+    ``clock`` says which limit stopped it: ``"cpu"`` (the budget) or ``"wall"`` (the
+    backstop)."""
+
+    def __init__(self, clock: str) -> None:
+        super().__init__(f"stopped by the {clock} limit")
+        self.clock = clock
 
 
 def closed_form_within(
@@ -84,10 +100,12 @@ def closed_form_within(
     """
     try:
         value = run_within(budget, compute)
-    except OverBudgetError:
+    except OverBudgetError as stop:
+        wall = stop.clock == "wall"
+        backstop = f" (wall-clock backstop {WALL_FACTOR * budget:g} s)" if wall else ""
         warning = BudgetWarning(
-            f"{robot}: the {quantity} was not found within the budget of {budget:g} s; "
-            f"{fallback} (a larger {{budget}} allows more time)"
+            f"{robot}: the {quantity} was not found within the budget of {budget:g} s of CPU "
+            f"time{backstop}; {fallback} (a larger {{budget}} allows more time)"
         )
         warnings.warn(warning, stacklevel=4)
         return ClosedForm(quantity, OVER_BUDGET, None, warning.message_for({}))
@@ -100,8 +118,11 @@ def not_attempted(quantity: str, robot: str) -> ClosedForm:
     return ClosedForm(quantity, NOT_ATTEMPTED, None, note)
 
 
-def run_within(seconds: float | None, compute: Callable[[], Any]) -> Any:
-    """``compute()`` in a forked child, or :class:`OverBudgetError` after ``seconds``."""
+def run_within(
+    seconds: float | None, compute: Callable[[], Any], wall_factor: float = WALL_FACTOR
+) -> Any:
+    """``compute()`` in a forked child, or :class:`OverBudgetError` once the child has used
+    ``seconds`` of CPU time or ``wall_factor * seconds`` of wall-clock time."""
     if seconds is None or not hasattr(os, "fork"):
         return compute()
     reader, writer = os.pipe()
@@ -111,7 +132,7 @@ def run_within(seconds: float | None, compute: Callable[[], Any]) -> Any:
         _send(writer, compute)
     os.close(writer)
     try:
-        data = _receive(reader, time.monotonic() + seconds)
+        data = _receive(reader, pid, seconds, time.monotonic() + wall_factor * seconds)
     finally:
         os.close(reader)
         _stop(pid)
@@ -145,18 +166,38 @@ def _quietly(compute: Callable[[], Any]) -> Any:
         return compute()
 
 
-def _receive(reader: int, deadline: float) -> bytes:
+def child_cpu_seconds(pid: int) -> float | None:
+    """User + system CPU seconds of a running child, from ``/proc/<pid>/stat`` (fields 14
+    and 15, in clock ticks; proc(5)), or None where there is no ``/proc``."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as file:
+            fields = file.read().rsplit(b")", 1)[1].split()
+    except OSError:
+        return None
+    # After the ")" closing the command name, field 3 (state) is the first.
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _receive(reader: int, pid: int, seconds: float, wall_deadline: float) -> bytes:
+    """The child's bytes; :class:`OverBudgetError` past ``seconds`` of its CPU time (polled
+    every few hundredths of the budget) or past ``wall_deadline``."""
     chunks = []
+    started = time.monotonic()
+    poll = min(0.1, max(0.005, seconds / 50))
     while True:
-        remaining = deadline - time.monotonic()
-        if remaining <= 0:
-            raise OverBudgetError
-        ready, _, _ = select.select([reader], [], [], remaining)
+        ready, _, _ = select.select([reader], [], [], poll)
         if ready:
             chunk = os.read(reader, 1 << 20)
             if not chunk:
                 break
             chunks.append(chunk)
+            continue
+        now = time.monotonic()
+        if now >= wall_deadline:
+            raise OverBudgetError("wall")
+        used = child_cpu_seconds(pid)
+        if (now - started if used is None else used) > seconds:
+            raise OverBudgetError("cpu")
     if not chunks:
         raise ArithmeticError("the closed-form step stopped without a result")
     return b"".join(chunks)

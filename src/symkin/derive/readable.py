@@ -14,18 +14,23 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
 * above it, the contraction runs under the model's budget (a forked child, see
   :func:`~symkin.derive.budget.run_within`); past the budget one
   :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
-  model keeps the product form.
+  model keeps the product form;
+* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046) it is not attempted under a
+  budget: one warning says so at once, where the child would only have spent the budget.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import symengine as se
 import sympy as sp
 
 from symkin.derive import jacobians
-from symkin.derive.budget import ClosedForm, closed_form_within
+from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
 from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
 from symkin.derive.pythagorean import fold_matrix
+from symkin.errors import BudgetWarning
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
 
@@ -34,6 +39,10 @@ from symkin.symbols import joint_symbols
 # with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
 # (9 s), a random 12R 3,046 (over 80 s).
 INLINE_TERMS = 200
+# Past this many terms the contraction is not attempted under a budget (the time grows about
+# as the square of the terms: 404 terms 9 s, so 1,000 terms about a minute); with no budget
+# (``budget=None``) it is.
+MAX_TERMS = 1000
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
 FALLBACK = "they keep their product form (same values, longer expressions)"
@@ -62,7 +71,8 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
     :class:`ClosedForm`: found, or over budget (with one warning) for the caller to fall back
     to the product form."""
 
-    inline = expanded_size(robot) <= INLINE_TERMS
+    size = expanded_size(robot)
+    inline = size <= INLINE_TERMS
 
     def contracted() -> Readable:
         kinematics = kinematics_from_robot(robot)
@@ -71,5 +81,12 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         # about 1 ms; a long generic chain keeps them (1.3 s more at six generic joints).
         return kinematics, fold_matrix(jacobian) if inline else jacobian
 
+    if budget is not None and size > MAX_TERMS:
+        note = (
+            f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
+            f"(more than {MAX_TERMS:,}, minutes of work); {FALLBACK}"
+        )
+        warnings.warn(BudgetWarning(note), stacklevel=4)
+        return ClosedForm(QUANTITY, OVER_BUDGET, None, note)
     within = None if inline else budget
     return closed_form_within(QUANTITY, robot.name, within, contracted, FALLBACK)

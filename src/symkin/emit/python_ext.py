@@ -16,6 +16,8 @@ from symkin.kernels import Kernel
 from symkin.robot import Robot
 
 NUMPY_TYPES = {"double": "NPY_FLOAT64", "float": "NPY_FLOAT32"}
+# The forward dynamics' derivative matrices, after ddq, as every backend names them.
+FD_DERIVATIVES = ("dddq_dq", "dddq_ddq", "dddq_dtau")
 
 
 @dataclass(frozen=True)
@@ -63,16 +65,26 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
             )
         )
     forward = forward_dynamics_context(kernels)
-    if forward is not None:
+    if forward is None:
+        return result
+    n = robot.dof
+    composed = [("forward_dynamics", "forward dynamics ddq = M^-1 (tau - c - G - F)", ())]
+    # The forward dynamics' texts are in generated/: keep them as they are.
+    if forward["derivatives"]:
+        matrices = tuple((name, (n, n)) for name in FD_DERIVATIVES)
+        what = "ddq and d ddq/dq, d ddq/ddq, d ddq/dtau = M^-1"
+        composed.append(("forward_dynamics_derivatives", what, matrices))
+    for name, description, more in composed:
         result.append(
             Binding(
-                name="forward_dynamics",
-                description="forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky)",
+                name=name,
+                description=f"{description} (Cholesky)",
                 states=("q", "dq", "tau"),
                 state_sizes=(robot.dof,) * 3,
                 takes_pi=bool(forward["pi"]),
-                outputs=(("ddq", (robot.dof,)),),
-                batched=False,
+                outputs=(("ddq", (n,)), *more),
+                # forward_dynamics has no batched C entry point: the binding loops over states.
+                batched=bool(more),
                 if_not_finite="ddq is not finite: M(q) is not positive definite there "
                 "(non-physical inertial data?) or an input is not finite",
             )

@@ -54,13 +54,18 @@ def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, int] | No
     """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
 
     Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels;
-    ``pi`` is the number of inertial symbols they take (0: the file gives all the data).
+    ``pi`` is the number of inertial symbols they take (0: the file gives all the data);
+    ``derivatives`` is 1 when the ``inverse_dynamics_derivatives`` kernel is there too, so
+    the forward dynamics' derivatives are composed as well (``-M^-1 dtau/dx``, ``M^-1``).
     """
     names = {k.name: k for k in kernels}
     if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
         return None
     inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
-    return {"pi": len(inputs["pi"].symbols) if "pi" in inputs else 0}
+    return {
+        "pi": len(inputs["pi"].symbols) if "pi" in inputs else 0,
+        "derivatives": int("inverse_dynamics_derivatives" in names),
+    }
 
 
 def number_text(value: sp.Expr) -> str:

@@ -30,15 +30,18 @@ if TYPE_CHECKING:
 # What the numeric solvers call, nothing more: the determinant, the singular set, the
 # Christoffel C and every readable (contracted) form are left out, so an arm whose determinant
 # takes minutes still gets its first IK answer in seconds.
-KINDS = ("kinematics", "dynamics")
+KINDS = ("kinematics", "dynamics", "derivatives", "identification")
 POSE_KERNELS = ("fk", "position", "fk_jacobian")
 
 
 def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The NumPy backend's ``kind`` kernels ("kinematics": ``fk``, ``position`` and
     ``fk_jacobian``; "dynamics": ``mass_matrix``, ``gravity``,
-    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``) rendered and imported once per
-    robot and process: the fast numeric path for solvers (IK, simulation, trajectories).
+    ``coriolis``, ``inverse_dynamics``, ``forward_dynamics``; "derivatives": those and
+    ``inverse_dynamics_derivatives``, ``jacobian_derivative``,
+    ``forward_dynamics_derivatives``; "identification": ``regressor`` and
+    ``base_regressor``) rendered and imported once per robot and process:
+    the fast numeric path for solvers (IK, simulation, trajectories).
 
     They come from the model's product form (:attr:`Model.product_form`), the form code
     generation starts from, so a simplified model shares the module of its product form and
@@ -55,11 +58,12 @@ def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
 
 
 def generated_point_module(
-    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]
+    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...], backend: str = "numpy"
 ) -> ModuleType:
-    """The NumPy kernels ``point1, point2, ...`` (position, velocity and acceleration of each
-    ``(link, (x, y, z))`` point), from the product form, built once per robot and point set."""
-    return _remembered(model, ("points", points), _point_module, points)
+    """The NumPy (or, with ``backend="casadi"``, CasADi) kernels ``point1, point2, ...``
+    (position, velocity and acceleration of each ``(link, (x, y, z))`` point), from the product
+    form, built once per robot, point set and backend."""
+    return _remembered(model, ("points", points, backend), _point_module, points, backend)
 
 
 # The modules of the models used last, by identity: hashing a model hashes its robot's every
@@ -94,16 +98,26 @@ def _generated_module(model: Model, backend: str, kind: str) -> ModuleType:
         raise SymkinError(f"unknown kernel kind {kind!r}; expected one of {', '.join(KINDS)}")
     if kind == "kinematics":
         kernels = pose_kernels(model, POSE_KERNELS)
+    elif kind == "identification":
+        from symkin.kernels.regressor import identification_kernels
+
+        kernels = identification_kernels(model)
     else:
         kernels = dynamics_kernels(model, coriolis_matrix=False) + statics_kernels(model)
+    if kind == "derivatives":  # on request only: the derivatives cost more than tau
+        from symkin.kernels.derivatives import derivative_kernels
+
+        kernels += derivative_kernels(model)
     return _module_from_kernels(model, backend, kind, kernels)
 
 
 @lru_cache(maxsize=32)
-def _point_module(model: Model, points: tuple[tuple[int, tuple[float, ...]], ...]) -> ModuleType:
+def _point_module(
+    model: Model, points: tuple[tuple[int, tuple[float, ...]], ...], backend: str
+) -> ModuleType:
     from symkin.kernels import point_kernels
 
-    return _module_from_kernels(model, "numpy", "points", point_kernels(model, points))
+    return _module_from_kernels(model, backend, "points", point_kernels(model, points))
 
 
 def _module_from_kernels(

@@ -22,43 +22,58 @@ groups), ``initial_guess``, ``solve`` (IPOPT and the :class:`Trajectory`), ``plo
 and ``report`` (summary text, CSV, JSON, files).
 """
 
+from symkin.solve.trajopt.accuracy import Accuracy
+from symkin.solve.trajopt.functions import RobotFunctions, robot_functions
 from symkin.solve.trajopt.problem import (
+    DEFAULT_TOLERANCE,
     FEASIBILITY_TOLERANCE,
     METHODS,
     OBJECTIVES,
     InfeasibleTrajectoryError,
     Method,
     Objective,
+    Obstacle,
     TrajectoryProblem,
+    Waypoint,
     check_problem,
     units,
 )
+from symkin.solve.trajopt.program import Program, transcribed_program
 from symkin.solve.trajopt.report import (
     summary_text,
     trajectory_json,
     trajectory_rows,
     write_trajectory,
 )
-from symkin.solve.trajopt.solve import SolverStats, Trajectory, optimal_trajectory
+from symkin.solve.trajopt.solve import Round, SolverStats, Trajectory, optimal_trajectory
 from symkin.solve.trajopt.transcription import TRANSCRIPTIONS, radau_coefficients
 
 __all__ = [
+    "DEFAULT_TOLERANCE",
     "FEASIBILITY_TOLERANCE",
     "METHODS",
     "OBJECTIVES",
     "TRANSCRIPTIONS",
+    "Accuracy",
     "InfeasibleTrajectoryError",
     "Method",
     "Objective",
+    "Obstacle",
+    "Program",
+    "RobotFunctions",
+    "Round",
     "SolverStats",
     "Trajectory",
     "TrajectoryProblem",
+    "Waypoint",
     "check_problem",
     "optimal_trajectory",
     "radau_coefficients",
+    "robot_functions",
     "summary_text",
     "trajectory_json",
     "trajectory_rows",
+    "transcribed_program",
     "units",
     "write_trajectory",
 ]

@@ -78,7 +78,7 @@ def _limit_groups(
 ) -> list[Group]:
     """Position, velocity and torque limits at the nodes, one group per joint and kind."""
     n = model.robot.dof
-    X, U = transcription.X, transcription.U
+    X, torques = transcription.X, transcription.torques
     groups = []
     for i, joint in enumerate(model.robot.joints):
         position, rate, force = units(joint)
@@ -93,7 +93,7 @@ def _limit_groups(
         if problem.torque_limits is not None:
             t = problem.torque_limits[i]
             label = f"torque limit of joint {i + 1} ({t:g} {force})"
-            groups.append(Group(label, U[i, :], -t, t, force))
+            groups.append(Group(label, torques[i, :], -t, t, force))
     return groups
 
 
@@ -101,8 +101,8 @@ def impose(opti, group: Group) -> None:
     """Add ``group`` to ``opti``: an equality, or bounds on both sides."""
     import casadi
 
-    lower = casadi.DM(group.lower) if np.ndim(group.lower) else group.lower
-    upper = casadi.DM(group.upper) if np.ndim(group.upper) else group.upper
+    lower = group.lower if isinstance(group.lower, int | float) else casadi.DM(group.lower)
+    upper = group.upper if isinstance(group.upper, int | float) else casadi.DM(group.upper)
     if group.lower is group.upper:
         opti.subject_to(group.expr == lower)
     else:
@@ -111,7 +111,10 @@ def impose(opti, group: Group) -> None:
 
 def check_group(group: Group, value: Callable) -> Check:
     """``group`` at the point where ``value`` (``Opti.value`` or its debug twin) evaluates."""
-    values = np.ravel(np.asarray(value(group.expr), dtype=float))
+    try:
+        values = np.ravel(np.asarray(value(group.expr), dtype=float))
+    except RuntimeError:  # not evaluable at IPOPT's last point (a NaN in the model)
+        return Check(group, float("inf"), 0, 1)
     lower = np.ravel(np.asarray(group.lower, dtype=float))
     upper = np.ravel(np.asarray(group.upper, dtype=float))
     excess = np.maximum(lower - values, values - upper)

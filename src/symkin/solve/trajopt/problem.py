@@ -18,10 +18,16 @@ from symkin.robot import Joint
 from symkin.solve.evaluate import dynamic_state
 
 Objective = Literal["effort", "time"]
-Method = Literal["multiple-shooting", "collocation"]
+Method = Literal["multiple-shooting", "collocation", "inverse-dynamics"]
 OBJECTIVES: tuple[str, ...] = ("effort", "time")
-# The transcriptions, in the order messages and the command line list them.
-METHODS: tuple[str, ...] = ("multiple-shooting", "collocation")
+# The transcriptions, in the order messages and the command line list them: the two on the
+# forward dynamics (torques are the decisions), then the one on the inverse dynamics
+# (accelerations are the decisions, the torque an expression of them).
+METHODS: tuple[str, ...] = ("multiple-shooting", "collocation", "inverse-dynamics")
+# Largest local defect (joint units: rad, rad/s, m, m/s) a refined trajectory may keep: the
+# distance from node k+1 of the state re-simulated from node k under the interval's torque.
+DEFAULT_TOLERANCE = 1e-4
+DEFAULT_MAX_REFINEMENTS = 4
 # Largest constraint violation (in the constraint's own unit) a returned solution may have;
 # IPOPT's "acceptable" level alone would let 1e-2 through.
 FEASIBILITY_TOLERANCE = 1e-6
@@ -29,6 +35,42 @@ FEASIBILITY_TOLERANCE = 1e-6
 
 class InfeasibleTrajectoryError(SymkinError):
     """No trajectory meets the limits: the message names the limits or constraints at fault."""
+
+
+@dataclass(frozen=True)
+class Waypoint:
+    """A configuration (``q``, joint values) or tool position (``position``, x y z in metres,
+    base frame) to pass through: at ``time`` seconds (snapped to the nearest node), or, with
+    ``time=None``, at any node (a free time: the node closest to the target on the first guess
+    is chosen by the solver's continuous relaxation, see docs/trajopt.md)."""
+
+    q: tuple[float, ...] | None = None
+    position: tuple[float, float, float] | None = None
+    time: float | None = None
+
+    def __post_init__(self) -> None:
+        if (self.q is None) == (self.position is None):
+            raise SymkinError("a waypoint needs joint values q or a tool position, not both")
+        for name in ("q", "position"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, tuple(float(v) for v in getattr(self, name)))
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """A sphere (centre in metres, base frame; radius in metres) that every link's capsule
+    (the segment between consecutive frame origins, thickened by ``clearance``) must avoid."""
+
+    centre: tuple[float, float, float]
+    radius: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "centre", tuple(float(v) for v in self.centre))
+        if len(self.centre) != 3 or not self.radius > 0:
+            raise SymkinError(
+                f"an obstacle is a centre x,y,z and a positive radius, got "
+                f"{self.centre} and {self.radius:g}"
+            )
 
 
 @dataclass(frozen=True)
@@ -50,6 +92,18 @@ class TrajectoryProblem:
     torques undecided (joints that finish early, arcs at a velocity limit), which IPOPT
     otherwise resolves only slowly (hundreds of iterations for the PUMA 560 with collocation);
     it lengthens T a little (bench/trajopt_time.py measures by how much; docs/trajopt.md).
+
+    ``mesh`` gives the nodes as fractions of T (``intervals + 1`` increasing values from 0 to
+    1; ``None``: uniform).  After each solve the trajectory is re-simulated and intervals whose
+    local defect exceeds ``tolerance`` are split, at most ``max_refinements`` times
+    (``tolerance=None``: solve once, still report the defects).  ``waypoints``, ``obstacles``
+    (kept clear of capsules of radius ``clearance`` metres around the links) and
+    ``min_manipulability`` (a lower bound on the Yoshikawa measure at every node) add
+    constraints; the nodes keep ``obstacle_margin`` metres more (refinement raises it when
+    the re-simulated path touches an obstacle between the nodes);
+    :mod:`symkin.solve.trajopt.extras` adds them, and more, from Python.
+    ``coulomb_friction`` (one value per joint, N m or N) adds smoothed Coulomb friction
+    ``F_c tanh(dq / friction_velocity)`` to the model (solver and re-simulation alike).
     """
 
     start: tuple[float, ...]
@@ -65,9 +119,27 @@ class TrajectoryProblem:
     substeps: int = 2
     degree: int = 3
     regularisation: float = 1e-2
+    mesh: tuple[float, ...] | None = None
+    tolerance: float | None = DEFAULT_TOLERANCE
+    max_refinements: int = DEFAULT_MAX_REFINEMENTS
+    waypoints: tuple[Waypoint, ...] = ()
+    obstacles: tuple[Obstacle, ...] = ()
+    min_manipulability: float | None = None
+    clearance: float = 0.05
+    obstacle_margin: float = 0.0
+    coulomb_friction: tuple[float, ...] | None = None
+    friction_velocity: float = 0.01
 
     def __post_init__(self) -> None:
-        for name in ("start", "goal", "cartesian_goal", "velocity_limits", "torque_limits"):
+        for name in (
+            "start",
+            "goal",
+            "cartesian_goal",
+            "velocity_limits",
+            "torque_limits",
+            "mesh",
+            "coulomb_friction",
+        ):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, tuple(float(v) for v in value))
@@ -75,6 +147,15 @@ class TrajectoryProblem:
         if isinstance(overrides, Mapping):
             overrides = overrides.items()
         object.__setattr__(self, "overrides", tuple((k, float(v)) for k, v in overrides))
+        object.__setattr__(self, "waypoints", tuple(self.waypoints))
+        object.__setattr__(self, "obstacles", tuple(self.obstacles))
+
+    @property
+    def fractions(self) -> np.ndarray:
+        """The nodes as fractions of T, ``0 = s_0 < .. < s_N = 1``: ``mesh``, else uniform."""
+        if self.mesh is not None:
+            return np.array(self.mesh)
+        return np.linspace(0.0, 1.0, self.intervals + 1)
 
     @property
     def joint_goal(self) -> tuple[float, ...] | None:
@@ -146,6 +227,10 @@ def _check_vectors(model: Model, problem: TrajectoryProblem) -> None:
     _check_vector(problem.velocity_limits, joints, "velocity limit", positive=True)
     _check_vector(problem.torque_limits, joints, "torque limit", positive=True)
     _check_vector(problem.cartesian_goal, ("x", "y", "z"), "Cartesian goal")
+    _check_vector(problem.coulomb_friction, joints, "Coulomb friction")
+    for k, waypoint in enumerate(problem.waypoints, start=1):
+        _check_vector(waypoint.q, joints, f"waypoint {k}")
+        _check_vector(waypoint.position, ("x", "y", "z"), f"waypoint {k}")
 
 
 def _check_settings(problem: TrajectoryProblem) -> None:
@@ -163,6 +248,28 @@ def _check_settings(problem: TrajectoryProblem) -> None:
             raise SymkinError(f"{name} must be at least {lowest}, got {getattr(problem, name)}")
     if not (math.isfinite(problem.regularisation) and problem.regularisation >= 0):
         raise SymkinError(f"regularisation must be 0 or positive, got {problem.regularisation:g}")
+    if problem.tolerance is not None and not problem.tolerance > 0:
+        raise SymkinError(f"the tolerance must be positive, got {problem.tolerance:g}")
+    if problem.max_refinements < 0:
+        raise SymkinError(f"max_refinements must be 0 or more, got {problem.max_refinements}")
+    _check_mesh(problem)
+
+
+def _check_mesh(problem: TrajectoryProblem) -> None:
+    """``mesh``: ``intervals + 1`` strictly increasing fractions from 0 to 1."""
+    if problem.mesh is None:
+        return
+    mesh = np.array(problem.mesh)
+    if (
+        len(mesh) != problem.intervals + 1
+        or mesh[0] != 0.0
+        or mesh[-1] != 1.0
+        or np.any(np.diff(mesh) <= 0)
+    ):
+        raise SymkinError(
+            f"the mesh must hold {problem.intervals + 1} increasing fractions of T from 0 to 1 "
+            f"(one per node), got {len(mesh)} values from {mesh[0]:g} to {mesh[-1]:g}"
+        )
 
 
 def _check_final_time(problem: TrajectoryProblem) -> None:

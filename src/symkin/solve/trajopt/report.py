@@ -12,7 +12,8 @@ import numpy as np
 
 from symkin.errors import SymkinError
 from symkin.output_folder import replace_file
-from symkin.solve.trajopt.plot import plot_trajectory
+from symkin.solve.trajopt.functions import RobotFunctions
+from symkin.solve.trajopt.plot import plot_path, plot_trajectory
 from symkin.solve.trajopt.solve import Trajectory
 
 COST_NAMES = {"effort": "integral of tau^2", "time": "final time"}
@@ -41,11 +42,50 @@ def trajectory_json(trajectory: Trajectory) -> dict:
         "cost": trajectory.cost,
         "effort": trajectory.effort,
         "max_violation": trajectory.max_violation,
+        "accuracy": accuracy_json(trajectory),
+        "rounds": [asdict(r) for r in trajectory.rounds],
         "t": trajectory.t.tolist(),
         "q": trajectory.q.tolist(),
         "dq": trajectory.dq.tolist(),
         "tau": trajectory.tau.tolist(),
+    } | ({} if trajectory.ddq is None else {"ddq": trajectory.ddq.tolist()})
+
+
+def accuracy_json(trajectory: Trajectory) -> dict | None:
+    """The re-simulation's verdict: largest local defect, end error, tolerance, consistency."""
+    report = trajectory.accuracy
+    if report is None:
+        return None
+    return {
+        "max_defect": report.max_defect,
+        "end_error": report.end_error,
+        "min_clearance": report.min_clearance,
+        "tolerance": trajectory.problem.tolerance,
+        "consistent": trajectory.consistent,
+        "refinements": max(len(trajectory.rounds) - 1, 0),
+        "defects": report.defects.tolist(),
     }
+
+
+def accuracy_text(trajectory: Trajectory) -> list[str]:
+    """The re-simulation's lines of the summary, saying so when refinement stopped short."""
+    report, problem = trajectory.accuracy, trajectory.problem
+    if report is None:
+        return []
+    history = " -> ".join(f"{r.intervals} ({r.max_defect:.1e})" for r in trajectory.rounds)
+    lines = [
+        f"re-simulated (solve_ivp DOP853, tol 1e-10): largest local defect {report.max_defect:.1e}"
+        f", open-loop end error {report.end_error:.1e} (joint units)",
+        f"mesh: intervals (largest defect) {history}",
+    ]
+    if report.min_clearance is not None:
+        lines.append(f"smallest obstacle clearance along the path: {report.min_clearance:.3g} m")
+    if problem.tolerance is not None and not trajectory.consistent:
+        lines.append(
+            f"warning: not consistent to the tolerance {problem.tolerance:g} after "
+            f"{problem.max_refinements} refinements (raise --max-refinements or --intervals)"
+        )
+    return lines
 
 
 def summary_text(trajectory: Trajectory) -> str:
@@ -55,19 +95,29 @@ def summary_text(trajectory: Trajectory) -> str:
     method = problem.method.replace("-", " ")
     return "\n".join(
         [
-            f"{trajectory.robot.name}: {objective}, {method}, {problem.intervals} intervals",
+            f"{trajectory.robot.name}: {objective}, {method}, {len(trajectory.t) - 1} intervals",
             f"IPOPT: {stats.status}, {stats.iterations} iterations",
-            f"solve time: {stats.solve_time:.3f} s",
+            f"solve time: {stats.solve_time:.3f} s (IPOPT), build {stats.build_time:.3f} s, "
+            f"re-simulation {stats.check_time:.3f} s; CPU "
+            + ", ".join(f"{value:.3f}" for value in stats.cpu_times)
+            + " s",
             f"final time T = {trajectory.final_time:.6g} s",
             f"cost = {trajectory.cost:.6g} ({COST_NAMES[problem.objective]})",
             f"effort = {trajectory.effort:.6g}",
             f"max constraint violation = {trajectory.max_violation:.1e}",
+            *accuracy_text(trajectory),
         ]
     )
 
 
-def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False) -> list[Path]:
-    """``trajectory.csv``, ``trajectory.json`` and, with ``plot``, ``trajectory.png`` in ``out``."""
+def write_trajectory(
+    trajectory: Trajectory,
+    out: str | Path,
+    plot: bool = False,
+    functions: RobotFunctions | None = None,
+) -> list[Path]:
+    """``trajectory.csv``, ``trajectory.json`` and, with ``plot``, ``trajectory.png`` in ``out``
+    (and, given the robot's ``functions``, ``trajectory_path.png``, the tool path)."""
     out = Path(out)
     header, rows = trajectory_rows(trajectory)
     paths = [out / "trajectory.csv", out / "trajectory.json"]
@@ -81,4 +131,24 @@ def write_trajectory(trajectory: Trajectory, out: str | Path, plot: bool = False
     replace_file(out, paths[1].name, text)
     if plot:
         paths.append(plot_trajectory(trajectory, out / "trajectory.png"))
+        if functions is not None:
+            paths.append(plot_path(trajectory, functions, out / "trajectory_path.png"))
     return paths
+
+
+def resampled_rows(samples: dict[str, np.ndarray]) -> tuple[list[str], np.ndarray]:
+    """CSV header and rows ``t, q1..qn, dq1..dqn, ddq1..ddqn, tau1..taun`` of
+    :func:`~symkin.solve.trajopt.resample.resampled` samples."""
+    n = samples["q"].shape[1]
+    names = ("q", "dq", "ddq", "tau")
+    header = ["t"] + [f"{name}{i}" for name in names for i in range(1, n + 1)]
+    return header, np.column_stack([samples["t"], *(samples[name] for name in names)])
+
+
+def write_resampled(samples: dict[str, np.ndarray], out: str | Path) -> Path:
+    """``trajectory_resampled.csv`` in ``out``: the samples a controller plays back."""
+    header, rows = resampled_rows(samples)
+    csv = io.StringIO()
+    np.savetxt(csv, rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    replace_file(Path(out), "trajectory_resampled.csv", csv.getvalue())
+    return Path(out) / "trajectory_resampled.csv"

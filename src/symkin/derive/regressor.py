@@ -1,0 +1,199 @@
+"""The dynamic regressor: ``tau(q, dq, ddq) = Y(q, dq, ddq) pi``, linear in the parameters.
+
+``pi`` holds, link by link, the ten barycentric parameters of
+:mod:`symkin.derive.base_parameters` (inertia about the link frame's origin, first moment
+``m c``, mass; Khalil & Dombre, *Modeling, Identification and Control of Robots*, eq. 9.98)
+and then the joint's drive parameters the robot file gives: the reflected rotor inertia
+``ia`` (column ``ddq_i``), viscous friction ``fv`` (column ``dq_i``) and Coulomb friction
+``fc`` (column ``sign(dq_i)``; direction-dependent Coulomb friction has one column per side,
+``fcp`` with ``(sign + sign^2)/2`` and ``fcn`` with ``(sign - sign^2)/2``).
+
+The columns of the link parameters are the partial derivatives of the Newton–Euler torques
+of :func:`symkin.derive.recursion.joint_torques` run with symbolic barycentric parameters,
+taken through its named intermediates (forward mode), so ``Y`` shares the recursion's
+subexpressions and never expands.  ``tau`` is linear in ``pi``, so the derivative is exact.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from symkin.derive.base_parameters import (
+    PARAMETER_NAMES,
+    barycentric_links,
+    barycentric_symbols,
+)
+from symkin.derive.dynamics import link_inertial_data
+from symkin.derive.kinematics import Kinematics
+from symkin.derive.recursion import Recorder, joint_torques
+from symkin.errors import RobotError
+from symkin.robot import Link, Robot
+from symkin.symbols import joint_symbols, link_inertial_symbols
+
+# Columns per link in Khalil's order (Khalil & Dombre, Ch. 9): the base parameters keep the
+# earlier of dependent columns, so inertia and first moments stay and masses fold into them.
+COLUMN_ORDER = ("xx", "xy", "xz", "yy", "yz", "zz", "mx", "my", "mz", "m")
+
+
+@dataclass(frozen=True)
+class Regressor:
+    """``Y`` (n x P) with its named intermediates, and per column the parameter's symbol
+    and its definition in the robot's inertial symbols (``xx2 = ixx2 + m2 (cy2^2 + cz2^2)``).
+
+    ``links[k]`` is the 0-based link (or joint) a column belongs to; ``values`` are the robot
+    file's numbers for ``pi`` (None when its inertial data are symbols).
+    """
+
+    symbols: tuple[sp.Symbol, ...]
+    definitions: tuple[sp.Expr, ...]
+    links: tuple[int, ...]
+    matrix: sp.ImmutableMatrix
+    assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    values: tuple[float, ...] | None
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.symbols)
+
+
+def barycentric_definitions(link: Link) -> dict[str, sp.Expr]:
+    """Parallel-axis theorem (Khalil & Dombre eq. 9.4): the inertia about the frame origin
+    ``I_o = I_c + m (c.c E - c c^T)``, the first moment ``m c`` and ``m``, from the centre-of-mass
+    form of ``link`` (tensor elements: ``xy`` is the (1,2) element)."""
+    m = link.mass
+    cx, cy, cz = link.com
+    ixx, iyy, izz, ixy, ixz, iyz = link.inertia
+    return {
+        "xx": ixx + m * (cy**2 + cz**2), "yy": iyy + m * (cx**2 + cz**2),
+        "zz": izz + m * (cx**2 + cy**2), "xy": ixy - m * cx * cy,
+        "xz": ixz - m * cx * cz, "yz": iyz - m * cy * cz,
+        "mx": m * cx, "my": m * cy, "mz": m * cz, "m": m,
+    }  # fmt: skip
+
+
+def _drive_columns(
+    link: Link | None, number: int, dq: sp.Symbol, ddq: sp.Symbol
+) -> list[tuple[sp.Symbol, sp.Expr, sp.Expr, sp.Expr]]:
+    """``(symbol, definition, value, column entry)`` of the drive parameters joint ``number``
+    has in the file: rotor inertia, viscous and Coulomb friction (module docstring)."""
+    if link is None:
+        return []
+    if link.stribeck_static is not None and link.stribeck_velocity is not None:
+        raise RobotError(
+            f"joint {number}: Stribeck friction is not linear in its parameters; the regressor "
+            "covers rotor inertia, viscous and Coulomb friction only"
+        )
+    sign = sp.sign(dq)
+    drive = [("ia", link.motor_inertia, ddq), ("fv", link.viscous, dq)]
+    if link.coulomb_negative is None:
+        drive.append(("fc", link.coulomb, sign))
+    else:
+        drive.append(("fcp", link.coulomb, (sign + sign**2) / 2))
+        drive.append(("fcn", link.coulomb_negative, (sign - sign**2) / 2))
+    return [
+        (sp.Symbol(f"{name}{number}", real=True), sp.Symbol(f"{name}{number}", real=True),
+         value, entry)
+        for name, value, entry in drive
+        if sp.sympify(value) != 0
+    ]  # fmt: skip
+
+
+@lru_cache(maxsize=16)
+def regressor(robot: Robot, kinematics: Kinematics) -> Regressor:
+    """``Y`` of the robot: per link the columns of :data:`PARAMETER_NAMES`, then its joint's
+    drive columns (module docstring)."""
+    n = robot.dof
+    dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
+    delta = barycentric_symbols(n)
+    recorder = Recorder("y")
+    torque = joint_torques(
+        robot, kinematics, recorder, dq, ddq, robot.gravity, barycentric_links(delta)
+    )
+    symbols, definitions, links, values, columns = [], [], [], [], []
+    count = len(PARAMETER_NAMES)
+    for i in range(n):
+        inertial = link_inertial_data(robot, i)
+        link_values = _numeric_barycentric(inertial)
+        definition = barycentric_definitions(_symbolic_link(i + 1))
+        for name in COLUMN_ORDER:
+            symbol = delta[i * count + PARAMETER_NAMES.index(name)]
+            column = [
+                recorder.derivative(torque[r], symbol) if r <= i else sp.Integer(0)
+                for r in range(n)
+            ]
+            symbols.append(symbol)
+            definitions.append(definition[name])
+            values.append(None if link_values is None else link_values[name])
+            columns.append(column)
+            links.append(i)
+        for symbol, defined, value, entry in _drive_columns(
+            robot.joints[i].link, i + 1, dq[i], ddq[i]
+        ):
+            symbols.append(symbol)
+            definitions.append(defined)
+            values.append(float(value) if sp.sympify(value).is_number else None)
+            columns.append([entry if r == i else sp.Integer(0) for r in range(n)])
+            links.append(i)
+    matrix = sp.ImmutableMatrix(n, len(columns), lambda r, c: columns[c][r])
+    known = None if any(v is None for v in values) else tuple(float(v) for v in values)
+    return Regressor(
+        tuple(symbols),
+        tuple(definitions),
+        tuple(links),
+        matrix,
+        _needed(recorder.assignments, matrix),
+        known,
+    )
+
+
+def _needed(
+    assignments: list[tuple[sp.Symbol, sp.Expr]], matrix: sp.MatrixBase
+) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+    """The intermediates ``matrix`` needs, in definition order: the torques themselves
+    (which hold the parameter symbols) are left behind."""
+    wanted = set(matrix.free_symbols)
+    kept = []
+    for symbol, expr in reversed(assignments):
+        if symbol in wanted:
+            kept.append((symbol, expr))
+            wanted |= expr.free_symbols
+    return tuple(reversed(kept))
+
+
+def _symbolic_link(number: int) -> Link:
+    s = link_inertial_symbols(number)
+    return Link(
+        mass=s["m"],
+        com=(s["cx"], s["cy"], s["cz"]),
+        inertia=(s["ixx"], s["iyy"], s["izz"], s["ixy"], s["ixz"], s["iyz"]),
+    )
+
+
+def _numeric_barycentric(link: Link) -> dict[str, float] | None:
+    """The link's barycentric parameters as floats, or None when its data hold symbols."""
+    exact = barycentric_definitions(link)
+    if not all(sp.sympify(v).is_number for v in exact.values()):
+        return None
+    return {name: float(v) for name, v in exact.items()}
+
+
+def regressor_function(robot: Robot, kinematics: Kinematics):
+    """``(q, dq, ddq, p) -> Y`` (n x P floats) for one state: the symbolic ``Y`` through
+    ``lambdify`` with its intermediates, for the base-parameter analysis (not a kernel)."""
+    result = regressor(robot, kinematics)
+    n = robot.dof
+    function = sp.lambdify(
+        [kinematics.q, joint_symbols(n, "dq"), joint_symbols(n, "ddq"), robot.parameter_symbols],
+        result.matrix,
+        modules="numpy",
+        cse=lambda e: (list(result.assignments), e),
+    )
+
+    def evaluate(q, dq, ddq, p=()) -> np.ndarray:
+        return np.array(function(q, dq, ddq, p), dtype=float).reshape(n, -1)
+
+    return evaluate
