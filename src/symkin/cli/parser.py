@@ -200,6 +200,13 @@ def add_eval(commands: Commands) -> None:
     evaluate.add_argument("--q", required=True, metavar="V1,V2,...", help="joint positions")
     evaluate.add_argument("--dq", metavar="V1,V2,...", help="joint velocities")
     evaluate.add_argument("--ddq", metavar="V1,V2,...", help="joint accelerations")
+    for order in ("d3q", "d4q"):
+        evaluate.add_argument(
+            f"--{order}",
+            metavar="V1,V2,...",
+            help=f"{'third' if order == 'd3q' else 'fourth'} time derivatives of q (with "
+            "--dynamics, a robot with elastic joints: theta and tau_motor)",
+        )
     add_set_option(evaluate)
     evaluate.add_argument(
         "--point",

@@ -21,6 +21,7 @@ from symkin.emit.formula_text import formula_text
 from symkin.errors import BudgetWarning, ParameterError, SymkinError
 from symkin.progress import note
 from symkin.robot import Robot
+from symkin.solve.elastic_state import MotorSideState
 from symkin.solve.evaluate import DynamicState, KinematicState
 from symkin.solve.ik.numeric import IKResult
 from symkin.solve.ik.path import CartesianPath, NewtonPath, path_table_text
@@ -328,6 +329,31 @@ def dynamics_json(state: DynamicState | None) -> dict:
         "potential_energy": state.potential_energy,
         "lagrangian": state.lagrangian,
     }
+
+
+def motor_side_json(state: MotorSideState | None) -> dict:
+    """``theta`` and ``tau_motor`` of a robot with elastic joints (1-based joint numbers)."""
+    if state is None:
+        return {}
+    return {
+        "elastic_joints": list(state.elastic_joints),
+        "theta": _array(state.theta),
+        "tau_motor": _array(state.tau_motor),
+    }
+
+
+def motor_side_text(state: MotorSideState | None) -> str:
+    if state is None:
+        return ""
+    joints = ", ".join(map(str, state.elastic_joints))
+    return "\n".join(
+        [
+            "",
+            f"Elastic joints {joints}: motor side (Spong's reduced model)",
+            f"theta = q + K^-1 tau = {_format(state.theta)}",
+            f"tau_motor = B (ddq + K^-1 d2tau/dt2) + tau = {_format(state.tau_motor)}",
+        ]
+    )
 
 
 def dynamics_text(state: DynamicState | None) -> str:

@@ -20,6 +20,7 @@ import sympy as sp
 
 from symkin.errors import RobotError, RobotWarning
 from symkin.io.context import Context, as_table, check_keys, read_choice, read_text, show
+from symkin.io.drive_tables import check_positive, read_drive, read_stiffness
 from symkin.io.expressions import (
     finite_float,
     finite_number,
@@ -44,9 +45,14 @@ PLACED_JOINT_KEYS = (
     "type", "name", "origin", "axis", "limits", "max_velocity", "max_effort", "link",
 )  # fmt: skip
 FRAME_KEYS = ("xyz", "rpy")
-LINK_KEYS = ("mass", "com", "inertia", "motor_inertia", "friction", "inertia_note")
+LINK_KEYS = (
+    "mass", "com", "inertia", "motor_inertia", "friction", "stiffness", "drive", "inertia_note",
+)  # fmt: skip
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
-FRICTION_KEYS = ("coulomb", "coulomb_positive", "coulomb_negative", "viscous", "stribeck")
+FRICTION_KEYS = (
+    "coulomb", "coulomb_positive", "coulomb_negative", "viscous", "stribeck", "smoothing",
+    "stiction",
+)  # fmt: skip
 DIRECTIONAL_KEYS = ("coulomb_positive", "coulomb_negative")
 STRIBECK_KEYS = ("static", "velocity")
 
@@ -55,7 +61,7 @@ SYMBOL_MARKER = "symbol"
 
 PARAMETER_PATTERN = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 # Joint variables are created by symkin; a parameter of the same name would silently merge.
-JOINT_VARIABLE_PATTERN = re.compile(r"^(q|dq|ddq)[0-9]+$")
+JOINT_VARIABLE_PATTERN = re.compile(r"^(q|dq|ddq|d3q|d4q)[0-9]+$")
 # Symbols symkin invents for a link without inertial data (see derive/); a parameter named like
 # one of them would be the same SymPy symbol and silently couple two unrelated quantities.
 LINK_SYMBOL_PATTERN = re.compile(r"^(m|cx|cy|cz|ixx|iyy|izz|ixy|ixz|iyz)([0-9]+)$")
@@ -319,13 +325,16 @@ def _link(value: Any, ctx: Context) -> Link:
         # Shown by `symkin show`: one line of printable text, like a title.
         raise ctx.error(f"{ctx.key('inertia_note')!r} must be one line of printable text")
     inertia = _inertia(value.get("inertia", {}), ctx, documented=bool(note))
+    drive, reflected = read_drive(value, ctx)
     motor_inertia = sympy_value(value.get("motor_inertia", 0), "motor_inertia", ctx)
     _check_not_negative(motor_inertia, "motor_inertia", ctx)
     return Link(
+        stiffness=read_stiffness(value, ctx),
+        drive=drive,
         mass=mass,
         com=read_vector(value.get("com", [0, 0, 0]), "com", 3, ctx),  # type: ignore[arg-type]
         inertia=inertia,
-        motor_inertia=motor_inertia,
+        motor_inertia=motor_inertia if reflected is None else reflected,
         **_friction(value.get("friction", {}), ctx),
         inertia_note=note,
     )
@@ -412,6 +421,13 @@ def _friction(value: Any, ctx: Context) -> dict[str, sp.Expr | None]:
     del result["coulomb_positive"]
     if "stribeck" in table:
         result["stribeck_static"], result["stribeck_velocity"] = _stribeck(table["stribeck"], inner)
+    # smoothing: the width w of tanh(dq / w) in place of sign(dq); stiction: gamma_s.
+    if "smoothing" in table:
+        result["coulomb_width"] = sympy_value(table["smoothing"], "smoothing", inner)
+        check_positive(result["coulomb_width"], "smoothing", inner)
+    if "stiction" in table:
+        result["stiction"] = sympy_value(table["stiction"], "stiction", inner)
+        _check_not_negative(result["stiction"], "stiction", inner)
     return result
 
 

@@ -26,12 +26,22 @@ from symkin.derive.kinematics import (
 from symkin.derive.lagrange import READABLE_DOF
 from symkin.derive.numeric import numeric_function
 from symkin.errors import ParameterError, literal
+from symkin.kernels.document_frames import (
+    GraphContent,
+    PointsContent,
+    graph_content,
+    points_content,
+)
 from symkin.robot import Joint
 
-SECTIONS = ("dh", "transforms", "fk", "euler", "jacobian", "det", "inverse", "dynamics")
+SECTIONS = (
+    "dh", "transforms", "graph", "fk", "points", "euler", "jacobian", "det", "inverse",
+    "dynamics",
+)  # fmt: skip
 # The equations of motion are asked for by name: they need inertial data and, by Lagrange,
-# take seconds for three joints.
-DEFAULT_SECTIONS = tuple(s for s in SECTIONS if s != "dynamics")
+# take seconds for three joints.  The point kinematics too: the twist matrices of a long
+# chain add derivation time to every document.
+DEFAULT_SECTIONS = tuple(s for s in SECTIONS if s not in ("dynamics", "points"))
 # Symbolic inverse Jacobians are formed up to this many joints; beyond, the adjugate's
 # entries (cofactors of (n-1) x (n-1) minors) run to pages and take minutes to form.
 INVERSE_MAX_DOF = 4
@@ -177,6 +187,8 @@ class DocumentContent:
     det: DeterminantContent | None = None
     inverse: InverseContent | None = None
     dynamics: DynamicsContent | None = None
+    graph: GraphContent | None = None
+    points: PointsContent | None = None
 
 
 @dataclass(frozen=True)
@@ -295,7 +307,10 @@ def _distribute_sign(expr: sp.Expr) -> sp.Expr:
 def _dynamics(e: _Evaluator) -> DynamicsContent:
     robot = e.model.robot
     # Reflected rotor inertias, where the file gives them, sit on M's diagonal.
-    rotors = any(j.link and j.link.motor_inertia != 0 for j in robot.joints)
+    # An elastic joint's rotor is on the motor side (B), not in M.
+    rotors = any(
+        j.link and j.link.motor_inertia != 0 and not j.link.is_elastic for j in robot.joints
+    )
     if robot.dof > READABLE_DOF:
         return DynamicsContent(rotors, ())
     dynamics = e.model.lagrange
@@ -338,6 +353,8 @@ def document_content(
         "det": _determinant,
         "inverse": _inverse,
         "dynamics": _dynamics,
+        "graph": lambda e: graph_content(model),
+        "points": lambda e: points_content(model),
     }
     content = {key: builders[key](e) for key in chosen}
     values: tuple[tuple[sp.Symbol, float], ...] = ()
