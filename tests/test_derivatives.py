@@ -182,6 +182,16 @@ def test_six_and_seven_joint_arms_match_finite_differences(name, model_of):
     check_against_finite_differences(model_of(name), seed=7)
 
 
+@pytest.mark.slow
+def test_urdf_loaded_ur5_matches_finite_differences():
+    """The UR5 of example-robot-data, read from its URDF (placement form, not DH)."""
+    from test_urdf_oracles import ROBOTS, urdf_path
+
+    relative, tip = ROBOTS["ur5"]
+    robot = symkin.load_robot(urdf_path(relative), tip=tip)
+    check_against_finite_differences(symkin.derive(robot), seed=8)
+
+
 def test_wrong_lengths_are_one_clear_error():
     with pytest.raises(symkin.SymkinError, match=r"needs 3 values"):
         symkin.dynamics_derivatives(prismatic_model(), [0, 0], [0, 0, 0], [0, 0, 0])
@@ -210,3 +220,9 @@ def test_eval_derivatives_without_rates_is_one_message(capsys):
     err = capsys.readouterr().err
     assert "--derivatives needs --dq and --ddq" in err
     assert "Traceback" not in err
+
+
+def test_derive_derivatives_without_dynamics_is_one_message(capsys, tmp_path):
+    arguments = ["derive", "planar_2r", "--out", str(tmp_path), "--derivatives"]
+    assert main([*arguments, "--kinematics-only"]) == 2
+    assert "--derivatives needs the dynamics" in capsys.readouterr().err

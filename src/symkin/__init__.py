@@ -20,9 +20,10 @@ from symkin.emit.latex import jupyter as _jupyter  # noqa: F401  registers Model
 from symkin.errors import RobotError, SymkinError
 from symkin.io import catalogue_names, load_robot, robot_from_toml
 from symkin.output_folder import write_folder
-from symkin.robot import Joint, Link, Robot
+from symkin.robot import Drive, Joint, Link, Robot
 from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
 from symkin.solve.draw import arm_figure, draw_arm
+from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.ellipsoid import Ellipsoids, ellipsoids_at
 from symkin.solve.evaluate import (
     KinematicState,
@@ -67,6 +68,7 @@ __all__ = [
     "BaseRegressor",
     "Consistency",
     "DerivationError",
+    "Drive",
     "DynamicsDerivatives",
     "Ellipsoids",
     "Excitation",
@@ -77,6 +79,7 @@ __all__ = [
     "KinematicState",
     "Link",
     "Model",
+    "MotorSideState",
     "PointMotion",
     "PointState",
     "Regressor",
@@ -106,6 +109,7 @@ __all__ = [
     "joint_symbols",
     "kinematic_state",
     "load_robot",
+    "motor_side_state",
     "numeric_function",
     "operational_space_inertia",
     "optimal_trajectory",

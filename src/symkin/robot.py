@@ -46,6 +46,31 @@ DEFAULT_GRAVITY: tuple[sp.Expr, sp.Expr, sp.Expr] = (
 )
 IDENTITY = sp.ImmutableMatrix(sp.eye(4))
 ZERO = sp.Integer(0)
+ONE = sp.Integer(1)
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The drive of a joint: gear ratio ``G`` (motor angle = ``G`` x joint angle), rotor
+    inertia ``Jm`` (motor side, kg m^2) and an optional DC motor: torque constant ``k_t``
+    (N m/A), back-emf constant ``k_e`` (V s/rad), armature resistance ``R`` (ohm) and
+    inductance ``L`` (H; None: the current follows the voltage at once).
+
+    The joint torque of the DC motor is ``G k_t i`` with ``L di/dt = u - R i - k_e G dq``
+    (``dq`` the joint speed, or the motor-side ``dtheta`` of an elastic joint).
+    """
+
+    gear_ratio: sp.Expr = ONE
+    rotor_inertia: sp.Expr | None = None
+    torque_constant: sp.Expr | None = None
+    back_emf_constant: sp.Expr | None = None
+    resistance: sp.Expr | None = None
+    inductance: sp.Expr | None = None
+
+    @property
+    def has_motor(self) -> bool:
+        """True when the DC-motor constants are given (voltage is then the input)."""
+        return self.torque_constant is not None
 
 
 @dataclass(frozen=True)
@@ -58,6 +83,17 @@ class Link:
     Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.  With
     ``coulomb_negative`` the Coulomb level depends on the direction: ``coulomb`` for
     ``dq > 0`` and ``coulomb_negative`` for ``dq < 0`` (None: ``coulomb`` both ways).
+    ``inertia_note``: why the tensor is as given (published lumped data that break the triangle
+    inequality, say); ``symkin show`` prints it, and the loader then does not warn.
+
+    ``coulomb_width``: the Coulomb term is smoothed for optimisers, ``sign(dq)`` replaced by
+    ``tanh(dq / coulomb_width)``.  ``stiction``: the static friction level ``gamma_s`` that
+    holds a joint at rest in :func:`symkin.solve.simulate.simulate` (stick/slip).
+
+    ``stiffness``: the joint is elastic (Spong's reduced model), a spring of stiffness ``K``
+    between link and motor; ``motor_inertia`` is then the motor side's inertia ``B`` and is
+    not added to ``M``.  ``drive``: gear and DC motor (:class:`Drive`); a given rotor inertia
+    is already reflected into ``motor_inertia`` (``G^2 Jm``) by the loader.
     """
 
     mass: sp.Expr
@@ -69,6 +105,16 @@ class Link:
     stribeck_static: sp.Expr | None = None
     stribeck_velocity: sp.Expr | None = None
     coulomb_negative: sp.Expr | None = None
+    coulomb_width: sp.Expr | None = None
+    stiction: sp.Expr | None = None
+    stiffness: sp.Expr | None = None
+    drive: Drive | None = None
+    inertia_note: str = ""
+
+    @property
+    def is_elastic(self) -> bool:
+        """True for a link behind an elastic joint (``stiffness`` given)."""
+        return self.stiffness is not None
 
     @property
     def inertia_matrix(self) -> sp.ImmutableMatrix:
@@ -194,6 +240,11 @@ class Robot:
         return len(self.joints)
 
     @property
+    def elastic_joints(self) -> tuple[int, ...]:
+        """0-based indices of the elastic joints (a link with ``stiffness``), in order."""
+        return tuple(i for i, j in enumerate(self.joints) if j.link and j.link.is_elastic)
+
+    @property
     def parameter_symbols(self) -> tuple[sp.Symbol, ...]:
         """The parameters as real SymPy symbols, in file order."""
         return tuple(parameter_symbol(n) for n, _ in self.parameters)
@@ -228,7 +279,7 @@ class Robot:
                 return item.xreplace(values)
             if isinstance(item, tuple):
                 return tuple(numbers(x) for x in item)
-            if isinstance(item, (Joint, Link)):
+            if isinstance(item, (Joint, Link, Drive)):
                 return replace(
                     item, **{f.name: numbers(getattr(item, f.name)) for f in fields(item)}
                 )

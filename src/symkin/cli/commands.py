@@ -22,6 +22,8 @@ from symkin.cli.report import (
     eval_json,
     eval_text,
     json_text,
+    motor_side_json,
+    motor_side_text,
     progress,
     show_json,
     show_text,
@@ -45,6 +47,7 @@ from symkin.output_folder import write_folder
 from symkin.runtime.extension import build_extension
 from symkin.runtime.latex_build import compile_pdf
 from symkin.solve.derivatives import DynamicsDerivatives, dynamics_derivatives
+from symkin.solve.elastic_state import MotorSideState, motor_side_state
 from symkin.solve.evaluate import dynamic_state, kinematic_state
 from symkin.spatial import orientation_from_rotation
 
@@ -123,9 +126,10 @@ def command_eval(args: argparse.Namespace) -> None:
             model, q, dq, ddq, kinematic_overrides, points, task_rows_from_text(args.task)
         )
         derivatives = _eval_derivatives(args, model, q, dq, ddq, overrides)
+    motor = _motor_side(args, model, q, dq, ddq, overrides)
     orientation = orientation_report(state.transform, args.euler)
     data = eval_json(state) | dynamics_json(dynamics) | orientation[0]
-    data |= derivatives_json(derivatives)
+    data |= derivatives_json(derivatives) | motor_side_json(motor)
     if args.json:
         print(json_text(data))
     else:
@@ -135,6 +139,7 @@ def command_eval(args: argparse.Namespace) -> None:
             + orientation[1]
             + dynamics_text(dynamics)
             + derivatives_text(derivatives)
+            + motor_side_text(motor)
         )
 
 
@@ -152,6 +157,40 @@ def _eval_derivatives(
     if dq is None or ddq is None:
         raise SymkinError("--derivatives needs --dq and --ddq (the derivatives depend on both)")
     return dynamics_derivatives(model, q, dq, ddq, overrides)
+
+
+def _motor_side(
+    args: argparse.Namespace,
+    model: Model,
+    q: list[float],
+    dq: list[float] | None,
+    ddq: list[float] | None,
+    overrides: dict[str, float],
+) -> MotorSideState | None:
+    """``theta`` and ``tau_motor`` of a robot with elastic joints (``--dynamics`` with
+    ``--dq --ddq --d3q --d4q``); None for a rigid robot or without ``--dynamics``."""
+    robot = model.robot
+    rates = {flag: getattr(args, flag[2:]) for flag in ("--d3q", "--d4q")}
+    given = [flag for flag, value in rates.items() if value]
+    if given and not (args.dynamics and robot.elastic_joints):
+        why = "" if robot.elastic_joints else f"; {robot.name} has none ('stiffness' on a link)"
+        raise SymkinError(
+            f"{' and '.join(given)}: only for the motor side of elastic joints, with "
+            f"--dynamics{why}"
+        )
+    if not (args.dynamics and robot.elastic_joints and ddq is not None):
+        return None
+    missing = [flag for flag, value in rates.items() if not value]
+    if missing:
+        joints = ", ".join(str(i + 1) for i in robot.elastic_joints)
+        raise SymkinError(
+            f"{robot.name} has elastic joints ({joints}): theta and tau_motor need "
+            f"{' and '.join(missing)} as well (the third and fourth time derivatives of q)"
+        )
+    d3q, d4q = (joint_values(value, flag, robot) for flag, value in rates.items())
+    assert dq is not None  # --ddq needs --dq (checked by command_eval)
+    with np.errstate(all="ignore"):
+        return motor_side_state(model, q, dq, ddq, d3q, d4q, overrides)
 
 
 def orientation_report(transform: np.ndarray, kind: str | None) -> tuple[dict, str]:
@@ -193,6 +232,10 @@ def command_derive(args: argparse.Namespace) -> None:
     progress(f"deriving {robot.name} and emitting {', '.join(backends)} ...")
     points = [point_from_text(p, robot) for p in args.point]
     budget, closed_forms, dynamics = derivation_options(args)
+    if args.derivatives and not dynamics:
+        raise SymkinError(
+            "--derivatives needs the dynamics: drop --skip dynamics/--kinematics-only"
+        )
     files = remembered(
         command_cache(args),
         "derive",
@@ -272,4 +315,3 @@ def command_latex(args: argparse.Namespace) -> None:
     print(f"wrote {out} and {len(files)} snippet and macro files in {out.parent}/")
     if args.pdf:
         print(f"wrote {compile_pdf(out)}")
-

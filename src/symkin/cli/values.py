@@ -26,6 +26,8 @@ VALUE_OPTIONS = frozenset(
         "--q",
         "--dq",
         "--ddq",
+        "--d3q",
+        "--d4q",
         "--set",
         "--point",
         "--task",

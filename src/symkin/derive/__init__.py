@@ -32,6 +32,7 @@ from symkin.derive.determinant import (
 )
 from symkin.derive.display import rich_display
 from symkin.derive.dynamics import Dynamics
+from symkin.derive.elastic import MotorSide, motor_side_dynamics
 from symkin.derive.energy import Energies, energies_from_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
@@ -359,6 +360,14 @@ class Model:
         are the same in both forms, so the product form's (built in milliseconds), and
         dynamics alone never waits for the readable contraction of a long chain."""
         return self.product_form.kinematics
+
+    @cached_property
+    @derivation_step("the elastic joints' motor-side inverse dynamics")
+    def motor_side(self) -> MotorSide:
+        """``theta`` and ``tau_m`` of a robot with elastic joints (:mod:`.elastic`)."""
+        return motor_side_dynamics(
+            self.robot, self.inverse_dynamics_recursion, self.q, self.dq, self.ddq
+        )
 
     @cached_property
     @derivation_step("the inverse dynamics' derivatives")

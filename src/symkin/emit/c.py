@@ -60,6 +60,13 @@ def c_kernel_layout(kernel: Kernel, precision: str) -> KernelLayout:
     )
 
 
+def _library_parts(kernels: tuple[Kernel, ...]) -> tuple[str, ...]:
+    """The C library's parts the source needs: Cholesky for the forward dynamics, and the
+    many-column solve for its derivatives (a pasted function is static: never an unused one)."""
+    forward = forward_dynamics_context(kernels)
+    return ("cholesky", "cholesky_columns") if forward and forward["derivatives"] else ("cholesky",)
+
+
 def emit_c(
     robot: Robot,
     kernels: tuple[Kernel, ...],
@@ -92,7 +99,7 @@ def emit_c(
         "notes": dynamics_notes(robot, kernels),
         "force_units": units.generalized_force(robot),
         "acceleration_units": units.joint_acceleration(robot),
-        "library": library_files(precision, "cholesky"),
+        "library": library_files(precision, *_library_parts(kernels)),
     }
     context["preamble"] = preamble_lines(robot, kernels, f"C kinematics ({precision})", flags)
     return {

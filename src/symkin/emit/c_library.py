@@ -9,7 +9,7 @@ from __future__ import annotations
 
 # Parts of the library, each a header and a source, in an order where every part comes after
 # the parts it calls.
-PARTS = ("xorshift", "pose_error", "cholesky", "dls")
+PARTS = ("xorshift", "pose_error", "cholesky", "cholesky_columns", "dls")
 
 
 def library_files(precision: str, *parts: str) -> list[str]:

@@ -60,7 +60,7 @@ class OutputLayout:
 
 
 # Inputs that change from state to state (a batch has one row each); others are shared.
-STATE_INPUTS = ("q", "dq", "ddq", "wrench")
+STATE_INPUTS = ("q", "dq", "ddq", "d3q", "d4q", "wrench")
 
 
 @dataclass(frozen=True)

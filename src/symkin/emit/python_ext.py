@@ -89,6 +89,20 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 "(non-physical inertial data?) or an input is not finite",
             )
         )
+    if forward["elastic"]:
+        result.append(
+            Binding(
+                name="elastic_forward_dynamics",
+                description="elastic-joint forward dynamics (ddq, ddtheta) (Spong's model)",
+                states=("q", "dq", "theta", "tau"),
+                state_sizes=(robot.dof,) * 4,
+                takes_pi=bool(forward["pi"]),
+                outputs=(("ddq", (robot.dof,)), ("ddtheta", (robot.dof,))),
+                batched=False,
+                if_not_finite="ddq or ddtheta is not finite: M(q) is not positive definite "
+                "there or an input is not finite",
+            )
+        )
     return result
 
 
@@ -116,5 +130,7 @@ def emit_python_extension(
         inertial_count=len(inertial.symbols) if inertial else 0,
         bindings=functions,
         max_outputs=max(len(f.outputs) for f in functions),
+        # At least 3 (q, dq, tau of forward dynamics) so rigid robots' files stay as they were.
+        max_states=max(3, *(len(f.states) for f in functions)),
     )
     return {f"python/{module}.c": text}

@@ -50,21 +50,28 @@ def parameter_context(
     }
 
 
-def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, int] | None:
+def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] | None:
     """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
 
     Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels;
     ``pi`` is the number of inertial symbols they take (0: the file gives all the data);
     ``derivatives`` is 1 when the ``inverse_dynamics_derivatives`` kernel is there too, so
     the forward dynamics' derivatives are composed as well (``-M^-1 dtau/dx``, ``M^-1``).
+    ``elastic``: 0-based indices of the elastic joints, whose 2n-state forward dynamics also
+    uses ``elastic_constants`` (empty for a rigid robot: no elastic code is printed).
     """
     names = {k.name: k for k in kernels}
     if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
         return None
     inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
+    elastic: list[int] = []
+    if "elastic_constants" in names:
+        stiffness = names["elastic_constants"].outputs[0].matrix
+        elastic = [i for i, k in enumerate(stiffness) if k != 0]
     return {
         "pi": len(inputs["pi"].symbols) if "pi" in inputs else 0,
         "derivatives": int("inverse_dynamics_derivatives" in names),
+        "elastic": elastic,
     }
 
 

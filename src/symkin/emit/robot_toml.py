@@ -65,8 +65,24 @@ def link_lines(link: Link) -> list[str]:
     ]
     if link.motor_inertia != 0:
         lines.append(f"motor_inertia = {number_text(link.motor_inertia)}")
-    lines += friction_lines(link)
+    if link.stiffness is not None:
+        lines.append(f"stiffness = {number_text(link.stiffness)}")
+    lines += friction_lines(link) + drive_lines(link)
     return lines
+
+
+def drive_lines(link: Link) -> list[str]:
+    """The ``drive`` table without ``rotor_inertia``: ``motor_inertia`` already holds the
+    reflected ``G^2 Jm`` (giving both is an error)."""
+    if link.drive is None:
+        return []
+    keys = ("gear_ratio", "torque_constant", "back_emf_constant", "resistance", "inductance")
+    items = [
+        f"{key} = {number_text(getattr(link.drive, key))}"
+        for key in keys
+        if getattr(link.drive, key) is not None
+    ]
+    return [f"drive = {{ {', '.join(items)} }}"]
 
 
 def friction_lines(link: Link) -> list[str]:
@@ -82,6 +98,10 @@ def friction_lines(link: Link) -> list[str]:
     if link.stribeck_static is not None and link.stribeck_velocity is not None:
         static, velocity = number_text(link.stribeck_static), number_text(link.stribeck_velocity)
         items.append(f"stribeck = {{ static = {static}, velocity = {velocity} }}")
+    if link.coulomb_width is not None:
+        items.append(f"smoothing = {number_text(link.coulomb_width)}")
+    if link.stiction is not None:
+        items.append(f"stiction = {number_text(link.stiction)}")
     return [f"friction = {{ {', '.join(items)} }}"] if items else []
 
 

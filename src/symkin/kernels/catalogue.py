@@ -15,6 +15,7 @@ from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.jacobians import rows_from_names
 from symkin.kernels import units
+from symkin.kernels.elastic import elastic_kernels
 from symkin.kernels.numeric_determinant import (
     numeric_determinant_kernels,
     numeric_manipulability_kernel,
@@ -296,4 +297,5 @@ def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel
             [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector", force)],
         )
     )
+    kernels += elastic_kernels(model, dynamics_inputs(model, "dq", "ddq"))
     return tuple(kernels)

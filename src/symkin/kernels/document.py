@@ -307,7 +307,10 @@ def _distribute_sign(expr: sp.Expr) -> sp.Expr:
 def _dynamics(e: _Evaluator) -> DynamicsContent:
     robot = e.model.robot
     # Reflected rotor inertias, where the file gives them, sit on M's diagonal.
-    rotors = any(j.link and j.link.motor_inertia != 0 for j in robot.joints)
+    # An elastic joint's rotor is on the motor side (B), not in M.
+    rotors = any(
+        j.link and j.link.motor_inertia != 0 and not j.link.is_elastic for j in robot.joints
+    )
     if robot.dof > READABLE_DOF:
         return DynamicsContent(rotors, ())
     dynamics = e.model.lagrange

@@ -210,7 +210,7 @@ class SectionWriter:
             if value is None:
                 items.append(f"${name_tex}$ ({t['no_value']})")
             else:
-                items.append(f"${name_tex} = {self.layout.number(value)}$")
+                items.append(f"${name_tex} = {self.layout.given_number(value)}$")
         separator = "; " if self.layout.decimal_comma else ", "
         return t["parameters"] + " " + separator.join(items) + "."
 
@@ -455,6 +455,7 @@ class SectionWriter:
             quantities.append(
                 Quantity("dynamics-long", "DynamicsLong", "where the equations of motion are", long)
             )
+        quantities += self._elastic_joints()
         rows = [str(i) for i in range(1, n + 1)]
         for key, shown in dynamics.terms:
             macro, description, symbol = DYNAMICS_TERMS[key]
@@ -464,3 +465,26 @@ class SectionWriter:
             text = t[key.replace("-", "_")]
             quantities.append(Quantity(key, macro, description, body, text))
         return Section("dynamics", t["dynamics"], t["dynamics_intro"], tuple(quantities))
+
+    def _elastic_joints(self) -> list[Quantity]:
+        """Spong's reduced model and its motor-side inverse dynamics, for a robot with
+        elastic joints (none otherwise); the stiffnesses and motor inertias as diagonals."""
+        robot = self.content.model.robot
+        if not robot.elastic_joints:
+            return []
+        links = [robot.joints[i].link for i in robot.elastic_joints]
+        stiffness = ", ".join(self.layout.tex(link.stiffness) for link in links)  # type: ignore[union-attr]
+        inertia = ", ".join(self.layout.tex(link.motor_inertia) for link in links)  # type: ignore[union-attr]
+        body = align(
+            [
+                r"M(q)\, \ddot{q} + C(q, \dot{q})\, \dot{q} + G(q) + F(\dot{q}) &= K (\theta - q)",
+                r"B\, \ddot{\theta} + K (\theta - q) &= \tau_{m}",
+                r"\theta &= q + K^{-1} \tau_{l}",
+                r"\tau_{m} &= B \left( \ddot{q} + K^{-1} \ddot{\tau}_{l} \right) + \tau_{l}",
+                rf"K &= \operatorname{{diag}}({stiffness}), \qquad "
+                rf"B = \operatorname{{diag}}({inertia})",
+            ]
+        )
+        joints = ", ".join(str(i + 1) for i in robot.elastic_joints)
+        text = self.t["dynamics_elastic"].format(joints=joints)
+        return [Quantity("elastic-joints", "ElasticJoints", "the elastic joints", body, text)]
