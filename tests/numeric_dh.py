@@ -441,3 +441,16 @@ def random_q(name: str, rng: np.random.Generator) -> np.ndarray:
 def samples(name: str, seed: int, count: int = SAMPLES) -> list[np.ndarray]:
     rng = np.random.default_rng(seed)
     return [random_q(name, rng) for _ in range(count)]
+
+
+def without_inertials(name: str) -> str:
+    """The catalogue file of ``name`` without its ``[joints.link]`` tables: the same robot with
+    symbolic inertial parameters (m1, cx1, ...), for tests of the ``pi`` input.  Since issue 21
+    every catalogue robot carries inertial data."""
+    import re
+    from pathlib import Path
+
+    import symkin
+
+    text = (Path(symkin.__file__).parent / "robots" / f"{name}.toml").read_text(encoding="utf-8")
+    return re.sub(r"(?m)^(?:#.*\n)?\[joints\.link\]\n(?:[^\[\n].*\n)*", "", text)

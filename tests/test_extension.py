@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import symkin
+from numeric_dh import without_inertials
 from symkin.cli import main
 from symkin.runtime.extension import load_extension
 
@@ -145,7 +146,10 @@ def test_extension_source_compiles_without_warnings(tmp_path, robot, extra):
 
 def test_robot_without_parameters_and_repeated_arguments(tmp_path):
     # --numeric-parameters leaves no parameters: p defaults to an empty vector.
-    assert main(["derive", "planar_2r", "--out", str(tmp_path), "--emit", "numpy,python",
+    # The catalogue file without its inertial data: pi stays an input.
+    bare = tmp_path / "planar_2r.toml"
+    bare.write_text(without_inertials("planar_2r"), encoding="utf-8")
+    assert main(["derive", str(bare), "--out", str(tmp_path), "--emit", "numpy,python",
                  "--numeric-parameters"]) == 0  # fmt: skip
     extension = load_extension(next((tmp_path / "python").glob("planar_2r_ext*.so")))
     reference = _import_file(tmp_path / "numpy" / "planar_2r_kinematics.py")

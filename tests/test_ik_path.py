@@ -35,7 +35,9 @@ pytestmark = pytest.mark.filterwarnings("ignore::symkin.errors.RobotWarning")
 def lecture_table(name, x0, q0, x_end, steps, rows, tolerance=1e-10, corrections=20):
     """The scheme as the issue defines it, written out again with the reference model:
     X_i = X0 + i (X_end - X0) / k; Q_{i+1} = Q_i + J^-1(Q_i) (X_{i+1} - X_i,real) with
-    X_0,real = X0 and X_i,real = FK(Q_i); then Newton at X_end until |X_end - FK| <= tol."""
+    X_0,real = X0 and X_i,real = FK(Q_i); then Newton at X_end until |X_end - FK| <= tol.
+    Rows are (label, X_i, Q_i, X_i,real, dx): dx is the lecture's column "for Gl. (14.15)",
+    X_{i+1} - X_i,real before the end point and X_k - X_k,real from row k on."""
     ref = reference(name)
     index = [ROWS[r] for r in rows]
 
@@ -60,16 +62,18 @@ def lecture_table(name, x0, q0, x_end, steps, rows, tolerance=1e-10, corrections
         q = q + inverse(q) @ (x_end - real)
         real = fk(q)
         table.append((f"{steps}{letter}", x_end, q, real))
-    return table
+    following = [row[1] for row in table[1:]] + [x_end]
+    return [(*row, aim - row[3]) for row, aim in zip(table, following, strict=True)]
 
 
 def assert_same_table(path, expected) -> None:
     assert [row.label for row in path.rows] == [row[0] for row in expected]
-    for row, (_, target, q, real) in zip(path.rows, expected, strict=True):
+    for row, (_, target, q, real, dx) in zip(path.rows, expected, strict=True):
         np.testing.assert_allclose(row.target, target, atol=1e-12)
         np.testing.assert_allclose(row.q, q, atol=1e-9)
         np.testing.assert_allclose(row.real, real, atol=1e-9)
-        np.testing.assert_allclose(row.delta, target - real, atol=1e-9)
+        np.testing.assert_allclose(row.delta, dx, atol=1e-9)
+        np.testing.assert_allclose(row.error, target - real, atol=1e-9)
 
 
 def test_lecture_table_planar_2r() -> None:
@@ -82,10 +86,12 @@ def test_lecture_table_planar_2r() -> None:
     assert_same_table(path, expected)
     assert path.task == ("x", "y") and path.converged
     assert len(path.rows) > 6  # one step per waypoint leaves an error: corrections follow
-    assert path.rows[0].delta.tolist() == [0.0, 0.0]
+    # Row 0's dx, dy are x_1 - x_0: one fifth of the path.
+    np.testing.assert_allclose(path.rows[0].delta, (np.array(x_end) - x0) / 5, atol=1e-15)
+    assert path.rows[0].error.tolist() == [0.0, 0.0]
     assert np.linalg.norm(path.rows[-1].delta) <= 1e-10
     # Aiming from the real position keeps the error from adding up along the path.
-    errors = [np.linalg.norm(row.delta) for row in path.rows[1:6]]
+    errors = [np.linalg.norm(row.error) for row in path.rows[1:6]]
     assert max(errors) < 5e-3
 
 

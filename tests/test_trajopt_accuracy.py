@@ -309,3 +309,30 @@ def test_puma560_inverse_dynamics_torques_drive_robotics_toolbox() -> None:
         for s in np.linspace(0.0, h, 5):
             assert np.all(np.abs(control(k, s)) <= limits * (1 + 1e-3))
     assert worst < TOLERANCE
+
+
+@pytest.mark.slow
+def test_cli_json_and_resampled_output(capsys, tmp_path) -> None:
+    """``--json`` prints the result with the re-simulation's verdict; ``--rate 100`` writes
+    101 samples over 1 s whose torque is the held torque of each sample's interval."""
+    import json
+
+    out = tmp_path / "swing"
+    argv = ["trajopt", str(ARM), "--from", "-90deg,0", "--to", "0,0", "--time", "1",
+            "--intervals", "20", "--json", "--out", str(out), "--rate", "100"]  # fmt: skip
+    assert main(argv) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["accuracy"]["consistent"] is True
+    assert data["accuracy"]["max_defect"] < TOLERANCE
+    assert len(data["rounds"]) == data["accuracy"]["refinements"] + 1
+    table = np.loadtxt(out / "trajectory_resampled.csv", delimiter=",", skiprows=1)
+    assert table.shape == (101, 9)
+    np.testing.assert_allclose(table[:, 0], np.linspace(0, 1, 101), atol=1e-12)
+    t, tau = np.array(data["t"]), np.array(data["tau"])
+    k = np.clip(np.searchsorted(t, table[:, 0], side="right") - 1, 0, len(tau) - 1)
+    np.testing.assert_allclose(table[:, 7:], tau[k], atol=1e-12)
+    # the sampled accelerations are Spong's for the sampled state and torque
+    spong = [two_link_acceleration(r[1:3], r[3:5], r[7:]) for r in table]
+    np.testing.assert_allclose(table[:, 5:7], spong, atol=1e-8)
+    samples = json.loads((out / "trajectory_resampled.json").read_text())
+    np.testing.assert_allclose(samples["q"], table[:, 1:3], atol=0)

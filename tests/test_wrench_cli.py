@@ -8,9 +8,11 @@ import json
 import numpy as np
 import pytest
 
+from numeric_dh import without_inertials
 from symkin.cli import main
 
-# Link data for the planar 2R (its file has none): two thin rods of 1 kg, centre mid-link.
+# Link data for the planar 2R (its file's own data are left out): two thin rods of 1 kg,
+# centre mid-link.
 ROD = {"m": 1.0, "cx": -0.5, "cy": 0.0, "cz": 0.0, "ixx": 0.0, "iyy": 1 / 12, "izz": 1 / 12}
 SETS = [
     arg
@@ -20,15 +22,23 @@ SETS = [
 ]
 
 
+@pytest.fixture(scope="module")
+def bare_2r(tmp_path_factory) -> str:
+    """The catalogue planar 2R without its inertial data, so that --set gives them."""
+    path = tmp_path_factory.mktemp("bare") / "planar_2r.toml"
+    path.write_text(without_inertials("planar_2r"), encoding="utf-8")
+    return str(path)
+
+
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     code = main(list(argv))
     out, err = capsys.readouterr()
     return code, out, err
 
 
-def test_wrench_enters_tau_and_statics(capsys: pytest.CaptureFixture[str]) -> None:
+def test_wrench_enters_tau_and_statics(capsys: pytest.CaptureFixture[str], bare_2r) -> None:
     q, dq = [0.3, 0.5], [0.1, -0.2]
-    base = ["eval", "planar_2r", "--q", "0.3,0.5", "--dq", "0.1,-0.2", "--ddq", "0.4,0.7"]
+    base = ["eval", bare_2r, "--q", "0.3,0.5", "--dq", "0.1,-0.2", "--ddq", "0.4,0.7"]
     base += ["--dynamics", *SETS, "--json"]
     code, out, _ = run(capsys, *base)
     assert code == 0
@@ -52,9 +62,9 @@ def test_wrench_enters_tau_and_statics(capsys: pytest.CaptureFixture[str]) -> No
     assert loaded["lagrangian"] == pytest.approx(kinetic, rel=1e-12)
 
 
-def test_text_report_prints_the_statics(capsys: pytest.CaptureFixture[str]) -> None:
+def test_text_report_prints_the_statics(capsys: pytest.CaptureFixture[str], bare_2r) -> None:
     code, out, _ = run(
-        capsys, "eval", "planar_2r", "--q", "0,0", "--dynamics", *SETS, "--wrench", "0,1,0,0,0,0"
+        capsys, "eval", bare_2r, "--q", "0,0", "--dynamics", *SETS, "--wrench", "0,1,0,0,0,0"
     )
     assert code == 0
     assert "static torque G - J^T w = [-2. -1.]" in out  # a 1 N upward tip force, unit links

@@ -83,6 +83,9 @@ class Link:
     Stribeck curve when ``stribeck_static`` and ``stribeck_velocity`` are given.  With
     ``coulomb_negative`` the Coulomb level depends on the direction: ``coulomb`` for
     ``dq > 0`` and ``coulomb_negative`` for ``dq < 0`` (None: ``coulomb`` both ways).
+    ``inertia_note``: why the tensor is as given (published lumped data that break the triangle
+    inequality, say); ``symkin show`` prints it, and the loader then does not warn.
+
     ``coulomb_width``: the Coulomb term is smoothed for optimisers, ``sign(dq)`` replaced by
     ``tanh(dq / coulomb_width)``.  ``stiction``: the static friction level ``gamma_s`` that
     holds a joint at rest in :func:`symkin.solve.simulate.simulate` (stick/slip).
@@ -106,6 +109,7 @@ class Link:
     stiction: sp.Expr | None = None
     stiffness: sp.Expr | None = None
     drive: Drive | None = None
+    inertia_note: str = ""
 
     @property
     def is_elastic(self) -> bool:

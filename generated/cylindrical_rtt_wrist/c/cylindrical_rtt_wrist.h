@@ -10,14 +10,14 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 477 ops (187 additions, 284 multiplications, 6 trig)
- *   gravity: 102 ops (35 additions, 61 multiplications, 6 trig)
- *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
- *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
- *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
- *   wrench_torque: 77 ops (22 additions, 48 multiplications, 6 trig, 1 powers)
- *   static_torque: 183 ops (66 additions, 109 multiplications, 8 trig)
- *   energy: 574 ops (228 additions, 333 multiplications, 1 divisions, 6 trig, 6 powers)
+ *   mass_matrix: 224 ops (72 additions, 146 multiplications, 6 trig)
+ *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
+ *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
+ *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+ *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
+ *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
+ *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q6 (rad for q1, q4, q5, q6; m for q2, q3).
  * p: parameters d1, d6 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3, 4, 5, 6.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3, 4, 5, 6.
  */
 #ifndef CYLINDRICAL_RTT_WRIST_KINEMATICS_H
 #define CYLINDRICAL_RTT_WRIST_KINEMATICS_H
@@ -123,66 +123,61 @@ void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, do
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (477 operations).
+/* Mass matrix (224 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, const double *pi, double M[SYMKIN_RESTRICT 36]);
+void cylindrical_rtt_wrist_mass_matrix(const double q[6], const double *p, double M[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void cylindrical_rtt_wrist_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
-/* Gravity torques (102 operations).
+/* Gravity torques (65 operations).
  * G[6]: G(q) (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, const double *pi, double G[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_gravity(const double q[6], const double *p, double G[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void cylindrical_rtt_wrist_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (369 operations).
+/* Coriolis and centrifugal torques (169 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const double *p, double c[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (1442 operations).
+/* Coriolis matrix (christoffel symbols) (755 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[SYMKIN_RESTRICT 36]);
+void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (428 operations).
+/* Inverse dynamics (209 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void cylindrical_rtt_wrist_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
-/* Joint torques of an external wrench (77 operations).
+/* Joint torques of an external wrench (75 operations).
  * tau_w[6]: -J^T w (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -193,19 +188,18 @@ void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
-/* Static torques holding the arm against gravity and an external wrench (183 operations).
+/* Static torques holding the arm against gravity and an external wrench (151 operations).
  * tau_s[6]: G - J^T w (6x1)
  *   units: N m for q1, q4, q5, q6; N for q2, q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (574 operations).
+/* Kinetic and potential energy and the lagrangian (273 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, co
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (d1, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void cylindrical_rtt_wrist_energy(const double q[6], const double dq[6], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m for q1, q4, q5, q6; N for q2, q3) in place of ddq.
  * ddq[6]: joint accelerations; rad/s^2 for q1, q4, q5, q6; m/s^2 for q2, q3 */
-void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 6]);
+void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[SYMKIN_RESTRICT 6]);
 
 #ifdef __cplusplus
 }

@@ -11,14 +11,14 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 477 ops (187 additions, 284 multiplications, 6 trig)
- *   gravity: 102 ops (35 additions, 61 multiplications, 6 trig)
- *   coriolis: 369 ops (169 additions, 184 multiplications, 6 trig, 10 powers)
- *   coriolis_matrix: 1442 ops (620 additions, 804 multiplications, 12 divisions, 6 trig)
- *   inverse_dynamics: 428 ops (202 additions, 210 multiplications, 6 trig, 10 powers)
- *   wrench_torque: 77 ops (22 additions, 48 multiplications, 6 trig, 1 powers)
- *   static_torque: 183 ops (66 additions, 109 multiplications, 8 trig)
- *   energy: 574 ops (228 additions, 333 multiplications, 1 divisions, 6 trig, 6 powers)
+ *   mass_matrix: 224 ops (72 additions, 146 multiplications, 6 trig)
+ *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
+ *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
+ *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+ *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
+ *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
+ *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -11,14 +11,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+ *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
  */
 #include <stdio.h>
 

@@ -10,14 +10,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+ *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -303,78 +303,61 @@ void planar_2r_manipulability_batch(size_t count, const double *q, const double 
     }
 }
 
-void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[restrict 4])
+void planar_2r_mass_matrix(const double q[2], const double *p, double M[restrict 4])
 {
     const double q2 = q[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L2 + L1*t2;
-    const double t4 = m2*(t1 - cy2);
-    const double t5 = m2*(cx2 + t3);
-    const double t6 = L2 + cx2;
-    const double t7 = izz2 + t5*t6 - cy2*t4;
-    const double t8 = cy1*m1;
-    const double t9 = m1*(L1 + cx1);
-    const double t10 = t9 + t0*t4 + t2*t5;
-    const double t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8;
-    const double t12 = cy2*m2;
-    const double t13 = m2*(L2 + cx2);
-    const double t14 = izz2 + cy2*t12 + t13*t6;
-    M[0] = t11;
+    const double t4 = 3.393*t1;
+    const double t5 = -1.6965 + 3.393*t3;
+    const double t6 = -0.5 + L2;
+    const double t7 = 0.2831 + t5*t6;
+    const double t8 = -1.6965 + 3.393*L1;
+    const double t9 = t8 + t0*t4 + t2*t5;
+    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
+    const double t11 = -1.6965 + 3.393*L2;
+    const double t12 = 0.2831 + t11*t6;
+    M[0] = t10;
     M[1] = t7;
     M[2] = t7;
-    M[3] = t14;
+    M[3] = t12;
 }
 
-void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
+void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_mass_matrix(q + i * 2, p, pi, M + i * 4);
+        planar_2r_mass_matrix(q + i * 2, p, M + i * 4);
     }
 }
 
-void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[restrict 2])
+void planar_2r_gravity(const double q[2], const double *p, double G[restrict 2])
 {
     (void)q;
     (void)p;
-    (void)pi;
     G[0] = 0;
     G[1] = 0;
 }
 
-void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
+void planar_2r_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_gravity(q + i * 2, p, pi, G + i * 2);
+        planar_2r_gravity(q + i * 2, p, G + i * 2);
     }
 }
 
-void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[restrict 2])
+void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, double c[restrict 2])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
     const double t0 = dq1*dq1;
     const double t1 = L1*t0;
     const double t2 = dq1 + dq2;
@@ -383,68 +366,61 @@ void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, 
     const double t5 = L2*t3 + t1*t4;
     const double t6 = sin(q2);
     const double t7 = t1*t6;
-    const double t8 = m2*(-t5 - cx2*t3);
-    const double t9 = m2*(t7 - cy2*t3);
-    const double t10 = L2 + cx2;
-    const double t11 = t10*t9 - cy2*t8;
-    const double t12 = m1*(-t1 - cx1*t0);
-    const double t13 = cy1*t0*m1;
-    const double t14 = -t13 + t4*t9 + t6*t8;
-    const double t15 = t11 + L1*t14 - cx1*t13 - cy1*t12;
-    c[0] = t15;
+    const double t8 = 1.6965*t3 - 3.393*t5;
+    const double t9 = 3.393*t7;
+    const double t10 = -0.5 + L2;
+    const double t11 = t10*t9;
+    const double t12 = t4*t9 + t6*t8;
+    const double t13 = t11 + L1*t12;
+    c[0] = t13;
     c[1] = t11;
 }
 
-void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
+void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_coriolis(q + i * 2, dq + i * 2, p, pi, c + i * 2);
+        planar_2r_coriolis(q + i * 2, dq + i * 2, p, c + i * 2);
     }
 }
 
-void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[restrict 4])
+void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, double C[restrict 4])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L1*t2;
     const double t4 = L2 + t3;
-    const double t5 = m2*(t1 - cy2);
-    const double t6 = m2*(cx2 + t4);
-    const double t7 = t1*m2;
-    const double t8 = t3*m2;
-    const double t9 = L2 + cx2;
-    const double t10 = cy2*t8 + t7*t9;
-    const double t11 = t5 - t7;
-    const double t12 = t8 - t6;
-    const double t13 = t0*t12 + t11*t2;
-    const double t14 = -t10 + L1*t13;
-    const double t15 = (1.0/2.0)*t14;
-    const double t16 = dq1*t15;
-    C[0] = dq2*t15;
-    C[1] = t16 - dq2*t10;
-    C[2] = -t16;
+    const double t5 = 3.393*t1;
+    const double t6 = -1.6965 + 3.393*t4;
+    const double t7 = 0.5 - L2;
+    const double t8 = t5*t7;
+    const double t9 = 3.393*t3;
+    const double t10 = t9 - t6;
+    const double t11 = t0*t10;
+    const double t12 = t8 + L1*t11;
+    const double t13 = (1.0/2.0)*t12;
+    const double t14 = dq1*t13;
+    C[0] = dq2*t13;
+    C[1] = t14 + dq2*t8;
+    C[2] = -t14;
     C[3] = 0;
 }
 
-void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
+void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_coriolis_matrix(q + i * 2, dq + i * 2, p, pi, C + i * 4);
+        planar_2r_coriolis_matrix(q + i * 2, dq + i * 2, p, C + i * 4);
     }
 }
 
-void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[restrict 2])
+void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, double tau[restrict 2])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -453,41 +429,32 @@ void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const dou
     const double ddq2 = ddq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = L1*ddq1;
     const double t3 = dq1 + dq2;
     const double t4 = ddq1 + ddq2;
     const double t5 = t3*t3;
     const double t6 = cos(q2);
     const double t7 = sin(q2);
-    const double t8 = t1*t6 + t2*t7 - L2*t5;
-    const double t9 = L2*t4 + t2*t6 - t1*t7;
-    const double t10 = m2*(t8 - cx2*t5 - cy2*t4);
-    const double t11 = m2*(t9 + cx2*t4 - cy2*t5);
-    const double t12 = L2 + cx2;
-    const double t13 = t11*t12 + t4*izz2 - cy2*t10;
-    const double t14 = m1*(t1 - cx1*t0 - cy1*ddq1);
-    const double t15 = m1*(t2 + cx1*ddq1 - cy1*t0);
-    const double t16 = t15 + t10*t7 + t11*t6;
-    const double t17 = t13 + L1*t16 + cx1*t15 + ddq1*izz1 - cy1*t14;
-    tau[0] = t17;
+    const double t8 = t2*t7 - L2*t5 - t1*t6;
+    const double t9 = L2*t4 + t1*t7 + t2*t6;
+    const double t10 = 1.6965*t5 + 3.393*t8;
+    const double t11 = 3.393*t9 - 1.6965*t4;
+    const double t12 = -0.5 + L2;
+    const double t13 = 0.2831*t4 + t11*t12;
+    const double t14 = 3.393*t2 - 1.6965*ddq1;
+    const double t15 = t14 + t10*t7 + t11*t6;
+    const double t16 = t13 + 0.2831*ddq1 - 0.5*t14 + L1*t15;
+    tau[0] = t16;
     tau[1] = t13;
 }
 
-void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
+void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_inverse_dynamics(q + i * 2, dq + i * 2, ddq + i * 2, p, pi, tau + i * 2);
+        planar_2r_inverse_dynamics(q + i * 2, dq + i * 2, ddq + i * 2, p, tau + i * 2);
     }
 }
 
@@ -515,9 +482,8 @@ void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *
     }
 }
 
-void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 2])
+void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, double tau_s[restrict 2])
 {
-    (void)pi;
     const double q1 = q[0];
     const double q2 = q[1];
     const double w_fx = wrench[0];
@@ -537,75 +503,61 @@ void planar_2r_static_torque(const double q[2], const double wrench[6], const do
     tau_s[1] = t5;
 }
 
-void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_static_torque(q + i * 2, wrench + i * 6, p, pi, tau_s + i * 2);
+        planar_2r_static_torque(q + i * 2, wrench + i * 6, p, tau_s + i * 2);
     }
 }
 
-void planar_2r_energy(const double q[2], const double dq[2], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+void planar_2r_energy(const double q[2], const double dq[2], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double cz1 = pi[3];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double izz2 = pi[16];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L2 + L1*t2;
-    const double t4 = m2*(t1 - cy2);
-    const double t5 = m2*(cx2 + t3);
-    const double t6 = L2 + cx2;
-    const double t7 = izz2 + t5*t6 - cy2*t4;
-    const double t8 = cy1*m1;
-    const double t9 = m1*(L1 + cx1);
-    const double t10 = t9 + t0*t4 + t2*t5;
-    const double t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8;
-    const double t12 = cy2*m2;
-    const double t13 = m2*(L2 + cx2);
-    const double t14 = izz2 + cy2*t12 + t13*t6;
-    const double t15 = t11*dq1*dq1 + t14*dq2*dq2;
-    const double t16 = (1.0/2.0)*t15 + dq1*dq2*t7;
-    const double t17 = 9.81*cz1*m1;
-    const double t18 = 9.81*cz2*m2;
-    kinetic[0] = t16;
-    potential[0] = t17 + t18;
-    lagrangian[0] = t16 - t17 - t18;
+    const double t4 = 3.393*t1;
+    const double t5 = -1.6965 + 3.393*t3;
+    const double t6 = -0.5 + L2;
+    const double t7 = 0.2831 + t5*t6;
+    const double t8 = -1.6965 + 3.393*L1;
+    const double t9 = t8 + t0*t4 + t2*t5;
+    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
+    const double t11 = -1.6965 + 3.393*L2;
+    const double t12 = 0.2831 + t11*t6;
+    const double t13 = t10*dq1*dq1 + t12*dq2*dq2;
+    const double t14 = (1.0/2.0)*t13 + dq1*dq2*t7;
+    kinetic[0] = t14;
+    potential[0] = 0;
+    lagrangian[0] = t14;
 }
 
-void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_2r_energy(q + i * 2, dq + i * 2, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
+        planar_2r_energy(q + i * 2, dq + i * 2, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
  * ddq is NaN where M is not numerically positive definite. */
-void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[restrict 2])
+void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, double ddq[restrict 2])
 {
     double M[4];
     double bias[2];
     const double zero[2] = { 0 };
     int i;
 
-    planar_2r_mass_matrix(q, p, pi, M);
-    planar_2r_inverse_dynamics(q, dq, zero, p, pi, bias);
+    planar_2r_mass_matrix(q, p, M);
+    planar_2r_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 2)) {
         for (i = 0; i < 2; ++i) {

@@ -10,14 +10,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+ *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q2 (rad).
  * p: parameters L1, L2 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2.
  */
 #ifndef PLANAR_2R_KINEMATICS_H
 #define PLANAR_2R_KINEMATICS_H
@@ -123,64 +123,59 @@ void planar_2r_manipulability(const double q[2], const double *p, double mu[SYMK
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (35 operations).
+/* Mass matrix (26 operations).
  * M[4]: M(q) (2x2)
  *   units: kg m^2
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_mass_matrix(const double q[2], const double *p, const double *pi, double M[SYMKIN_RESTRICT 4]);
+void planar_2r_mass_matrix(const double q[2], const double *p, double M[SYMKIN_RESTRICT 4]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (0 operations).
  * G[2]: G(q) (2x1)
  *   units: N m
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_gravity(const double q[2], const double *p, const double *pi, double G[SYMKIN_RESTRICT 2]);
+void planar_2r_gravity(const double q[2], const double *p, double G[SYMKIN_RESTRICT 2]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void planar_2r_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (37 operations).
+/* Coriolis and centrifugal torques (21 operations).
  * c[2]: c = C(q, dq) dq (2x1)
  *   units: N m
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, const double *pi, double c[SYMKIN_RESTRICT 2]);
+void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, double c[SYMKIN_RESTRICT 2]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (28 operations).
+/* Coriolis matrix (christoffel symbols) (21 operations).
  * C[4]: C(q, dq) (2x2), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, const double *pi, double C[SYMKIN_RESTRICT 4]);
+void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, double C[SYMKIN_RESTRICT 4]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (57 operations).
+/* Inverse dynamics (41 operations).
  * tau[2]: tau = M ddq + C dq + G + F (2x1)
  *   units: N m
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[2]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 2]);
+void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, double tau[SYMKIN_RESTRICT 2]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void planar_2r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Joint torques of an external wrench (21 operations).
  * tau_w[2]: -J^T w (2x1)
@@ -199,13 +194,12 @@ void planar_2r_wrench_torque_batch(size_t count, const double *q, const double *
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 2]);
+void planar_2r_static_torque(const double q[2], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 2]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (51 operations).
+/* Kinetic and potential energy and the lagrangian (35 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void planar_2r_static_torque_batch(size_t count, const double *q, const double *
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
  * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[20]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_2r_energy(const double q[2], const double dq[2], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void planar_2r_energy(const double q[2], const double dq[2], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 2, each output count x its size. */
-void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[2] (N m) in place of ddq.
  * ddq[2]: joint accelerations; rad/s^2 */
-void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 2]);
+void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, double ddq[SYMKIN_RESTRICT 2]);
 
 #ifdef __cplusplus
 }

@@ -10,14 +10,14 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
+  mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
   gravity: 0 ops (none)
-  coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
-  inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+  coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+  inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
-  energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
+  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -232,49 +232,38 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (35 operations) as a casadi.Function.
+    """Mass matrix (26 operations) as a casadi.Function.
 
     Output M: M(q) (2x2).
     """
     q = symbol_type.sym("q", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q2 = q[1]
     L1 = p[0]
     L2 = p[1]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cy1 = pi[2]
-    izz1 = pi[6]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
-    izz2 = pi[16]
     t0 = casadi.sin(q2)
     t1 = L1*t0
     t2 = casadi.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m2*(t1 - cy2)
-    t5 = m2*(cx2 + t3)
-    t6 = L2 + cx2
-    t7 = izz2 + t5*t6 - cy2*t4
-    t8 = cy1*m1
-    t9 = m1*(L1 + cx1)
-    t10 = t9 + t0*t4 + t2*t5
-    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
-    t12 = cy2*m2
-    t13 = m2*(L2 + cx2)
-    t14 = izz2 + cy2*t12 + t13*t6
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
     M = symbol_type.zeros(2, 2)
-    M[0, 0] = t11
+    M[0, 0] = t10
     M[0, 1] = t7
     M[1, 0] = t7
-    M[1, 1] = t14
+    M[1, 1] = t12
     return casadi.Function(
         "planar_2r_mass_matrix",
-        [q, p, pi],
+        [q, p],
         [M],
-        ["q", "p", "pi"],
+        ["q", "p"],
         ["M"],
     )
 
@@ -286,37 +275,29 @@ def gravity_function(symbol_type=casadi.SX):
     """
     q = symbol_type.sym("q", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     G = symbol_type.zeros(2, 1)
     return casadi.Function(
         "planar_2r_gravity",
-        [q, p, pi],
+        [q, p],
         [G],
-        ["q", "p", "pi"],
+        ["q", "p"],
         ["G"],
     )
 
 
 def coriolis_function(symbol_type=casadi.SX):
-    """Coriolis and centrifugal torques (37 operations) as a casadi.Function.
+    """Coriolis and centrifugal torques (21 operations) as a casadi.Function.
 
     Output c: c = C(q, dq) dq (2x1).
     """
     q = symbol_type.sym("q", 2)
     dq = symbol_type.sym("dq", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q2 = q[1]
     dq1 = dq[0]
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cy1 = pi[2]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
     t0 = dq1**2
     t1 = L1*t0
     t2 = dq1 + dq2
@@ -325,75 +306,67 @@ def coriolis_function(symbol_type=casadi.SX):
     t5 = L2*t3 + t1*t4
     t6 = casadi.sin(q2)
     t7 = t1*t6
-    t8 = m2*(-t5 - cx2*t3)
-    t9 = m2*(t7 - cy2*t3)
-    t10 = L2 + cx2
-    t11 = t10*t9 - cy2*t8
-    t12 = m1*(-t1 - cx1*t0)
-    t13 = cy1*t0*m1
-    t14 = -t13 + t4*t9 + t6*t8
-    t15 = t11 + L1*t14 - cx1*t13 - cy1*t12
+    t8 = 1.6965*t3 - 3.393*t5
+    t9 = 3.393*t7
+    t10 = -0.5 + L2
+    t11 = t10*t9
+    t12 = t4*t9 + t6*t8
+    t13 = t11 + L1*t12
     c = symbol_type.zeros(2, 1)
-    c[0, 0] = t15
+    c[0, 0] = t13
     c[1, 0] = t11
     return casadi.Function(
         "planar_2r_coriolis",
-        [q, dq, p, pi],
+        [q, dq, p],
         [c],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["c"],
     )
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (28 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (21 operations) as a casadi.Function.
 
     Output C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric.
     """
     q = symbol_type.sym("q", 2)
     dq = symbol_type.sym("dq", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q2 = q[1]
     dq1 = dq[0]
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
     t0 = casadi.sin(q2)
     t1 = L1*t0
     t2 = casadi.cos(q2)
     t3 = L1*t2
     t4 = L2 + t3
-    t5 = m2*(t1 - cy2)
-    t6 = m2*(cx2 + t4)
-    t7 = t1*m2
-    t8 = t3*m2
-    t9 = L2 + cx2
-    t10 = cy2*t8 + t7*t9
-    t11 = t5 - t7
-    t12 = t8 - t6
-    t13 = t0*t12 + t11*t2
-    t14 = -t10 + L1*t13
-    t15 = (1/2)*t14
-    t16 = dq1*t15
+    t5 = 3.393*t1
+    t6 = -1.6965 + 3.393*t4
+    t7 = 0.5 - L2
+    t8 = t5*t7
+    t9 = 3.393*t3
+    t10 = t9 - t6
+    t11 = t0*t10
+    t12 = t8 + L1*t11
+    t13 = (1/2)*t12
+    t14 = dq1*t13
     C = symbol_type.zeros(2, 2)
-    C[0, 0] = dq2*t15
-    C[0, 1] = t16 - dq2*t10
-    C[1, 0] = -t16
+    C[0, 0] = dq2*t13
+    C[0, 1] = t14 + dq2*t8
+    C[1, 0] = -t14
     return casadi.Function(
         "planar_2r_coriolis_matrix",
-        [q, dq, p, pi],
+        [q, dq, p],
         [C],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["C"],
     )
 
 
 def inverse_dynamics_function(symbol_type=casadi.SX):
-    """Inverse dynamics (57 operations) as a casadi.Function.
+    """Inverse dynamics (41 operations) as a casadi.Function.
 
     Output tau: tau = M ddq + C dq + G + F (2x1).
     """
@@ -401,7 +374,6 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     dq = symbol_type.sym("dq", 2)
     ddq = symbol_type.sym("ddq", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q2 = q[1]
     dq1 = dq[0]
     dq2 = dq[1]
@@ -409,40 +381,31 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     ddq2 = ddq[1]
     L1 = p[0]
     L2 = p[1]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cy1 = pi[2]
-    izz1 = pi[6]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
-    izz2 = pi[16]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
     t6 = casadi.cos(q2)
     t7 = casadi.sin(q2)
-    t8 = t1*t6 + t2*t7 - L2*t5
-    t9 = L2*t4 + t2*t6 - t1*t7
-    t10 = m2*(t8 - cx2*t5 - cy2*t4)
-    t11 = m2*(t9 + cx2*t4 - cy2*t5)
-    t12 = L2 + cx2
-    t13 = t11*t12 + t4*izz2 - cy2*t10
-    t14 = m1*(t1 - cx1*t0 - cy1*ddq1)
-    t15 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t16 = t15 + t10*t7 + t11*t6
-    t17 = t13 + L1*t16 + cx1*t15 + ddq1*izz1 - cy1*t14
+    t8 = t2*t7 - L2*t5 - t1*t6
+    t9 = L2*t4 + t1*t7 + t2*t6
+    t10 = 1.6965*t5 + 3.393*t8
+    t11 = 3.393*t9 - 1.6965*t4
+    t12 = -0.5 + L2
+    t13 = 0.2831*t4 + t11*t12
+    t14 = 3.393*t2 - 1.6965*ddq1
+    t15 = t14 + t10*t7 + t11*t6
+    t16 = t13 + 0.2831*ddq1 - 0.5*t14 + L1*t15
     tau = symbol_type.zeros(2, 1)
-    tau[0, 0] = t17
+    tau[0, 0] = t16
     tau[1, 0] = t13
     return casadi.Function(
         "planar_2r_inverse_dynamics",
-        [q, dq, ddq, p, pi],
+        [q, dq, ddq, p],
         [tau],
-        ["q", "dq", "ddq", "p", "pi"],
+        ["q", "dq", "ddq", "p"],
         ["tau"],
     )
 
@@ -485,7 +448,6 @@ def static_torque_function(symbol_type=casadi.SX):
     q = symbol_type.sym("q", 2)
     wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q1 = q[0]
     q2 = q[1]
     w_fx = wrench[0]
@@ -506,15 +468,15 @@ def static_torque_function(symbol_type=casadi.SX):
     tau_s[1, 0] = t5
     return casadi.Function(
         "planar_2r_static_torque",
-        [q, wrench, p, pi],
+        [q, wrench, p],
         [tau_s],
-        ["q", "wrench", "p", "pi"],
+        ["q", "wrench", "p"],
         ["tau_s"],
     )
 
 
 def energy_function(symbol_type=casadi.SX):
-    """Kinetic and potential energy and the lagrangian (51 operations) as a casadi.Function.
+    """Kinetic and potential energy and the lagrangian (35 operations) as a casadi.Function.
 
     Output kinetic: kinetic energy T = 1/2 dq^T M dq.
     Output potential: potential energy V = -sum m_i g^T p_ci.
@@ -523,52 +485,36 @@ def energy_function(symbol_type=casadi.SX):
     q = symbol_type.sym("q", 2)
     dq = symbol_type.sym("dq", 2)
     p = symbol_type.sym("p", 2)
-    pi = symbol_type.sym("pi", 20)
     q2 = q[1]
     dq1 = dq[0]
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cy1 = pi[2]
-    cz1 = pi[3]
-    izz1 = pi[6]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
-    cz2 = pi[13]
-    izz2 = pi[16]
     t0 = casadi.sin(q2)
     t1 = L1*t0
     t2 = casadi.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m2*(t1 - cy2)
-    t5 = m2*(cx2 + t3)
-    t6 = L2 + cx2
-    t7 = izz2 + t5*t6 - cy2*t4
-    t8 = cy1*m1
-    t9 = m1*(L1 + cx1)
-    t10 = t9 + t0*t4 + t2*t5
-    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
-    t12 = cy2*m2
-    t13 = m2*(L2 + cx2)
-    t14 = izz2 + cy2*t12 + t13*t6
-    t15 = t11*dq1**2 + t14*dq2**2
-    t16 = (1/2)*t15 + dq1*dq2*t7
-    t17 = 9.81*cz1*m1
-    t18 = 9.81*cz2*m2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = t10*dq1**2 + t12*dq2**2
+    t14 = (1/2)*t13 + dq1*dq2*t7
     kinetic = symbol_type.zeros(1, 1)
-    kinetic[0, 0] = t16
+    kinetic[0, 0] = t14
     potential = symbol_type.zeros(1, 1)
-    potential[0, 0] = t17 + t18
     lagrangian = symbol_type.zeros(1, 1)
-    lagrangian[0, 0] = t16 - t17 - t18
+    lagrangian[0, 0] = t14
     return casadi.Function(
         "planar_2r_energy",
-        [q, dq, p, pi],
+        [q, dq, p],
         [kinetic, potential, lagrangian],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["kinetic", "potential", "lagrangian"],
     )
 
@@ -580,9 +526,7 @@ def forward_dynamics_function(symbol_type=casadi.SX):
     tau = symbol_type.sym("tau", 2)
     p = symbol_type.sym("p", 2)
     inputs = [q, dq, tau, p]
-    pi = symbol_type.sym("pi", 20)
-    inputs.append(pi)
-    extra = [pi]
+    extra = []
     mass = mass_matrix_function(symbol_type)(q, p, *extra)
     bias = inverse_dynamics_function(symbol_type)(q, dq, symbol_type.zeros(2), p, *extra)
     ddq = casadi.solve(mass, tau - bias)

@@ -10,14 +10,14 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 35 ops (16 additions, 17 multiplications, 2 trig)
+  mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
   gravity: 0 ops (none)
-  coriolis: 37 ops (12 additions, 21 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 28 ops (10 additions, 15 multiplications, 1 divisions, 2 trig)
-  inverse_dynamics: 57 ops (23 additions, 30 multiplications, 2 trig, 2 powers)
+  coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+  inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
-  energy: 51 ops (21 additions, 25 multiplications, 1 divisions, 2 trig, 2 powers)
+  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -210,99 +210,71 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     return mu
 
 
-def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 35 operations.
+def mass_matrix(q, p=DEFAULT_PARAMETERS):
+    """Mass matrix: 26 operations.
 
     q: joint positions (rad or m), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns M: M(q) (2x2), shape (..., 2, 2).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m2*(t1 - cy2)
-    t5 = m2*(cx2 + t3)
-    t6 = L2 + cx2
-    t7 = izz2 + t5*t6 - cy2*t4
-    t8 = cy1*m1
-    t9 = m1*(L1 + cx1)
-    t10 = t9 + t0*t4 + t2*t5
-    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
-    t12 = cy2*m2
-    t13 = m2*(L2 + cx2)
-    t14 = izz2 + cy2*t12 + t13*t6
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
     M = numpy.zeros(batch + (2, 2))
-    M[..., 0, 0] = t11
+    M[..., 0, 0] = t10
     M[..., 0, 1] = t7
     M[..., 1, 0] = t7
-    M[..., 1, 1] = t14
+    M[..., 1, 1] = t12
     return M
 
 
-def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
+def gravity(q, p=DEFAULT_PARAMETERS):
     """Gravity torques: 0 operations.
 
     q: joint positions (rad or m), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns G: G(q) (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     G = numpy.zeros(batch + (2,))
     return G
 
 
-def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis and centrifugal torques: 37 operations.
+def coriolis(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis and centrifugal torques: 21 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns c: c = C(q, dq) dq (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
     t0 = dq1**2
     t1 = L1*t0
     t2 = dq1 + dq2
@@ -311,85 +283,70 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t5 = L2*t3 + t1*t4
     t6 = numpy.sin(q2)
     t7 = t1*t6
-    t8 = m2*(-t5 - cx2*t3)
-    t9 = m2*(t7 - cy2*t3)
-    t10 = L2 + cx2
-    t11 = t10*t9 - cy2*t8
-    t12 = m1*(-t1 - cx1*t0)
-    t13 = cy1*t0*m1
-    t14 = -t13 + t4*t9 + t6*t8
-    t15 = t11 + L1*t14 - cx1*t13 - cy1*t12
+    t8 = 1.6965*t3 - 3.393*t5
+    t9 = 3.393*t7
+    t10 = -0.5 + L2
+    t11 = t10*t9
+    t12 = t4*t9 + t6*t8
+    t13 = t11 + L1*t12
     c = numpy.zeros(batch + (2,))
-    c[..., 0] = t15
+    c[..., 0] = t13
     c[..., 1] = t11
     return c
 
 
-def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 28 operations.
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis matrix (christoffel symbols): 21 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric, shape (..., 2, 2).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L1*t2
     t4 = L2 + t3
-    t5 = m2*(t1 - cy2)
-    t6 = m2*(cx2 + t4)
-    t7 = t1*m2
-    t8 = t3*m2
-    t9 = L2 + cx2
-    t10 = cy2*t8 + t7*t9
-    t11 = t5 - t7
-    t12 = t8 - t6
-    t13 = t0*t12 + t11*t2
-    t14 = -t10 + L1*t13
-    t15 = (1/2)*t14
-    t16 = dq1*t15
+    t5 = 3.393*t1
+    t6 = -1.6965 + 3.393*t4
+    t7 = 0.5 - L2
+    t8 = t5*t7
+    t9 = 3.393*t3
+    t10 = t9 - t6
+    t11 = t0*t10
+    t12 = t8 + L1*t11
+    t13 = (1/2)*t12
+    t14 = dq1*t13
     C = numpy.zeros(batch + (2, 2))
-    C[..., 0, 0] = dq2*t15
-    C[..., 0, 1] = t16 - dq2*t10
-    C[..., 1, 0] = -t16
+    C[..., 0, 0] = dq2*t13
+    C[..., 0, 1] = t14 + dq2*t8
+    C[..., 1, 0] = -t14
     return C
 
 
-def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
-    """Inverse dynamics: 57 operations.
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
+    """Inverse dynamics: 41 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns tau: tau = M ddq + C dq + G + F (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
@@ -398,34 +355,25 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     ddq2 = ddq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
     t6 = numpy.cos(q2)
     t7 = numpy.sin(q2)
-    t8 = t1*t6 + t2*t7 - L2*t5
-    t9 = L2*t4 + t2*t6 - t1*t7
-    t10 = m2*(t8 - cx2*t5 - cy2*t4)
-    t11 = m2*(t9 + cx2*t4 - cy2*t5)
-    t12 = L2 + cx2
-    t13 = t11*t12 + t4*izz2 - cy2*t10
-    t14 = m1*(t1 - cx1*t0 - cy1*ddq1)
-    t15 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t16 = t15 + t10*t7 + t11*t6
-    t17 = t13 + L1*t16 + cx1*t15 + ddq1*izz1 - cy1*t14
+    t8 = t2*t7 - L2*t5 - t1*t6
+    t9 = L2*t4 + t1*t7 + t2*t6
+    t10 = 1.6965*t5 + 3.393*t8
+    t11 = 3.393*t9 - 1.6965*t4
+    t12 = -0.5 + L2
+    t13 = 0.2831*t4 + t11*t12
+    t14 = 3.393*t2 - 1.6965*ddq1
+    t15 = t14 + t10*t7 + t11*t6
+    t16 = t13 + 0.2831*ddq1 - 0.5*t14 + L1*t15
     tau = numpy.zeros(batch + (2,))
-    tau[..., 0] = t17
+    tau[..., 0] = t16
     tau[..., 1] = t13
     return tau
 
@@ -458,21 +406,17 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Static torques holding the arm against gravity and an external wrench: 18 operations.
 
     q: joint positions (rad or m), 2 values per state.
     wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns tau_s: G - J^T w (2x1), shape (..., 2).
     """
     q = numpy.asarray(q, dtype=float)
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
@@ -495,13 +439,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     return tau_s
 
 
-def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Kinetic and potential energy and the lagrangian: 51 operations.
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 35 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 20 values.
     Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
     Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
     Returns lagrangian: Lagrangian L = T - V, shape (..., ).
@@ -509,60 +452,42 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 20 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    cz1 = pi[..., 3]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    cz2 = pi[..., 13]
-    izz2 = pi[..., 16]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m2*(t1 - cy2)
-    t5 = m2*(cx2 + t3)
-    t6 = L2 + cx2
-    t7 = izz2 + t5*t6 - cy2*t4
-    t8 = cy1*m1
-    t9 = m1*(L1 + cx1)
-    t10 = t9 + t0*t4 + t2*t5
-    t11 = t7 + izz1 + L1*t10 + cx1*t9 + cy1*t8
-    t12 = cy2*m2
-    t13 = m2*(L2 + cx2)
-    t14 = izz2 + cy2*t12 + t13*t6
-    t15 = t11*dq1**2 + t14*dq2**2
-    t16 = (1/2)*t15 + dq1*dq2*t7
-    t17 = 9.81*cz1*m1
-    t18 = 9.81*cz2*m2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = t10*dq1**2 + t12*dq2**2
+    t14 = (1/2)*t13 + dq1*dq2*t7
     kinetic = numpy.zeros(batch + ())
-    kinetic[...] = t16
+    kinetic[...] = t14
     potential = numpy.zeros(batch + ())
-    potential[...] = t17 + t18
     lagrangian = numpy.zeros(batch + ())
-    lagrangian[...] = t16 - t17 - t18
+    lagrangian[...] = t14
     return kinetic, potential, lagrangian
 
 
-def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):
+def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
     """Joint accelerations from M(q) ddq = tau - c - G - F (a linear solve, no inverse).
 
     c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
     """
     q = numpy.asarray(q, dtype=float)
-    extra = {"pi": pi}
+    extra = {}
     mass = mass_matrix(q, p, **extra)
     bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
     rhs = numpy.asarray(tau, dtype=float) - bias

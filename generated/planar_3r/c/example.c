@@ -11,14 +11,14 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
+ *   mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
- *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
- *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <stdio.h>
 

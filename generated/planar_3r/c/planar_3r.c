@@ -10,14 +10,14 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
+ *   mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
- *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
- *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -339,25 +339,13 @@ void planar_3r_manipulability_batch(size_t count, const double *q, const double 
     }
 }
 
-void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
+void planar_3r_mass_matrix(const double q[3], const double *p, double M[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double izz3 = pi[26];
     const double t0 = cos(q2);
     const double t1 = L1*t0;
     const double t2 = sin(q2);
@@ -366,69 +354,64 @@ void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi,
     const double t5 = sin(q3);
     const double t6 = t3*t5 - t1*t4;
     const double t7 = L3 + t1*t5 + t3*t4;
-    const double t8 = m3*(t6 - cy3);
-    const double t9 = m3*(cx3 + t7);
-    const double t10 = L3 + cx3;
-    const double t11 = izz3 + t10*t9 - cy3*t8;
-    const double t12 = m2*(-cy2 - t1);
-    const double t13 = m2*(cx2 + t3);
-    const double t14 = t12 + t4*t8 - t5*t9;
-    const double t15 = t13 + t4*t9 + t5*t8;
-    const double t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12;
-    const double t17 = cy1*m1;
-    const double t18 = m1*(L1 + cx1);
-    const double t19 = t18 + t15*t2 - t0*t14;
-    const double t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17;
-    const double t21 = L2*t5;
-    const double t22 = L3 + L2*t4;
-    const double t23 = m3*(t21 - cy3);
-    const double t24 = m3*(cx3 + t22);
-    const double t25 = izz3 + t10*t24 - cy3*t23;
-    const double t26 = cy2*m2;
-    const double t27 = m2*(L2 + cx2);
-    const double t28 = t27 + t23*t5 + t24*t4;
-    const double t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26;
-    const double t30 = cy3*m3;
-    const double t31 = m3*(L3 + cx3);
-    const double t32 = izz3 + cy3*t30 + t10*t31;
-    M[0] = t20;
-    M[1] = t16;
+    const double t8 = 1.696*t6;
+    const double t9 = -0.424 + 1.696*t7;
+    const double t10 = -0.25 + L3;
+    const double t11 = 0.03551 + t10*t9;
+    const double t12 = -1.0856000000000001 + 2.714*t3;
+    const double t13 = -2.714*t1 + t4*t8 - t5*t9;
+    const double t14 = t12 + t4*t9 + t5*t8;
+    const double t15 = 0.145 + t11 - 0.4*t12 + L2*t14;
+    const double t16 = -1.6965 + 3.393*L1;
+    const double t17 = t16 + t14*t2 - t0*t13;
+    const double t18 = 0.2831 + t15 - 0.5*t16 + L1*t17;
+    const double t19 = L2*t5;
+    const double t20 = L3 + L2*t4;
+    const double t21 = 1.696*t19;
+    const double t22 = -0.424 + 1.696*t20;
+    const double t23 = 0.03551 + t10*t22;
+    const double t24 = -1.0856000000000001 + 2.714*L2;
+    const double t25 = t24 + t21*t5 + t22*t4;
+    const double t26 = 0.145 + t23 - 0.4*t24 + L2*t25;
+    const double t27 = -0.424 + 1.696*L3;
+    const double t28 = 0.03551 + t10*t27;
+    M[0] = t18;
+    M[1] = t15;
     M[2] = t11;
-    M[3] = t16;
-    M[4] = t29;
-    M[5] = t25;
+    M[3] = t15;
+    M[4] = t26;
+    M[5] = t23;
     M[6] = t11;
-    M[7] = t25;
-    M[8] = t32;
+    M[7] = t23;
+    M[8] = t28;
 }
 
-void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_mass_matrix(q + i * 3, p, pi, M + i * 9);
+        planar_3r_mass_matrix(q + i * 3, p, M + i * 9);
     }
 }
 
-void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
+void planar_3r_gravity(const double q[3], const double *p, double G[restrict 3])
 {
     (void)q;
     (void)p;
-    (void)pi;
     G[0] = 0;
     G[1] = 0;
     G[2] = 0;
 }
 
-void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_gravity(q + i * 3, p, pi, G + i * 3);
+        planar_3r_gravity(q + i * 3, p, G + i * 3);
     }
 }
 
-void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, double c[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -438,56 +421,44 @@ void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, 
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = dq1 + dq2;
     const double t3 = t2*t2;
     const double t4 = sin(q2);
-    const double t5 = t1*t4 - L2*t3;
+    const double t5 = L2*t3 + t1*t4;
     const double t6 = cos(q2);
     const double t7 = t1*t6;
     const double t8 = dq3 + t2;
     const double t9 = t8*t8;
-    const double t10 = cos(q3);
-    const double t11 = sin(q3);
-    const double t12 = t10*t5 + t11*t7 - L3*t9;
-    const double t13 = t10*t7 - t11*t5;
-    const double t14 = m3*(t12 - cx3*t9);
-    const double t15 = m3*(t13 - cy3*t9);
-    const double t16 = L3 + cx3;
-    const double t17 = t15*t16 - cy3*t14;
-    const double t18 = m2*(t5 - cx2*t3);
-    const double t19 = m2*(t7 - cy2*t3);
-    const double t20 = t18 + t10*t14 - t11*t15;
-    const double t21 = t19 + t10*t15 + t11*t14;
-    const double t22 = t17 + L2*t21 + cx2*t19 - cy2*t18;
-    const double t23 = m1*(t1 - cx1*t0);
-    const double t24 = -cy1*t0*m1;
-    const double t25 = t24 + t21*t4 - t20*t6;
-    const double t26 = t22 + L1*t25 + cx1*t24 - cy1*t23;
-    c[0] = t26;
-    c[1] = t22;
+    const double t10 = sin(q3);
+    const double t11 = cos(q3);
+    const double t12 = L3*t9 + t10*t7 + t11*t5;
+    const double t13 = t10*t5 - t11*t7;
+    const double t14 = 0.424*t9 - 1.696*t12;
+    const double t15 = 1.696*t13;
+    const double t16 = -0.25 + L3;
+    const double t17 = t15*t16;
+    const double t18 = 2.714*t7;
+    const double t19 = 1.0856000000000001*t3 - 2.714*t5 + t11*t14 - t10*t15;
+    const double t20 = -t18 + t10*t14 + t11*t15;
+    const double t21 = t17 + 0.4*t18 + L2*t20;
+    const double t22 = t20*t4 - t19*t6;
+    const double t23 = t21 + L1*t22;
+    c[0] = t23;
+    c[1] = t21;
     c[2] = t17;
 }
 
-void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+        planar_3r_coriolis(q + i * 3, dq + i * 3, p, c + i * 3);
     }
 }
 
-void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -497,12 +468,6 @@ void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const doub
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
     const double t0 = cos(q2);
     const double t1 = L1*t0;
     const double t2 = sin(q2);
@@ -513,77 +478,73 @@ void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const doub
     const double t7 = t4*t6 - t1*t5;
     const double t8 = t1*t6;
     const double t9 = L3 + t8 + t4*t5;
-    const double t10 = m3*(t7 - cy3);
-    const double t11 = m3*(cx3 + t9);
-    const double t12 = t10*t5 - t11*t6;
-    const double t13 = t12 + m2*(-cy2 - t1);
-    const double t14 = t10*t6 + t11*t5;
-    const double t15 = t14 + m2*(cx2 + t4);
-    const double t16 = L2*t6;
-    const double t17 = L2*t5;
-    const double t18 = L3 + t17;
-    const double t19 = m3*(t16 - cy3);
-    const double t20 = m3*(cx3 + t18);
-    const double t21 = t1*t5 - t3*t6;
-    const double t22 = t21*m3;
-    const double t23 = t1*t6 + t3*t5;
-    const double t24 = t23*m3;
-    const double t25 = L3 + cx3;
-    const double t26 = t22*t25 - cy3*t24;
-    const double t27 = t1*m2;
-    const double t28 = t27 + t22*t5 + t24*t6;
-    const double t29 = t3*m2;
-    const double t30 = t26 + L2*t28 + cx2*t27 - cy2*t29;
-    const double t31 = t29 + t24*t5 - t22*t6;
-    const double t32 = t13 + t28;
-    const double t33 = t15 - t31;
-    const double t34 = t0*t33 + t2*t32;
-    const double t35 = t30 + L1*t34;
-    const double t36 = t7*m3;
-    const double t37 = t8 + t4*t5;
-    const double t38 = t37*m3;
-    const double t39 = cy3*t38 + t25*t36;
-    const double t40 = t12 + t38*t6 - t36*t5;
-    const double t41 = -t39 + L2*t40;
-    const double t42 = -t14 + t36*t6 + t38*t5;
-    const double t43 = t2*t40 - t0*t42;
-    const double t44 = t41 + L1*t43;
-    const double t45 = t16*m3;
-    const double t46 = t17*m3;
-    const double t47 = cy3*t46 + t25*t45;
-    const double t48 = t46 - t20;
-    const double t49 = t19 - t45;
-    const double t50 = t48*t6 + t49*t5;
-    const double t51 = -t47 + L2*t50;
-    const double t52 = (1.0/2.0)*t35;
-    const double t53 = (1.0/2.0)*dq3;
-    const double t54 = dq1*t52;
-    const double t55 = t26 + t41;
-    const double t56 = (1.0/2.0)*dq1;
-    const double t57 = t44*t56;
-    const double t58 = (1.0/2.0)*dq2;
-    const double t59 = t26 - t41;
-    const double t60 = t51*t58;
-    C[0] = dq2*t52 + t44*t53;
-    C[1] = t54 + dq2*t30 + t53*t55;
-    C[2] = t57 + t55*t58 - dq3*t39;
-    C[3] = -t54 - 1.0/2.0*dq3*t59;
-    C[4] = t51*t53;
-    C[5] = t60 - dq3*t47 - t56*t59;
-    C[6] = -t57 + (1.0/2.0)*dq2*t59;
-    C[7] = -t60 + t56*t59;
+    const double t10 = 1.696*t7;
+    const double t11 = -0.424 + 1.696*t9;
+    const double t12 = 2.714*t1;
+    const double t13 = t10*t5 - t11*t6;
+    const double t14 = t13 - t12;
+    const double t15 = t10*t6 + t11*t5;
+    const double t16 = -1.0856000000000001 + t15 + 2.714*t4;
+    const double t17 = L2*t6;
+    const double t18 = L2*t5;
+    const double t19 = L3 + t18;
+    const double t20 = 1.696*t17;
+    const double t21 = -0.424 + 1.696*t19;
+    const double t22 = t1*t5 - t3*t6;
+    const double t23 = 1.696*t22;
+    const double t24 = -0.25 + L3;
+    const double t25 = t23*t24;
+    const double t26 = t1*t6 + t3*t5;
+    const double t27 = 1.696*t26;
+    const double t28 = t12 + t23*t5 + t27*t6;
+    const double t29 = t25 - 0.4*t12 + L2*t28;
+    const double t30 = 2.714*t3 + t27*t5 - t23*t6;
+    const double t31 = t14 + t28;
+    const double t32 = t16 - t30;
+    const double t33 = t0*t32 + t2*t31;
+    const double t34 = t29 + L1*t33;
+    const double t35 = t10*t24;
+    const double t36 = t8 + t4*t5;
+    const double t37 = 1.696*t36;
+    const double t38 = t13 + t37*t6 - t10*t5;
+    const double t39 = -t35 + L2*t38;
+    const double t40 = -t15 + t10*t6 + t37*t5;
+    const double t41 = t2*t38 - t0*t40;
+    const double t42 = t39 + L1*t41;
+    const double t43 = t20*t24;
+    const double t44 = 1.696*t18;
+    const double t45 = t44 - t21;
+    const double t46 = t45*t6;
+    const double t47 = -t43 + L2*t46;
+    const double t48 = (1.0/2.0)*t34;
+    const double t49 = (1.0/2.0)*dq3;
+    const double t50 = dq1*t48;
+    const double t51 = t25 + t39;
+    const double t52 = (1.0/2.0)*dq1;
+    const double t53 = t42*t52;
+    const double t54 = (1.0/2.0)*dq2;
+    const double t55 = t25 - t39;
+    const double t56 = t47*t54;
+    C[0] = dq2*t48 + t42*t49;
+    C[1] = t50 + dq2*t29 + t49*t51;
+    C[2] = t53 + t51*t54 - dq3*t35;
+    C[3] = -t50 - 1.0/2.0*dq3*t55;
+    C[4] = t47*t49;
+    C[5] = t56 - dq3*t43 - t52*t55;
+    C[6] = -t53 + (1.0/2.0)*dq2*t55;
+    C[7] = -t56 + t52*t55;
     C[8] = 0;
 }
 
-void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+        planar_3r_coriolis_matrix(q + i * 3, dq + i * 3, p, C + i * 9);
     }
 }
 
-void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -596,58 +557,44 @@ void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const dou
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double izz3 = pi[26];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = L1*ddq1;
     const double t3 = dq1 + dq2;
     const double t4 = ddq1 + ddq2;
     const double t5 = t3*t3;
     const double t6 = cos(q2);
     const double t7 = sin(q2);
-    const double t8 = t1*t7 - L2*t5 - t2*t6;
-    const double t9 = L2*t4 + t1*t6 + t2*t7;
+    const double t8 = L2*t5 + t1*t7 + t2*t6;
+    const double t9 = L2*t4 + t2*t7 - t1*t6;
     const double t10 = dq3 + t3;
     const double t11 = ddq3 + t4;
     const double t12 = t10*t10;
     const double t13 = cos(q3);
     const double t14 = sin(q3);
-    const double t15 = t13*t8 + t14*t9 - L3*t12;
-    const double t16 = L3*t11 + t13*t9 - t14*t8;
-    const double t17 = m3*(t15 - cx3*t12 - cy3*t11);
-    const double t18 = m3*(t16 + cx3*t11 - cy3*t12);
-    const double t19 = L3 + cx3;
-    const double t20 = t11*izz3 + t18*t19 - cy3*t17;
-    const double t21 = m2*(t8 - cx2*t5 - cy2*t4);
-    const double t22 = m2*(t9 + cx2*t4 - cy2*t5);
-    const double t23 = t21 + t13*t17 - t14*t18;
-    const double t24 = t22 + t13*t18 + t14*t17;
-    const double t25 = t20 + L2*t24 + cx2*t22 + t4*izz2 - cy2*t21;
-    const double t26 = m1*(t1 - cx1*t0 - cy1*ddq1);
-    const double t27 = m1*(t2 + cx1*ddq1 - cy1*t0);
-    const double t28 = t27 + t24*t7 - t23*t6;
-    const double t29 = t25 + L1*t28 + cx1*t27 + ddq1*izz1 - cy1*t26;
-    tau[0] = t29;
-    tau[1] = t25;
+    const double t15 = t14*t9 - L3*t12 - t13*t8;
+    const double t16 = L3*t11 + t13*t9 + t14*t8;
+    const double t17 = 0.424*t12 + 1.696*t15;
+    const double t18 = 1.696*t16 - 0.424*t11;
+    const double t19 = -0.25 + L3;
+    const double t20 = 0.03551*t11 + t18*t19;
+    const double t21 = 2.714*t9 - 1.0856000000000001*t4;
+    const double t22 = 1.0856000000000001*t5 - 2.714*t8 + t13*t17 - t14*t18;
+    const double t23 = t21 + t13*t18 + t14*t17;
+    const double t24 = t20 + 0.145*t4 - 0.4*t21 + L2*t23;
+    const double t25 = 3.393*t2 - 1.6965*ddq1;
+    const double t26 = t25 + t23*t7 - t22*t6;
+    const double t27 = t24 + 0.2831*ddq1 - 0.5*t25 + L1*t26;
+    tau[0] = t27;
+    tau[1] = t24;
     tau[2] = t20;
 }
 
-void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+        planar_3r_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
     }
 }
 
@@ -682,9 +629,8 @@ void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *
     }
 }
 
-void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
 {
-    (void)pi;
     const double q1 = q[0];
     const double q2 = q[1];
     const double q3 = q[2];
@@ -712,15 +658,15 @@ void planar_3r_static_torque(const double q[3], const double wrench[6], const do
     tau_s[2] = t5;
 }
 
-void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+        planar_3r_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
     }
 }
 
-void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -730,21 +676,6 @@ void planar_3r_energy(const double q[3], const double dq[3], const double *p, co
     const double L1 = p[0];
     const double L2 = p[1];
     const double L3 = p[2];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double cz1 = pi[3];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double izz3 = pi[26];
     const double t0 = cos(q2);
     const double t1 = L1*t0;
     const double t2 = sin(q2);
@@ -753,62 +684,55 @@ void planar_3r_energy(const double q[3], const double dq[3], const double *p, co
     const double t5 = sin(q3);
     const double t6 = t3*t5 - t1*t4;
     const double t7 = L3 + t1*t5 + t3*t4;
-    const double t8 = m3*(t6 - cy3);
-    const double t9 = m3*(cx3 + t7);
-    const double t10 = L3 + cx3;
-    const double t11 = izz3 + t10*t9 - cy3*t8;
-    const double t12 = m2*(-cy2 - t1);
-    const double t13 = m2*(cx2 + t3);
-    const double t14 = t12 + t4*t8 - t5*t9;
-    const double t15 = t13 + t4*t9 + t5*t8;
-    const double t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12;
-    const double t17 = cy1*m1;
-    const double t18 = m1*(L1 + cx1);
-    const double t19 = t18 + t15*t2 - t0*t14;
-    const double t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17;
-    const double t21 = L2*t5;
-    const double t22 = L3 + L2*t4;
-    const double t23 = m3*(t21 - cy3);
-    const double t24 = m3*(cx3 + t22);
-    const double t25 = izz3 + t10*t24 - cy3*t23;
-    const double t26 = cy2*m2;
-    const double t27 = m2*(L2 + cx2);
-    const double t28 = t27 + t23*t5 + t24*t4;
-    const double t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26;
-    const double t30 = cy3*m3;
-    const double t31 = m3*(L3 + cx3);
-    const double t32 = izz3 + cy3*t30 + t10*t31;
-    const double t33 = t20*dq1*dq1 + t29*dq2*dq2 + t32*dq3*dq3;
-    const double t34 = dq1*t11 + dq2*t25;
-    const double t35 = (1.0/2.0)*t33 + dq3*t34 + dq1*dq2*t16;
-    const double t36 = 9.81*cz1*m1;
-    const double t37 = 9.81*cz2*m2;
-    const double t38 = 9.81*cz3*m3;
-    kinetic[0] = t35;
-    potential[0] = t36 + t37 + t38;
-    lagrangian[0] = t35 - t36 - t37 - t38;
+    const double t8 = 1.696*t6;
+    const double t9 = -0.424 + 1.696*t7;
+    const double t10 = -0.25 + L3;
+    const double t11 = 0.03551 + t10*t9;
+    const double t12 = -1.0856000000000001 + 2.714*t3;
+    const double t13 = -2.714*t1 + t4*t8 - t5*t9;
+    const double t14 = t12 + t4*t9 + t5*t8;
+    const double t15 = 0.145 + t11 - 0.4*t12 + L2*t14;
+    const double t16 = -1.6965 + 3.393*L1;
+    const double t17 = t16 + t14*t2 - t0*t13;
+    const double t18 = 0.2831 + t15 - 0.5*t16 + L1*t17;
+    const double t19 = L2*t5;
+    const double t20 = L3 + L2*t4;
+    const double t21 = 1.696*t19;
+    const double t22 = -0.424 + 1.696*t20;
+    const double t23 = 0.03551 + t10*t22;
+    const double t24 = -1.0856000000000001 + 2.714*L2;
+    const double t25 = t24 + t21*t5 + t22*t4;
+    const double t26 = 0.145 + t23 - 0.4*t24 + L2*t25;
+    const double t27 = -0.424 + 1.696*L3;
+    const double t28 = 0.03551 + t10*t27;
+    const double t29 = t18*dq1*dq1 + t26*dq2*dq2 + t28*dq3*dq3;
+    const double t30 = dq1*t11 + dq2*t23;
+    const double t31 = (1.0/2.0)*t29 + dq3*t30 + dq1*dq2*t15;
+    kinetic[0] = t31;
+    potential[0] = 0;
+    lagrangian[0] = t31;
 }
 
-void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        planar_3r_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
+        planar_3r_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
  * ddq is NaN where M is not numerically positive definite. */
-void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
+void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
     int i;
 
-    planar_3r_mass_matrix(q, p, pi, M);
-    planar_3r_inverse_dynamics(q, dq, zero, p, pi, bias);
+    planar_3r_mass_matrix(q, p, M);
+    planar_3r_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

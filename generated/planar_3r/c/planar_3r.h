@@ -10,14 +10,14 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
+ *   mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
  *   gravity: 0 ops (none)
- *   coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
- *   inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+ *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
- *   energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
+ *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q3 (rad).
  * p: parameters L1, L2, L3 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3.
  */
 #ifndef PLANAR_3R_KINEMATICS_H
 #define PLANAR_3R_KINEMATICS_H
@@ -123,64 +123,59 @@ void planar_3r_manipulability(const double q[3], const double *p, double mu[SYMK
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (89 operations).
+/* Mass matrix (70 operations).
  * M[9]: M(q) (3x3)
  *   units: kg m^2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_mass_matrix(const double q[3], const double *p, const double *pi, double M[SYMKIN_RESTRICT 9]);
+void planar_3r_mass_matrix(const double q[3], const double *p, double M[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void planar_3r_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
 /* Gravity torques (0 operations).
  * G[3]: G(q) (3x1)
  *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_gravity(const double q[3], const double *p, const double *pi, double G[SYMKIN_RESTRICT 3]);
+void planar_3r_gravity(const double q[3], const double *p, double G[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void planar_3r_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (69 operations).
+/* Coriolis and centrifugal torques (49 operations).
  * c[3]: c = C(q, dq) dq (3x1)
  *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[SYMKIN_RESTRICT 3]);
+void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, double c[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (141 operations).
+/* Coriolis matrix (christoffel symbols) (123 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[SYMKIN_RESTRICT 9]);
+void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (98 operations).
+/* Inverse dynamics (76 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
  *   units: N m
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 3]);
+void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void planar_3r_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Joint torques of an external wrench (32 operations).
  * tau_w[3]: -J^T w (3x1)
@@ -199,13 +194,12 @@ void planar_3r_wrench_torque_batch(size_t count, const double *q, const double *
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
+void planar_3r_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (117 operations).
+/* Kinetic and potential energy and the lagrangian (87 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void planar_3r_static_torque_batch(size_t count, const double *q, const double *
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void planar_3r_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void planar_3r_energy(const double q[3], const double dq[3], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void planar_3r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m) in place of ddq.
  * ddq[3]: joint accelerations; rad/s^2 */
-void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 3]);
+void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[SYMKIN_RESTRICT 3]);
 
 #ifdef __cplusplus
 }

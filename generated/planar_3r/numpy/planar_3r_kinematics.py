@@ -10,14 +10,14 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 89 ops (41 additions, 44 multiplications, 4 trig)
+  mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
   gravity: 0 ops (none)
-  coriolis: 69 ops (25 additions, 37 multiplications, 4 trig, 3 powers)
-  coriolis_matrix: 141 ops (56 additions, 75 multiplications, 6 divisions, 4 trig)
-  inverse_dynamics: 98 ops (41 additions, 50 multiplications, 4 trig, 3 powers)
+  coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
+  coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+  inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
-  energy: 117 ops (51 additions, 58 multiplications, 1 divisions, 4 trig, 3 powers)
+  energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -239,37 +239,21 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     return mu
 
 
-def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 89 operations.
+def mass_matrix(q, p=DEFAULT_PARAMETERS):
+    """Mass matrix: 70 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns M: M(q) (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    izz3 = pi[..., 26]
     t0 = numpy.cos(q2)
     t1 = L1*t0
     t2 = numpy.sin(q2)
@@ -278,77 +262,65 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
     t5 = numpy.sin(q3)
     t6 = t3*t5 - t1*t4
     t7 = L3 + t1*t5 + t3*t4
-    t8 = m3*(t6 - cy3)
-    t9 = m3*(cx3 + t7)
-    t10 = L3 + cx3
-    t11 = izz3 + t10*t9 - cy3*t8
-    t12 = m2*(-cy2 - t1)
-    t13 = m2*(cx2 + t3)
-    t14 = t12 + t4*t8 - t5*t9
-    t15 = t13 + t4*t9 + t5*t8
-    t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
-    t17 = cy1*m1
-    t18 = m1*(L1 + cx1)
-    t19 = t18 + t15*t2 - t0*t14
-    t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17
-    t21 = L2*t5
-    t22 = L3 + L2*t4
-    t23 = m3*(t21 - cy3)
-    t24 = m3*(cx3 + t22)
-    t25 = izz3 + t10*t24 - cy3*t23
-    t26 = cy2*m2
-    t27 = m2*(L2 + cx2)
-    t28 = t27 + t23*t5 + t24*t4
-    t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26
-    t30 = cy3*m3
-    t31 = m3*(L3 + cx3)
-    t32 = izz3 + cy3*t30 + t10*t31
+    t8 = 1.696*t6
+    t9 = -0.424 + 1.696*t7
+    t10 = -0.25 + L3
+    t11 = 0.03551 + t10*t9
+    t12 = -1.0856 + 2.714*t3
+    t13 = -2.714*t1 + t4*t8 - t5*t9
+    t14 = t12 + t4*t9 + t5*t8
+    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
+    t16 = -1.6965 + 3.393*L1
+    t17 = t16 + t14*t2 - t0*t13
+    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
+    t19 = L2*t5
+    t20 = L3 + L2*t4
+    t21 = 1.696*t19
+    t22 = -0.424 + 1.696*t20
+    t23 = 0.03551 + t10*t22
+    t24 = -1.0856 + 2.714*L2
+    t25 = t24 + t21*t5 + t22*t4
+    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
+    t27 = -0.424 + 1.696*L3
+    t28 = 0.03551 + t10*t27
     M = numpy.zeros(batch + (3, 3))
-    M[..., 0, 0] = t20
-    M[..., 0, 1] = t16
+    M[..., 0, 0] = t18
+    M[..., 0, 1] = t15
     M[..., 0, 2] = t11
-    M[..., 1, 0] = t16
-    M[..., 1, 1] = t29
-    M[..., 1, 2] = t25
+    M[..., 1, 0] = t15
+    M[..., 1, 1] = t26
+    M[..., 1, 2] = t23
     M[..., 2, 0] = t11
-    M[..., 2, 1] = t25
-    M[..., 2, 2] = t32
+    M[..., 2, 1] = t23
+    M[..., 2, 2] = t28
     return M
 
 
-def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
+def gravity(q, p=DEFAULT_PARAMETERS):
     """Gravity torques: 0 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns G: G(q) (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     G = numpy.zeros(batch + (3,))
     return G
 
 
-def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis and centrifugal torques: 69 operations.
+def coriolis(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis and centrifugal torques: 49 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns c: c = C(q, dq) dq (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -358,64 +330,48 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = dq1 + dq2
     t3 = t2**2
     t4 = numpy.sin(q2)
-    t5 = t1*t4 - L2*t3
+    t5 = L2*t3 + t1*t4
     t6 = numpy.cos(q2)
     t7 = t1*t6
     t8 = dq3 + t2
     t9 = t8**2
-    t10 = numpy.cos(q3)
-    t11 = numpy.sin(q3)
-    t12 = t10*t5 + t11*t7 - L3*t9
-    t13 = t10*t7 - t11*t5
-    t14 = m3*(t12 - cx3*t9)
-    t15 = m3*(t13 - cy3*t9)
-    t16 = L3 + cx3
-    t17 = t15*t16 - cy3*t14
-    t18 = m2*(t5 - cx2*t3)
-    t19 = m2*(t7 - cy2*t3)
-    t20 = t18 + t10*t14 - t11*t15
-    t21 = t19 + t10*t15 + t11*t14
-    t22 = t17 + L2*t21 + cx2*t19 - cy2*t18
-    t23 = m1*(t1 - cx1*t0)
-    t24 = -cy1*t0*m1
-    t25 = t24 + t21*t4 - t20*t6
-    t26 = t22 + L1*t25 + cx1*t24 - cy1*t23
+    t10 = numpy.sin(q3)
+    t11 = numpy.cos(q3)
+    t12 = L3*t9 + t10*t7 + t11*t5
+    t13 = t10*t5 - t11*t7
+    t14 = 0.424*t9 - 1.696*t12
+    t15 = 1.696*t13
+    t16 = -0.25 + L3
+    t17 = t15*t16
+    t18 = 2.714*t7
+    t19 = 1.0856*t3 - 2.714*t5 + t11*t14 - t10*t15
+    t20 = -t18 + t10*t14 + t11*t15
+    t21 = t17 + 0.4*t18 + L2*t20
+    t22 = t20*t4 - t19*t6
+    t23 = t21 + L1*t22
     c = numpy.zeros(batch + (3,))
-    c[..., 0] = t26
-    c[..., 1] = t22
+    c[..., 0] = t23
+    c[..., 1] = t21
     c[..., 2] = t17
     return c
 
 
-def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 141 operations.
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis matrix (christoffel symbols): 123 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric, shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -425,12 +381,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
     t0 = numpy.cos(q2)
     t1 = L1*t0
     t2 = numpy.sin(q2)
@@ -441,86 +391,78 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t7 = t4*t6 - t1*t5
     t8 = t1*t6
     t9 = L3 + t8 + t4*t5
-    t10 = m3*(t7 - cy3)
-    t11 = m3*(cx3 + t9)
-    t12 = t10*t5 - t11*t6
-    t13 = t12 + m2*(-cy2 - t1)
-    t14 = t10*t6 + t11*t5
-    t15 = t14 + m2*(cx2 + t4)
-    t16 = L2*t6
-    t17 = L2*t5
-    t18 = L3 + t17
-    t19 = m3*(t16 - cy3)
-    t20 = m3*(cx3 + t18)
-    t21 = t1*t5 - t3*t6
-    t22 = t21*m3
-    t23 = t1*t6 + t3*t5
-    t24 = t23*m3
-    t25 = L3 + cx3
-    t26 = t22*t25 - cy3*t24
-    t27 = t1*m2
-    t28 = t27 + t22*t5 + t24*t6
-    t29 = t3*m2
-    t30 = t26 + L2*t28 + cx2*t27 - cy2*t29
-    t31 = t29 + t24*t5 - t22*t6
-    t32 = t13 + t28
-    t33 = t15 - t31
-    t34 = t0*t33 + t2*t32
-    t35 = t30 + L1*t34
-    t36 = t7*m3
-    t37 = t8 + t4*t5
-    t38 = t37*m3
-    t39 = cy3*t38 + t25*t36
-    t40 = t12 + t38*t6 - t36*t5
-    t41 = -t39 + L2*t40
-    t42 = -t14 + t36*t6 + t38*t5
-    t43 = t2*t40 - t0*t42
-    t44 = t41 + L1*t43
-    t45 = t16*m3
-    t46 = t17*m3
-    t47 = cy3*t46 + t25*t45
-    t48 = t46 - t20
-    t49 = t19 - t45
-    t50 = t48*t6 + t49*t5
-    t51 = -t47 + L2*t50
-    t52 = (1/2)*t35
-    t53 = (1/2)*dq3
-    t54 = dq1*t52
-    t55 = t26 + t41
-    t56 = (1/2)*dq1
-    t57 = t44*t56
-    t58 = (1/2)*dq2
-    t59 = t26 - t41
-    t60 = t51*t58
+    t10 = 1.696*t7
+    t11 = -0.424 + 1.696*t9
+    t12 = 2.714*t1
+    t13 = t10*t5 - t11*t6
+    t14 = t13 - t12
+    t15 = t10*t6 + t11*t5
+    t16 = -1.0856 + t15 + 2.714*t4
+    t17 = L2*t6
+    t18 = L2*t5
+    t19 = L3 + t18
+    t20 = 1.696*t17
+    t21 = -0.424 + 1.696*t19
+    t22 = t1*t5 - t3*t6
+    t23 = 1.696*t22
+    t24 = -0.25 + L3
+    t25 = t23*t24
+    t26 = t1*t6 + t3*t5
+    t27 = 1.696*t26
+    t28 = t12 + t23*t5 + t27*t6
+    t29 = t25 - 0.4*t12 + L2*t28
+    t30 = 2.714*t3 + t27*t5 - t23*t6
+    t31 = t14 + t28
+    t32 = t16 - t30
+    t33 = t0*t32 + t2*t31
+    t34 = t29 + L1*t33
+    t35 = t10*t24
+    t36 = t8 + t4*t5
+    t37 = 1.696*t36
+    t38 = t13 + t37*t6 - t10*t5
+    t39 = -t35 + L2*t38
+    t40 = -t15 + t10*t6 + t37*t5
+    t41 = t2*t38 - t0*t40
+    t42 = t39 + L1*t41
+    t43 = t20*t24
+    t44 = 1.696*t18
+    t45 = t44 - t21
+    t46 = t45*t6
+    t47 = -t43 + L2*t46
+    t48 = (1/2)*t34
+    t49 = (1/2)*dq3
+    t50 = dq1*t48
+    t51 = t25 + t39
+    t52 = (1/2)*dq1
+    t53 = t42*t52
+    t54 = (1/2)*dq2
+    t55 = t25 - t39
+    t56 = t47*t54
     C = numpy.zeros(batch + (3, 3))
-    C[..., 0, 0] = dq2*t52 + t44*t53
-    C[..., 0, 1] = t54 + dq2*t30 + t53*t55
-    C[..., 0, 2] = t57 + t55*t58 - dq3*t39
-    C[..., 1, 0] = -t54 - 1/2*dq3*t59
-    C[..., 1, 1] = t51*t53
-    C[..., 1, 2] = t60 - dq3*t47 - t56*t59
-    C[..., 2, 0] = -t57 + (1/2)*dq2*t59
-    C[..., 2, 1] = -t60 + t56*t59
+    C[..., 0, 0] = dq2*t48 + t42*t49
+    C[..., 0, 1] = t50 + dq2*t29 + t49*t51
+    C[..., 0, 2] = t53 + t51*t54 - dq3*t35
+    C[..., 1, 0] = -t50 - 1/2*dq3*t55
+    C[..., 1, 1] = t47*t49
+    C[..., 1, 2] = t56 - dq3*t43 - t52*t55
+    C[..., 2, 0] = -t53 + (1/2)*dq2*t55
+    C[..., 2, 1] = -t56 + t52*t55
     return C
 
 
-def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
-    """Inverse dynamics: 98 operations.
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
+    """Inverse dynamics: 76 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau: tau = M ddq + C dq + G + F (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -533,51 +475,37 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    izz3 = pi[..., 26]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
     t6 = numpy.cos(q2)
     t7 = numpy.sin(q2)
-    t8 = t1*t7 - L2*t5 - t2*t6
-    t9 = L2*t4 + t1*t6 + t2*t7
+    t8 = L2*t5 + t1*t7 + t2*t6
+    t9 = L2*t4 + t2*t7 - t1*t6
     t10 = dq3 + t3
     t11 = ddq3 + t4
     t12 = t10**2
     t13 = numpy.cos(q3)
     t14 = numpy.sin(q3)
-    t15 = t13*t8 + t14*t9 - L3*t12
-    t16 = L3*t11 + t13*t9 - t14*t8
-    t17 = m3*(t15 - cx3*t12 - cy3*t11)
-    t18 = m3*(t16 + cx3*t11 - cy3*t12)
-    t19 = L3 + cx3
-    t20 = t11*izz3 + t18*t19 - cy3*t17
-    t21 = m2*(t8 - cx2*t5 - cy2*t4)
-    t22 = m2*(t9 + cx2*t4 - cy2*t5)
-    t23 = t21 + t13*t17 - t14*t18
-    t24 = t22 + t13*t18 + t14*t17
-    t25 = t20 + L2*t24 + cx2*t22 + t4*izz2 - cy2*t21
-    t26 = m1*(t1 - cx1*t0 - cy1*ddq1)
-    t27 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t28 = t27 + t24*t7 - t23*t6
-    t29 = t25 + L1*t28 + cx1*t27 + ddq1*izz1 - cy1*t26
+    t15 = t14*t9 - L3*t12 - t13*t8
+    t16 = L3*t11 + t13*t9 + t14*t8
+    t17 = 0.424*t12 + 1.696*t15
+    t18 = 1.696*t16 - 0.424*t11
+    t19 = -0.25 + L3
+    t20 = 0.03551*t11 + t18*t19
+    t21 = 2.714*t9 - 1.0856*t4
+    t22 = 1.0856*t5 - 2.714*t8 + t13*t17 - t14*t18
+    t23 = t21 + t13*t18 + t14*t17
+    t24 = t20 + 0.145*t4 - 0.4*t21 + L2*t23
+    t25 = 3.393*t2 - 1.6965*ddq1
+    t26 = t25 + t23*t7 - t22*t6
+    t27 = t24 + 0.2831*ddq1 - 0.5*t25 + L1*t26
     tau = numpy.zeros(batch + (3,))
-    tau[..., 0] = t29
-    tau[..., 1] = t25
+    tau[..., 0] = t27
+    tau[..., 1] = t24
     tau[..., 2] = t20
     return tau
 
@@ -617,21 +545,17 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     """Static torques holding the arm against gravity and an external wrench: 29 operations.
 
     q: joint positions (rad or m), 3 values per state.
     wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau_s: G - J^T w (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
@@ -662,13 +586,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     return tau_s
 
 
-def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Kinetic and potential energy and the lagrangian: 117 operations.
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 87 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
     Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
     Returns lagrangian: Lagrangian L = T - V, shape (..., ).
@@ -676,9 +599,6 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -688,21 +608,6 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    cz1 = pi[..., 3]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    cz2 = pi[..., 13]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    cz3 = pi[..., 23]
-    izz3 = pi[..., 26]
     t0 = numpy.cos(q2)
     t1 = L1*t0
     t2 = numpy.sin(q2)
@@ -711,53 +616,45 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     t5 = numpy.sin(q3)
     t6 = t3*t5 - t1*t4
     t7 = L3 + t1*t5 + t3*t4
-    t8 = m3*(t6 - cy3)
-    t9 = m3*(cx3 + t7)
-    t10 = L3 + cx3
-    t11 = izz3 + t10*t9 - cy3*t8
-    t12 = m2*(-cy2 - t1)
-    t13 = m2*(cx2 + t3)
-    t14 = t12 + t4*t8 - t5*t9
-    t15 = t13 + t4*t9 + t5*t8
-    t16 = t11 + izz2 + L2*t15 + cx2*t13 - cy2*t12
-    t17 = cy1*m1
-    t18 = m1*(L1 + cx1)
-    t19 = t18 + t15*t2 - t0*t14
-    t20 = t16 + izz1 + L1*t19 + cx1*t18 + cy1*t17
-    t21 = L2*t5
-    t22 = L3 + L2*t4
-    t23 = m3*(t21 - cy3)
-    t24 = m3*(cx3 + t22)
-    t25 = izz3 + t10*t24 - cy3*t23
-    t26 = cy2*m2
-    t27 = m2*(L2 + cx2)
-    t28 = t27 + t23*t5 + t24*t4
-    t29 = t25 + izz2 + L2*t28 + cx2*t27 + cy2*t26
-    t30 = cy3*m3
-    t31 = m3*(L3 + cx3)
-    t32 = izz3 + cy3*t30 + t10*t31
-    t33 = t20*dq1**2 + t29*dq2**2 + t32*dq3**2
-    t34 = dq1*t11 + dq2*t25
-    t35 = (1/2)*t33 + dq3*t34 + dq1*dq2*t16
-    t36 = 9.81*cz1*m1
-    t37 = 9.81*cz2*m2
-    t38 = 9.81*cz3*m3
+    t8 = 1.696*t6
+    t9 = -0.424 + 1.696*t7
+    t10 = -0.25 + L3
+    t11 = 0.03551 + t10*t9
+    t12 = -1.0856 + 2.714*t3
+    t13 = -2.714*t1 + t4*t8 - t5*t9
+    t14 = t12 + t4*t9 + t5*t8
+    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
+    t16 = -1.6965 + 3.393*L1
+    t17 = t16 + t14*t2 - t0*t13
+    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
+    t19 = L2*t5
+    t20 = L3 + L2*t4
+    t21 = 1.696*t19
+    t22 = -0.424 + 1.696*t20
+    t23 = 0.03551 + t10*t22
+    t24 = -1.0856 + 2.714*L2
+    t25 = t24 + t21*t5 + t22*t4
+    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
+    t27 = -0.424 + 1.696*L3
+    t28 = 0.03551 + t10*t27
+    t29 = t18*dq1**2 + t26*dq2**2 + t28*dq3**2
+    t30 = dq1*t11 + dq2*t23
+    t31 = (1/2)*t29 + dq3*t30 + dq1*dq2*t15
     kinetic = numpy.zeros(batch + ())
-    kinetic[...] = t35
+    kinetic[...] = t31
     potential = numpy.zeros(batch + ())
-    potential[...] = t36 + t37 + t38
     lagrangian = numpy.zeros(batch + ())
-    lagrangian[...] = t35 - t36 - t37 - t38
+    lagrangian[...] = t31
     return kinetic, potential, lagrangian
 
 
-def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):
+def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
     """Joint accelerations from M(q) ddq = tau - c - G - F (a linear solve, no inverse).
 
     c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
     """
     q = numpy.asarray(q, dtype=float)
-    extra = {"pi": pi}
+    extra = {}
     mass = mass_matrix(q, p, **extra)
     bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
     rhs = numpy.asarray(tau, dtype=float) - bias

@@ -6,7 +6,7 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
  *   position: 29 ops (9 additions, 14 multiplications, 6 trig)
- *   jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+ *   jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
@@ -16,7 +16,7 @@
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
- *   wrench_torque: 120 ops (38 additions, 70 multiplications, 10 trig, 2 powers)
+ *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
  *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
  */

@@ -5,7 +5,7 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
  *   position: 29 ops (9 additions, 14 multiplications, 6 trig)
- *   jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+ *   jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
@@ -15,7 +15,7 @@
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
- *   wrench_torque: 120 ops (38 additions, 70 multiplications, 10 trig, 2 powers)
+ *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
  *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
  */
@@ -233,36 +233,34 @@ void puma560_jacobian(const double q[6], const double *p, double J[restrict 36])
     const double t8 = t0*t6;
     const double t9 = d4*t4;
     const double t10 = a3*t8 + t0*t9;
-    const double t11 = t1*t6;
-    const double t12 = a3*t11 + t1*t9;
-    const double t13 = t0*t0;
-    const double t14 = t1*t1;
-    const double t15 = d4*t6;
-    const double t16 = t13*t5 + t14*t5 - t13*t15 - t14*t15;
-    const double t17 = cos(q4);
-    const double t18 = t1*t17;
-    const double t19 = sin(q4);
-    const double t20 = t19*t4;
-    const double t21 = sin(q5);
-    const double t22 = cos(q5);
-    const double t23 = t0*t17;
-    const double t24 = t21*t4;
-    const double t25 = -t0;
+    const double t11 = d4*t6;
+    const double t12 = t1*t6;
+    const double t13 = a3*t12 + t1*t9;
+    const double t14 = t5 - t11;
+    const double t15 = cos(q4);
+    const double t16 = t1*t15;
+    const double t17 = sin(q4);
+    const double t18 = t17*t4;
+    const double t19 = sin(q5);
+    const double t20 = cos(q5);
+    const double t21 = t0*t15;
+    const double t22 = t19*t4;
+    const double t23 = -t0;
     J[0] = d3*t0 - t1*t2 - t1*t5 + d4*t1*t6;
     J[1] = -t10 - t0*t7;
     J[2] = -t10;
     J[3] = 0;
     J[4] = 0;
     J[5] = 0;
-    J[6] = d3*t1 + t0*t2 + t0*t5 - d4*t8;
-    J[7] = -t12 - t1*t7;
-    J[8] = -t12;
+    J[6] = d3*t1 + t0*t2 + t0*t5 - t0*t11;
+    J[7] = -t13 - t1*t7;
+    J[8] = -t13;
     J[9] = 0;
     J[10] = 0;
     J[11] = 0;
     J[12] = 0;
-    J[13] = t16 + t13*t2 + t14*t2;
-    J[14] = t16;
+    J[13] = t14 + t2;
+    J[14] = t14;
     J[15] = 0;
     J[16] = 0;
     J[17] = 0;
@@ -270,20 +268,20 @@ void puma560_jacobian(const double q[6], const double *p, double J[restrict 36])
     J[19] = t1;
     J[20] = t1;
     J[21] = -t8;
-    J[22] = t18 + t0*t20;
-    J[23] = -t22*t8 - t23*t24 + t1*t19*t21;
+    J[22] = t16 + t0*t18;
+    J[23] = -t20*t8 - t21*t22 + t1*t17*t19;
     J[24] = 0;
-    J[25] = t25;
-    J[26] = t25;
-    J[27] = -t11;
-    J[28] = -t23 + t1*t20;
-    J[29] = -t11*t22 - t18*t24 - t0*t19*t21;
+    J[25] = t23;
+    J[26] = t23;
+    J[27] = -t12;
+    J[28] = -t21 + t1*t18;
+    J[29] = -t12*t20 - t16*t22 - t0*t17*t19;
     J[30] = 1;
     J[31] = 0;
     J[32] = 0;
     J[33] = t4;
-    J[34] = t19*t6;
-    J[35] = t22*t4 - t17*t21*t6;
+    J[34] = t17*t6;
+    J[35] = t20*t4 - t15*t19*t6;
 }
 
 void puma560_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
@@ -1775,26 +1773,24 @@ void puma560_wrench_torque(const double q[6], const double wrench[6], const doub
     const double t9 = d4*t4;
     const double t10 = t0*t8 + t0*t9;
     const double t11 = t1*t8 + t1*t9;
-    const double t12 = t0*t0;
-    const double t13 = t1*t1;
-    const double t14 = t12*t5 + t13*t5 - d4*t12*t6 - d4*t13*t6;
-    const double t15 = t0*w_ny - t1*w_nx;
-    const double t16 = t0*t6;
-    const double t17 = t1*t6;
-    const double t18 = sin(q4);
-    const double t19 = cos(q4);
-    const double t20 = t18*t4;
-    const double t21 = t1*t19;
-    const double t22 = cos(q5);
-    const double t23 = sin(q5);
-    const double t24 = t18*t23;
-    const double t25 = t23*t4;
+    const double t12 = t5 - d4*t6;
+    const double t13 = t0*w_ny - t1*w_nx;
+    const double t14 = t0*t6;
+    const double t15 = t1*t6;
+    const double t16 = sin(q4);
+    const double t17 = cos(q4);
+    const double t18 = t16*t4;
+    const double t19 = t1*t17;
+    const double t20 = cos(q5);
+    const double t21 = sin(q5);
+    const double t22 = t16*t21;
+    const double t23 = t21*t4;
     tau_w[0] = -w_nz + w_fx*(t1*t2 + t1*t5 - d3*t0 - d4*t1*t6) + w_fy*(-d3*t1 - t0*t2 - t0*t5 + d4*t0*t6);
-    tau_w[1] = t15 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t14 - t12*t2 - t13*t2);
-    tau_w[2] = t15 + t10*w_fx + t11*w_fy - t14*w_fz;
-    tau_w[3] = t16*w_nx + t17*w_ny - t4*w_nz;
-    tau_w[4] = w_nx*(-t21 - t0*t20) + w_ny*(t0*t19 - t1*t20) - t18*t6*w_nz;
-    tau_w[5] = w_nx*(t16*t22 - t1*t24 + t0*t19*t25) + w_ny*(t0*t24 + t17*t22 + t21*t25) + w_nz*(-t22*t4 + t19*t23*t6);
+    tau_w[1] = t13 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t12 - t2);
+    tau_w[2] = t13 + t10*w_fx + t11*w_fy - t12*w_fz;
+    tau_w[3] = t14*w_nx + t15*w_ny - t4*w_nz;
+    tau_w[4] = w_nx*(-t19 - t0*t18) + w_ny*(t0*t17 - t1*t18) - t16*t6*w_nz;
+    tau_w[5] = w_nx*(t14*t20 - t1*t22 + t0*t17*t23) + w_ny*(t0*t22 + t15*t20 + t19*t23) + w_nz*(-t20*t4 + t17*t21*t6);
 }
 
 void puma560_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)

@@ -5,7 +5,7 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
  *   position: 29 ops (9 additions, 14 multiplications, 6 trig)
- *   jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+ *   jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
  *   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
@@ -15,7 +15,7 @@
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
- *   wrench_torque: 120 ops (38 additions, 70 multiplications, 10 trig, 2 powers)
+ *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
  *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
  *
@@ -71,7 +71,7 @@ void puma560_position(const double q[6], const double *p, double p_tool[SYMKIN_R
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
-/* Geometric jacobian (89 operations).
+/* Geometric jacobian (78 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
  *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -177,7 +177,7 @@ void puma560_inverse_dynamics(const double q[6], const double dq[6], const doubl
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
-/* Joint torques of an external wrench (120 operations).
+/* Joint torques of an external wrench (108 operations).
  * tau_w[6]: -J^T w (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)

@@ -5,7 +5,7 @@ Regenerate with: symkin generate  (or: symkin derive puma560 --out DIR)
 Operation counts after common-subexpression elimination:
   fk: 115 ops (33 additions, 70 multiplications, 12 trig)
   position: 29 ops (9 additions, 14 multiplications, 6 trig)
-  jacobian: 89 ops (23 additions, 54 multiplications, 10 trig, 2 powers)
+  jacobian: 78 ops (20 additions, 48 multiplications, 10 trig)
   position_jacobian: 44 ops (13 additions, 25 multiplications, 6 trig)
   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
   det: 18 ops (4 additions, 8 multiplications, 6 trig)
@@ -15,7 +15,7 @@ Operation counts after common-subexpression elimination:
   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
-  wrench_torque: 120 ops (38 additions, 70 multiplications, 10 trig, 2 powers)
+  wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
 
@@ -141,7 +141,7 @@ def position_function(symbol_type=casadi.SX):
 
 
 def jacobian_function(symbol_type=casadi.SX):
-    """Geometric jacobian (89 operations) as a casadi.Function.
+    """Geometric jacobian (78 operations) as a casadi.Function.
 
     Output J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame).
     """
@@ -167,44 +167,42 @@ def jacobian_function(symbol_type=casadi.SX):
     t8 = t0*t6
     t9 = d4*t4
     t10 = a3*t8 + t0*t9
-    t11 = t1*t6
-    t12 = a3*t11 + t1*t9
-    t13 = t0**2
-    t14 = t1**2
-    t15 = d4*t6
-    t16 = t13*t5 + t14*t5 - t13*t15 - t14*t15
-    t17 = casadi.cos(q4)
-    t18 = t1*t17
-    t19 = casadi.sin(q4)
-    t20 = t19*t4
-    t21 = casadi.sin(q5)
-    t22 = casadi.cos(q5)
-    t23 = t0*t17
-    t24 = t21*t4
-    t25 = -t0
+    t11 = d4*t6
+    t12 = t1*t6
+    t13 = a3*t12 + t1*t9
+    t14 = t5 - t11
+    t15 = casadi.cos(q4)
+    t16 = t1*t15
+    t17 = casadi.sin(q4)
+    t18 = t17*t4
+    t19 = casadi.sin(q5)
+    t20 = casadi.cos(q5)
+    t21 = t0*t15
+    t22 = t19*t4
+    t23 = -t0
     J = symbol_type.zeros(6, 6)
     J[0, 0] = d3*t0 - t1*t2 - t1*t5 + d4*t1*t6
     J[0, 1] = -t10 - t0*t7
     J[0, 2] = -t10
-    J[1, 0] = d3*t1 + t0*t2 + t0*t5 - d4*t8
-    J[1, 1] = -t12 - t1*t7
-    J[1, 2] = -t12
-    J[2, 1] = t16 + t13*t2 + t14*t2
-    J[2, 2] = t16
+    J[1, 0] = d3*t1 + t0*t2 + t0*t5 - t0*t11
+    J[1, 1] = -t13 - t1*t7
+    J[1, 2] = -t13
+    J[2, 1] = t14 + t2
+    J[2, 2] = t14
     J[3, 1] = t1
     J[3, 2] = t1
     J[3, 3] = -t8
-    J[3, 4] = t18 + t0*t20
-    J[3, 5] = -t22*t8 - t23*t24 + t1*t19*t21
-    J[4, 1] = t25
-    J[4, 2] = t25
-    J[4, 3] = -t11
-    J[4, 4] = -t23 + t1*t20
-    J[4, 5] = -t11*t22 - t18*t24 - t0*t19*t21
+    J[3, 4] = t16 + t0*t18
+    J[3, 5] = -t20*t8 - t21*t22 + t1*t17*t19
+    J[4, 1] = t23
+    J[4, 2] = t23
+    J[4, 3] = -t12
+    J[4, 4] = -t21 + t1*t18
+    J[4, 5] = -t12*t20 - t16*t22 - t0*t17*t19
     J[5, 0] = 1
     J[5, 3] = t4
-    J[5, 4] = t19*t6
-    J[5, 5] = t22*t4 - t17*t21*t6
+    J[5, 4] = t17*t6
+    J[5, 5] = t20*t4 - t15*t19*t6
     return casadi.Function(
         "puma560_jacobian",
         [q, p],
@@ -1686,7 +1684,7 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
 
 
 def wrench_torque_function(symbol_type=casadi.SX):
-    """Joint torques of an external wrench (120 operations) as a casadi.Function.
+    """Joint torques of an external wrench (108 operations) as a casadi.Function.
 
     Output tau_w: -J^T w (6x1).
     """
@@ -1720,27 +1718,25 @@ def wrench_torque_function(symbol_type=casadi.SX):
     t9 = d4*t4
     t10 = t0*t8 + t0*t9
     t11 = t1*t8 + t1*t9
-    t12 = t0**2
-    t13 = t1**2
-    t14 = t12*t5 + t13*t5 - d4*t12*t6 - d4*t13*t6
-    t15 = t0*w_ny - t1*w_nx
-    t16 = t0*t6
-    t17 = t1*t6
-    t18 = casadi.sin(q4)
-    t19 = casadi.cos(q4)
-    t20 = t18*t4
-    t21 = t1*t19
-    t22 = casadi.cos(q5)
-    t23 = casadi.sin(q5)
-    t24 = t18*t23
-    t25 = t23*t4
+    t12 = t5 - d4*t6
+    t13 = t0*w_ny - t1*w_nx
+    t14 = t0*t6
+    t15 = t1*t6
+    t16 = casadi.sin(q4)
+    t17 = casadi.cos(q4)
+    t18 = t16*t4
+    t19 = t1*t17
+    t20 = casadi.cos(q5)
+    t21 = casadi.sin(q5)
+    t22 = t16*t21
+    t23 = t21*t4
     tau_w = symbol_type.zeros(6, 1)
     tau_w[0, 0] = -w_nz + w_fx*(t1*t2 + t1*t5 - d3*t0 - d4*t1*t6) + w_fy*(-d3*t1 - t0*t2 - t0*t5 + d4*t0*t6)
-    tau_w[1, 0] = t15 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t14 - t12*t2 - t13*t2)
-    tau_w[2, 0] = t15 + t10*w_fx + t11*w_fy - t14*w_fz
-    tau_w[3, 0] = t16*w_nx + t17*w_ny - t4*w_nz
-    tau_w[4, 0] = w_nx*(-t21 - t0*t20) + w_ny*(t0*t19 - t1*t20) - t18*t6*w_nz
-    tau_w[5, 0] = w_nx*(t16*t22 - t1*t24 + t0*t19*t25) + w_ny*(t0*t24 + t17*t22 + t21*t25) + w_nz*(-t22*t4 + t19*t23*t6)
+    tau_w[1, 0] = t13 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t12 - t2)
+    tau_w[2, 0] = t13 + t10*w_fx + t11*w_fy - t12*w_fz
+    tau_w[3, 0] = t14*w_nx + t15*w_ny - t4*w_nz
+    tau_w[4, 0] = w_nx*(-t19 - t0*t18) + w_ny*(t0*t17 - t1*t18) - t16*t6*w_nz
+    tau_w[5, 0] = w_nx*(t14*t20 - t1*t22 + t0*t17*t23) + w_ny*(t0*t22 + t15*t20 + t19*t23) + w_nz*(-t20*t4 + t17*t21*t6)
     return casadi.Function(
         "puma560_wrench_torque",
         [q, wrench, p],

@@ -5,19 +5,19 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 19 ops (2 additions, 13 multiplications, 4 trig)
  *   position: 13 ops (2 additions, 7 multiplications, 4 trig)
- *   jacobian: 22 ops (3 additions, 13 multiplications, 4 trig, 2 powers)
+ *   jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
- *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
+ *   fk_jacobian: 25 ops (2 additions, 19 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
- *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
- *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
- *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
- *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
- *   wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
- *   static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
- *   energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
+ *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+ *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+ *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+ *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -187,7 +187,7 @@ void rpr_jacobian(const double q[3], const double *p, double J[restrict 18])
     J[5] = -t0*t3;
     J[6] = 0;
     J[7] = 0;
-    J[8] = -t1*t0*t0 - t1*t2*t2;
+    J[8] = -t1;
     J[9] = 0;
     J[10] = 0;
     J[11] = t0;
@@ -252,7 +252,6 @@ void rpr_fk_jacobian(const double q[3], const double *p, double T[restrict 16], 
     const double t7 = t1*t5;
     const double t8 = t3*t5;
     const double t9 = L3*t7 + q2*t5;
-    const double t10 = L3*t1;
     T[0] = t2;
     T[1] = t4;
     T[2] = t5;
@@ -277,7 +276,7 @@ void rpr_fk_jacobian(const double q[3], const double *p, double T[restrict 16], 
     J[5] = -L3*t8;
     J[6] = 0;
     J[7] = 0;
-    J[8] = -t10*t0*t0 - t10*t5*t5;
+    J[8] = -L3*t1;
     J[9] = 0;
     J[10] = 0;
     J[11] = t5;
@@ -331,107 +330,73 @@ void rpr_manipulability_batch(size_t count, const double *q, const double *p, do
     }
 }
 
-void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
+void rpr_mass_matrix(const double q[3], const double *p, double M[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
     const double L3 = p[0];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cz1 = pi[3];
-    const double iyy1 = pi[5];
-    const double m2 = pi[10];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double ixx2 = pi[14];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double ixx3 = pi[24];
-    const double iyy3 = pi[25];
-    const double izz3 = pi[26];
-    const double ixy3 = pi[27];
-    const double ixz3 = pi[28];
-    const double iyz3 = pi[29];
     const double t0 = cos(q3);
     const double t1 = sin(q3);
     const double t2 = q2 + L3*t1;
-    const double t3 = cz3*m3;
-    const double t4 = t1*t3;
-    const double t5 = t0*t3;
-    const double t6 = m3*(t2 + cx3*t1 + cy3*t0);
-    const double t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1;
-    const double t8 = L3 + cx3;
-    const double t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8;
-    const double t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8;
-    const double t11 = cz2*m2;
-    const double t12 = m2*(cy2 + q2);
-    const double t13 = t11 + t0*t5 + t1*t4;
-    const double t14 = t12 + t6;
-    const double t15 = cz1*m1;
-    const double t16 = cx1*m1;
-    const double t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9;
-    const double t18 = t1*m3;
-    const double t19 = t0*m3;
-    const double t20 = t19*t8 - cy3*t18;
-    const double t21 = m2 + t0*t19 + t1*t18;
-    const double t22 = cy3*m3;
-    const double t23 = m3*(L3 + cx3);
-    const double t24 = izz3 + cy3*t22 + t23*t8;
-    M[0] = t17;
-    M[1] = -t13;
-    M[2] = t10;
-    M[3] = -t13;
-    M[4] = t21;
-    M[5] = t20;
-    M[6] = t10;
-    M[7] = t20;
-    M[8] = t24;
+    const double t3 = 3.393*t2 - 1.6965*t1;
+    const double t4 = 0.0006786*t0;
+    const double t5 = 0.5 - L3;
+    const double t6 = -0.2831*t1 + t3*t5;
+    const double t7 = -2.6505 + 5.301*q2;
+    const double t8 = t3 + t7;
+    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
+    const double t10 = 3.393*t1;
+    const double t11 = 3.393*t0;
+    const double t12 = -t11*t5;
+    const double t13 = 5.301 + t0*t11 + t1*t10;
+    const double t14 = -1.6965 + 3.393*L3;
+    const double t15 = 0.2831 - t14*t5;
+    M[0] = t9;
+    M[1] = 0;
+    M[2] = 0;
+    M[3] = 0;
+    M[4] = t13;
+    M[5] = t12;
+    M[6] = 0;
+    M[7] = t12;
+    M[8] = t15;
 }
 
-void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
+void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_mass_matrix(q + i * 3, p, pi, M + i * 9);
+        rpr_mass_matrix(q + i * 3, p, M + i * 9);
     }
 }
 
-void rpr_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
+void rpr_gravity(const double q[3], const double *p, double G[restrict 3])
 {
     const double q3 = q[2];
     const double L3 = p[0];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
     const double t0 = cos(q3);
     const double t1 = 9.81*t0;
     const double t2 = sin(q3);
-    const double t3 = 9.81*t2;
-    const double t4 = t1*m3;
-    const double t5 = t3*m3;
-    const double t6 = cz3*t5;
-    const double t7 = cz3*t4;
-    const double t8 = L3 + cx3;
-    const double t9 = cy3*t4 + t5*t8;
-    const double t10 = t2*t4 - t0*t5;
-    const double t11 = t0*t6 - t2*t7;
-    G[0] = t11;
-    G[1] = t10;
-    G[2] = -t9;
+    const double t3 = -9.81*t2;
+    const double t4 = 3.393*t1;
+    const double t5 = 3.393*t3;
+    const double t6 = -0.5 + L3;
+    const double t7 = t5*t6;
+    const double t8 = t0*t5 + t2*t4;
+    G[0] = 0;
+    G[1] = t8;
+    G[2] = t7;
 }
 
-void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
+void rpr_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_gravity(q + i * 3, p, pi, G + i * 3);
+        rpr_gravity(q + i * 3, p, G + i * 3);
     }
 }
 
-void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
+void rpr_coriolis(const double q[3], const double dq[3], const double *p, double c[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -439,22 +404,6 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, const 
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cz1 = pi[3];
-    const double m2 = pi[10];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double ixx3 = pi[24];
-    const double iyy3 = pi[25];
-    const double izz3 = pi[26];
-    const double ixy3 = pi[27];
-    const double ixz3 = pi[28];
-    const double iyz3 = pi[29];
     const double t0 = dq1*dq1;
     const double t1 = q2*t0;
     const double t2 = 2*dq1*dq2;
@@ -464,49 +413,39 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, const 
     const double t6 = dq1*t5;
     const double t7 = dq3*t6;
     const double t8 = dq3*t4;
-    const double t9 = t4*t4;
-    const double t10 = t6*t6;
-    const double t11 = dq3*dq3;
-    const double t12 = t4*t6;
-    const double t13 = t10 + t11;
-    const double t14 = t11 + t9;
-    const double t15 = 2*t8;
-    const double t16 = 2*t7;
-    const double t17 = t10 + t9;
-    const double t18 = L3*t13 + t1*t5;
-    const double t19 = L3*t12 + t1*t3;
-    const double t20 = t2 + L3*t15;
-    const double t21 = m3*(-t18 - cx3*t13 - cy3*t12);
-    const double t22 = m3*(-t19 - cx3*t12 - cy3*t14);
-    const double t23 = m3*(t20 + cx3*t15 - cy3*t16 - cz3*t17);
-    const double t24 = ixx3 + izz3 - iyy3;
-    const double t25 = cy3*t23 + iyz3*(t10 - t11) - cz3*t22 - ixz3*t12 - t24*t7 - 2*ixy3*t8;
-    const double t26 = L3 + cx3;
-    const double t27 = iyy3 + izz3 - ixx3;
-    const double t28 = cz3*t21 + ixz3*(t11 - t9) + iyz3*t12 - t23*t26 - t27*t8 - 2*ixy3*t7;
-    const double t29 = ixy3*(t9 - t10) + t22*t26 - cy3*t21 - t12*(iyy3 - ixx3);
-    const double t30 = m2*(-t1 - cy2*t0);
-    const double t31 = m2*(t2 - cz2*t0);
-    const double t32 = t30 + t21*t5 + t22*t3;
-    const double t33 = t23 + t31;
-    const double t34 = t0*m1;
-    const double t35 = cx1*t34;
-    const double t36 = cz1*t34;
-    const double t37 = cx1*t36 + cy2*t31 + q2*t33 + t25*t3 - cz1*t35 - cz2*t30 - t28*t5;
-    c[0] = t37;
-    c[1] = t32;
-    c[2] = t29;
+    const double t9 = t6*t6;
+    const double t10 = dq3*dq3;
+    const double t11 = t4*t6;
+    const double t12 = t10 + t9;
+    const double t13 = 2*t8;
+    const double t14 = L3*t12 + t1*t5;
+    const double t15 = L3*t11 + t1*t3;
+    const double t16 = t2 + L3*t13;
+    const double t17 = 1.6965*t12 - 3.393*t14;
+    const double t18 = 1.6965*t11 - 3.393*t15;
+    const double t19 = 3.393*t16 - 1.6965*t13;
+    const double t20 = 0.0006786*t7;
+    const double t21 = 0.5 - L3;
+    const double t22 = -0.5655214000000001*t8 + t19*t21;
+    const double t23 = 0.28242140000000004*t11 + t18*t21;
+    const double t24 = 5.301*t2;
+    const double t25 = 2.6505*t0 - 5.301*t1 + t17*t5 + t18*t3;
+    const double t26 = t19 + t24;
+    const double t27 = -0.5*t24 + q2*t26 - t20*t3 - t22*t5;
+    c[0] = t27;
+    c[1] = t25;
+    c[2] = -t23;
 }
 
-void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
+void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+        rpr_coriolis(q + i * 3, dq + i * 3, p, c + i * 3);
     }
 }
 
-void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
+void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[restrict 9])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -514,69 +453,49 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double m2 = pi[10];
-    const double cy2 = pi[12];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double ixx3 = pi[24];
-    const double iyy3 = pi[25];
-    const double ixy3 = pi[27];
-    const double ixz3 = pi[28];
-    const double iyz3 = pi[29];
     const double t0 = cos(q3);
     const double t1 = sin(q3);
     const double t2 = q2 + L3*t1;
-    const double t3 = t1*m3;
-    const double t4 = cz3*t3;
-    const double t5 = cz3*m3;
-    const double t6 = t0*t5;
-    const double t7 = m3*(t2 + cx3*t1 + cy3*t0);
-    const double t8 = ixy3*t1;
-    const double t9 = -t8 + cy3*t7 + cz3*t6 + t0*ixx3;
-    const double t10 = L3 + cx3;
-    const double t11 = ixy3*t0 - cz3*t4 - t1*iyy3 - t10*t7;
-    const double t12 = m2*(cy2 + q2);
-    const double t13 = t0*m3;
-    const double t14 = m2 + m3;
-    const double t15 = cy3*m3;
-    const double t16 = t10*m3;
-    const double t17 = t12 + t7 + cy2*m2 + q2*t14 + t0*t15 + t1*t16;
-    const double t18 = L3*t0;
-    const double t19 = m3*(t18 + cx3*t0 - cy3*t1);
-    const double t20 = cy3*t19 - cz3*t4 - ixy3*t0 - t1*ixx3;
-    const double t21 = t8 + cz3*t6 + t0*iyy3 + t10*t19;
-    const double t22 = t21 - t9;
-    const double t23 = t20 - t11;
-    const double t24 = q2*t19 + t0*t23 + t1*t22;
-    const double t25 = cy3*t6 + t10*t4 - ixz3*t1 - iyz3*t0;
-    const double t26 = cy3*t13 + t10*t3;
-    const double t27 = (1.0/2.0)*dq1;
-    const double t28 = t24*t27;
-    const double t29 = (1.0/2.0)*t17;
-    const double t30 = (1.0/2.0)*dq3;
-    const double t31 = dq1*t29;
-    C[0] = dq2*t29 + t24*t30;
-    C[1] = t31;
-    C[2] = t28 + dq3*t25;
-    C[3] = -t31;
+    const double t3 = 3.393*t2 - 1.6965*t1;
+    const double t4 = 0.0006786*t0;
+    const double t5 = 0.5 - L3;
+    const double t6 = -0.2831*t1 + t3*t5;
+    const double t7 = -2.6505 + 5.301*q2;
+    const double t8 = 3.393*t1;
+    const double t9 = 1.6965 - 3.393*L3;
+    const double t10 = -2.6505 + t3 + t7 + 8.693999999999999*q2 - t1*t9;
+    const double t11 = L3*t0;
+    const double t12 = 3.393*t11 - 1.6965*t0;
+    const double t13 = 0.0006786*t1;
+    const double t14 = -0.2831*t0 + t12*t5;
+    const double t15 = t14 + t4;
+    const double t16 = t13 + t6;
+    const double t17 = q2*t12 - t0*t16 - t1*t15;
+    const double t18 = t5*t8;
+    const double t19 = (1.0/2.0)*t10;
+    const double t20 = (1.0/2.0)*t17;
+    const double t21 = dq1*t19;
+    const double t22 = dq1*t20;
+    C[0] = dq2*t19 + dq3*t20;
+    C[1] = t21;
+    C[2] = t22;
+    C[3] = -t21;
     C[4] = 0;
-    C[5] = -dq3*t26;
-    C[6] = -t28;
+    C[5] = dq3*t18;
+    C[6] = -t22;
     C[7] = 0;
     C[8] = 0;
 }
 
-void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
+void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+        rpr_coriolis_matrix(q + i * 3, dq + i * 3, p, C + i * 9);
     }
 }
 
-void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
+void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -587,24 +506,6 @@ void rpr_inverse_dynamics(const double q[3], const double dq[3], const double dd
     const double ddq2 = ddq[1];
     const double ddq3 = ddq[2];
     const double L3 = p[0];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cz1 = pi[3];
-    const double iyy1 = pi[5];
-    const double m2 = pi[10];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double ixx2 = pi[14];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double ixx3 = pi[24];
-    const double iyy3 = pi[25];
-    const double izz3 = pi[26];
-    const double ixy3 = pi[27];
-    const double ixz3 = pi[28];
-    const double iyz3 = pi[29];
     const double t0 = dq1*dq1;
     const double t1 = ddq2 - q2*t0;
     const double t2 = ddq1*q2 + 2*dq1*dq2;
@@ -614,49 +515,37 @@ void rpr_inverse_dynamics(const double q[3], const double dq[3], const double dd
     const double t6 = dq1*t5;
     const double t7 = ddq1*t3 - dq3*t6;
     const double t8 = ddq1*t5 + dq3*t4;
-    const double t9 = t4*t4;
-    const double t10 = t6*t6;
-    const double t11 = dq3*dq3;
-    const double t12 = t4*t6;
-    const double t13 = dq3*t4;
-    const double t14 = dq3*t6;
-    const double t15 = t10 + t11;
-    const double t16 = ddq3 + t12;
-    const double t17 = t13 - t8;
-    const double t18 = ddq3 - t12;
-    const double t19 = t11 + t9;
-    const double t20 = t14 + t7;
-    const double t21 = t13 + t8;
-    const double t22 = t7 - t14;
-    const double t23 = t10 + t9;
-    const double t24 = 9.81*t3 + t1*t5 - L3*t15;
-    const double t25 = -9.81*t5 + L3*t18 + t1*t3;
-    const double t26 = t2 + L3*t21;
-    const double t27 = m3*(t24 + cz3*t17 - cx3*t15 - cy3*t16);
-    const double t28 = m3*(t25 + cx3*t18 - cy3*t19 - cz3*t20);
-    const double t29 = m3*(t26 + cx3*t21 + cy3*t22 - cz3*t23);
-    const double t30 = cy3*t29 + ixz3*t18 + iyz3*(t10 - t11) + t7*ixx3 - cz3*t28 - ixy3*t21 - t14*(izz3 - iyy3);
-    const double t31 = L3 + cx3;
-    const double t32 = cz3*t27 + ixy3*t22 + ixz3*(t11 - t9) + iyz3*t16 + t13*(ixx3 - izz3) - t29*t31 - t8*iyy3;
-    const double t33 = ddq3*izz3 + ixy3*(t9 - t10) + ixz3*t20 + iyz3*t17 + t28*t31 - cy3*t27 - t12*(iyy3 - ixx3);
-    const double t34 = m2*(t1 - cy2*t0 - cz2*ddq1);
-    const double t35 = m2*(t2 + cy2*ddq1 - cz2*t0);
-    const double t36 = t34 + t27*t5 + t28*t3;
-    const double t37 = t29 + t35;
-    const double t38 = m1*(cz1*ddq1 - cx1*t0);
-    const double t39 = m1*(-cx1*ddq1 - cz1*t0);
-    const double t40 = ixx2 + iyy1;
-    const double t41 = cy2*t35 + cz1*t38 + ddq1*t40 + q2*t37 + t3*t30 - cx1*t39 - cz2*t34 - t32*t5;
-    tau[0] = t41;
-    tau[1] = t36;
-    tau[2] = t33;
+    const double t9 = t6*t6;
+    const double t10 = dq3*dq3;
+    const double t11 = t4*t6;
+    const double t12 = dq3*t4;
+    const double t13 = t10 + t9;
+    const double t14 = ddq3 - t11;
+    const double t15 = t12 + t8;
+    const double t16 = 9.81*t3 + t1*t5 - L3*t13;
+    const double t17 = -9.81*t5 + L3*t14 + t1*t3;
+    const double t18 = t2 + L3*t15;
+    const double t19 = 1.6965*t13 + 3.393*t16;
+    const double t20 = 3.393*t17 - 1.6965*t14;
+    const double t21 = 3.393*t18 - 1.6965*t15;
+    const double t22 = 0.0006786*t7;
+    const double t23 = 0.5 - L3;
+    const double t24 = -0.28242140000000004*t12 - 0.2831*t8 + t21*t23;
+    const double t25 = 0.2831*ddq3 - 0.28242140000000004*t11 - t20*t23;
+    const double t26 = 5.301*t2 - 2.6505*ddq1;
+    const double t27 = 2.6505*t0 + 5.301*t1 + t19*t5 + t20*t3;
+    const double t28 = t21 + t26;
+    const double t29 = 0.447901*ddq1 - 0.5*t26 + q2*t28 + t22*t3 - t24*t5;
+    tau[0] = t29;
+    tau[1] = t27;
+    tau[2] = t25;
 }
 
-void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
+void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+        rpr_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
     }
 }
 
@@ -673,13 +562,14 @@ void rpr_wrench_torque(const double q[3], const double wrench[6], const double *
     const double w_nz = wrench[5];
     const double L3 = p[0];
     const double t0 = cos(q1);
-    const double t1 = L3*sin(q3);
-    const double t2 = sin(q1);
-    const double t3 = t2*w_fx;
-    const double t4 = cos(q3);
-    tau_w[0] = -w_nz + w_fx*(-q2*t0 - t0*t1) + w_fy*(-q2*t2 - t1*t2);
-    tau_w[1] = -t3 + t0*w_fy;
-    tau_w[2] = w_fz*(t1*t0*t0 + t1*t2*t2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy;
+    const double t1 = sin(q3);
+    const double t2 = L3*t1;
+    const double t3 = sin(q1);
+    const double t4 = t3*w_fx;
+    const double t5 = cos(q3);
+    tau_w[0] = -w_nz + w_fx*(-q2*t0 - t0*t2) + w_fy*(-q2*t3 - t2*t3);
+    tau_w[1] = -t4 + t0*w_fy;
+    tau_w[2] = -t0*w_nx - t3*w_ny + L3*t1*w_fz - L3*t4*t5 + L3*t0*t5*w_fy;
 }
 
 void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)
@@ -690,7 +580,7 @@ void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench
     }
 }
 
-void rpr_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -702,45 +592,40 @@ void rpr_static_torque(const double q[3], const double wrench[6], const double *
     const double w_ny = wrench[4];
     const double w_nz = wrench[5];
     const double L3 = p[0];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
     const double t0 = cos(q3);
     const double t1 = 9.81*t0;
     const double t2 = sin(q3);
     const double t3 = 9.81*t2;
-    const double t4 = t1*m3;
-    const double t5 = t3*m3;
-    const double t6 = cos(q1);
-    const double t7 = t6*w_fy;
-    const double t8 = sin(q1);
-    const double t9 = t8*w_fx;
-    const double t10 = t7 - t9;
-    const double t11 = t4 + t10*t2 - t0*w_fz;
-    const double t12 = -t5 + t0*t10 + t2*w_fz;
-    const double t13 = t6*w_fx + t8*w_fy;
-    const double t14 = t8*w_nx;
-    const double t15 = -t14 + t6*w_ny;
-    const double t16 = cz3*t5 + t15*t2 - t0*w_nz;
-    const double t17 = L3*t13 + cz3*t4 + t0*t15 + t2*w_nz;
-    const double t18 = L3*t12 - cx3*t5 - cy3*t4 - t6*w_nx - t8*w_ny;
-    const double t19 = t0*t12 + t11*t2;
-    const double t20 = t0*t16 - q2*t13 - t17*t2;
-    tau_s[0] = t20;
-    tau_s[1] = t19;
-    tau_s[2] = t18;
+    const double t4 = 3.393*t3;
+    const double t5 = cos(q1);
+    const double t6 = t5*w_fy;
+    const double t7 = sin(q1);
+    const double t8 = t7*w_fx;
+    const double t9 = t6 - t8;
+    const double t10 = 3.393*t1 + t2*t9 - t0*w_fz;
+    const double t11 = -t4 + t0*t9 + t2*w_fz;
+    const double t12 = t5*w_fx + t7*w_fy;
+    const double t13 = t7*w_nx;
+    const double t14 = -t13 + t5*w_ny;
+    const double t15 = t14*t2 - t0*w_nz;
+    const double t16 = L3*t12 + t0*t14 + t2*w_nz;
+    const double t17 = 0.5*t4 + L3*t11 - t5*w_nx - t7*w_ny;
+    const double t18 = t0*t11 + t10*t2;
+    const double t19 = t0*t15 - q2*t12 - t16*t2;
+    tau_s[0] = t19;
+    tau_s[1] = t18;
+    tau_s[2] = t17;
 }
 
-void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+        rpr_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
     }
 }
 
-void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+void rpr_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -748,83 +633,51 @@ void rpr_energy(const double q[3], const double dq[3], const double *p, const do
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double cz1 = pi[3];
-    const double iyy1 = pi[5];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double ixx2 = pi[14];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double ixx3 = pi[24];
-    const double iyy3 = pi[25];
-    const double izz3 = pi[26];
-    const double ixy3 = pi[27];
-    const double ixz3 = pi[28];
-    const double iyz3 = pi[29];
     const double t0 = cos(q3);
     const double t1 = sin(q3);
     const double t2 = q2 + L3*t1;
-    const double t3 = cz3*m3;
-    const double t4 = t1*t3;
-    const double t5 = t0*t3;
-    const double t6 = m3*(t2 + cx3*t1 + cy3*t0);
-    const double t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1;
-    const double t8 = L3 + cx3;
-    const double t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8;
-    const double t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8;
-    const double t11 = cz2*m2;
-    const double t12 = m2*(cy2 + q2);
-    const double t13 = t11 + t0*t5 + t1*t4;
-    const double t14 = t12 + t6;
-    const double t15 = cz1*m1;
-    const double t16 = cx1*m1;
-    const double t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9;
-    const double t18 = t1*m3;
-    const double t19 = t0*m3;
-    const double t20 = t19*t8 - cy3*t18;
-    const double t21 = m2 + t0*t19 + t1*t18;
-    const double t22 = cy3*m3;
-    const double t23 = m3*(L3 + cx3);
-    const double t24 = izz3 + cy3*t22 + t23*t8;
-    const double t25 = t17*dq1*dq1 + t21*dq2*dq2 + t24*dq3*dq3;
-    const double t26 = dq1*t10 + dq2*t20;
-    const double t27 = (1.0/2.0)*t25 + dq3*t26 - dq1*dq2*t13;
-    const double t28 = 9.81*cx2*m2;
-    const double t29 = 9.81*cy1*m1;
-    const double t30 = 9.81*t0;
-    const double t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1);
-    kinetic[0] = t27;
-    potential[0] = t28 + t29 - t31;
-    lagrangian[0] = t27 + t31 - t28 - t29;
+    const double t3 = 3.393*t2 - 1.6965*t1;
+    const double t4 = 0.0006786*t0;
+    const double t5 = 0.5 - L3;
+    const double t6 = -0.2831*t1 + t3*t5;
+    const double t7 = -2.6505 + 5.301*q2;
+    const double t8 = t3 + t7;
+    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
+    const double t10 = 3.393*t1;
+    const double t11 = 3.393*t0;
+    const double t12 = t11*t5;
+    const double t13 = 5.301 + t0*t11 + t1*t10;
+    const double t14 = -1.6965 + 3.393*L3;
+    const double t15 = 0.2831 - t14*t5;
+    const double t16 = t13*dq2*dq2 + t15*dq3*dq3 + t9*dq1*dq1;
+    const double t17 = (1.0/2.0)*t16 - dq2*dq3*t12;
+    const double t18 = 16.642665*t0;
+    const double t19 = 33.28533*L3*t0;
+    kinetic[0] = t17;
+    potential[0] = t19 - t18;
+    lagrangian[0] = t17 + t18 - t19;
 }
 
-void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        rpr_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
+        rpr_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
  * ddq is NaN where M is not numerically positive definite. */
-void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
+void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
     int i;
 
-    rpr_mass_matrix(q, p, pi, M);
-    rpr_inverse_dynamics(q, dq, zero, p, pi, bias);
+    rpr_mass_matrix(q, p, M);
+    rpr_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

@@ -5,19 +5,19 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 19 ops (2 additions, 13 multiplications, 4 trig)
  *   position: 13 ops (2 additions, 7 multiplications, 4 trig)
- *   jacobian: 22 ops (3 additions, 13 multiplications, 4 trig, 2 powers)
+ *   jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
  *   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
- *   fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
+ *   fk_jacobian: 25 ops (2 additions, 19 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
- *   gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
- *   coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
- *   coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
- *   inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
- *   wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
- *   static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
- *   energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
+ *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+ *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+ *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+ *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q3 (rad for q1, q3; m for q2).
  * p: parameters L3 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3.
  */
 #ifndef RPR_KINEMATICS_H
 #define RPR_KINEMATICS_H
@@ -71,7 +71,7 @@ void rpr_position(const double q[3], const double *p, double p_tool[SYMKIN_RESTR
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
-/* Geometric jacobian (22 operations).
+/* Geometric jacobian (17 operations).
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
  *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad for q1, q3; m for q2)
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -91,7 +91,7 @@ void rpr_position_jacobian(const double q[3], const double *p, double Jp[SYMKIN_
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
-/* Forward kinematics and jacobian (30 operations).
+/* Forward kinematics and jacobian (25 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[18]: geometric Jacobian (6x3, rows x y z wx wy wz, base frame)
@@ -123,66 +123,61 @@ void rpr_manipulability(const double q[3], const double *p, double mu[SYMKIN_RES
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (77 operations).
+/* Mass matrix (35 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_mass_matrix(const double q[3], const double *p, const double *pi, double M[SYMKIN_RESTRICT 9]);
+void rpr_mass_matrix(const double q[3], const double *p, double M[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
-/* Gravity torques (19 operations).
+/* Gravity torques (12 operations).
  * G[3]: G(q) (3x1)
  *   units: N m for q1, q3; N for q2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_gravity(const double q[3], const double *p, const double *pi, double G[SYMKIN_RESTRICT 3]);
+void rpr_gravity(const double q[3], const double *p, double G[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void rpr_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (114 operations).
+/* Coriolis and centrifugal torques (57 operations).
  * c[3]: c = C(q, dq) dq (3x1)
  *   units: N m for q1, q3; N for q2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[SYMKIN_RESTRICT 3]);
+void rpr_coriolis(const double q[3], const double dq[3], const double *p, double c[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (93 operations).
+/* Coriolis matrix (christoffel symbols) (49 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[SYMKIN_RESTRICT 9]);
+void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (151 operations).
+/* Inverse dynamics (77 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
  *   units: N m for q1, q3; N for q2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 3]);
+void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void rpr_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
-/* Joint torques of an external wrench (37 operations).
+/* Joint torques of an external wrench (33 operations).
  * tau_w[3]: -J^T w (3x1)
  *   units: N m for q1, q3; N for q2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -193,19 +188,18 @@ void rpr_wrench_torque(const double q[3], const double wrench[6], const double *
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
-/* Static torques holding the arm against gravity and an external wrench (54 operations).
+/* Static torques holding the arm against gravity and an external wrench (48 operations).
  * tau_s[3]: G - J^T w (3x1)
  *   units: N m for q1, q3; N for q2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
+void rpr_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (109 operations).
+/* Kinetic and potential energy and the lagrangian (52 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void rpr_static_torque_batch(size_t count, const double *q, const double *wrench
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[1]: parameters (L3; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void rpr_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void rpr_energy(const double q[3], const double dq[3], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m for q1, q3; N for q2) in place of ddq.
  * ddq[3]: joint accelerations; rad/s^2 for q1, q3; m/s^2 for q2 */
-void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 3]);
+void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[SYMKIN_RESTRICT 3]);
 
 #ifdef __cplusplus
 }

@@ -5,19 +5,19 @@ Regenerate with: symkin generate  (or: symkin derive rpr --out DIR)
 Operation counts after common-subexpression elimination:
   fk: 19 ops (2 additions, 13 multiplications, 4 trig)
   position: 13 ops (2 additions, 7 multiplications, 4 trig)
-  jacobian: 22 ops (3 additions, 13 multiplications, 4 trig, 2 powers)
+  jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
   position_jacobian: 17 ops (2 additions, 11 multiplications, 4 trig)
-  fk_jacobian: 30 ops (3 additions, 21 multiplications, 4 trig, 2 powers)
+  fk_jacobian: 25 ops (2 additions, 19 multiplications, 4 trig)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
-  mass_matrix: 77 ops (31 additions, 44 multiplications, 2 trig)
-  gravity: 19 ops (4 additions, 13 multiplications, 2 trig)
-  coriolis: 114 ops (46 additions, 62 multiplications, 2 trig, 4 powers)
-  coriolis_matrix: 93 ops (35 additions, 53 multiplications, 3 divisions, 2 trig)
-  inverse_dynamics: 151 ops (69 additions, 76 multiplications, 2 trig, 4 powers)
-  wrench_torque: 37 ops (10 additions, 21 multiplications, 4 trig, 2 powers)
-  static_torque: 54 ops (19 additions, 31 multiplications, 4 trig)
-  energy: 109 ops (43 additions, 60 multiplications, 1 divisions, 2 trig, 3 powers)
+  mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+  gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
+  coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
+  coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+  inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
+  wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
+  static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
+  energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L3) and named outputs; build it once
@@ -98,7 +98,7 @@ def position_function(symbol_type=casadi.SX):
 
 
 def jacobian_function(symbol_type=casadi.SX):
-    """Geometric jacobian (22 operations) as a casadi.Function.
+    """Geometric jacobian (17 operations) as a casadi.Function.
 
     Output J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame).
     """
@@ -119,7 +119,7 @@ def jacobian_function(symbol_type=casadi.SX):
     J[1, 0] = q2*t2 + t1*t2
     J[1, 1] = -t0
     J[1, 2] = -t0*t3
-    J[2, 2] = -t1*t0**2 - t1*t2**2
+    J[2, 2] = -t1
     J[3, 2] = t0
     J[4, 2] = t2
     J[5, 0] = 1
@@ -165,7 +165,7 @@ def position_jacobian_function(symbol_type=casadi.SX):
 
 
 def fk_jacobian_function(symbol_type=casadi.SX):
-    """Forward kinematics and jacobian (30 operations) as a casadi.Function.
+    """Forward kinematics and jacobian (25 operations) as a casadi.Function.
 
     Output T: pose of the tool in the base frame (4x4).
     Output J: geometric Jacobian (6x3, rows x y z wx wy wz, base frame).
@@ -186,7 +186,6 @@ def fk_jacobian_function(symbol_type=casadi.SX):
     t7 = t1*t5
     t8 = t3*t5
     t9 = L3*t7 + q2*t5
-    t10 = L3*t1
     T = symbol_type.zeros(4, 4)
     T[0, 0] = t2
     T[0, 1] = t4
@@ -207,7 +206,7 @@ def fk_jacobian_function(symbol_type=casadi.SX):
     J[1, 0] = t6
     J[1, 1] = -t5
     J[1, 2] = -L3*t8
-    J[2, 2] = -t10*t0**2 - t10*t5**2
+    J[2, 2] = -L3*t1
     J[3, 2] = t5
     J[4, 2] = t0
     J[5, 0] = 1
@@ -265,148 +264,90 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (77 operations) as a casadi.Function.
+    """Mass matrix (35 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     """
     q = symbol_type.sym("q", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q2 = q[1]
     q3 = q[2]
     L3 = p[0]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cz1 = pi[3]
-    iyy1 = pi[5]
-    m2 = pi[10]
-    cy2 = pi[12]
-    cz2 = pi[13]
-    ixx2 = pi[14]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
-    ixx3 = pi[24]
-    iyy3 = pi[25]
-    izz3 = pi[26]
-    ixy3 = pi[27]
-    ixz3 = pi[28]
-    iyz3 = pi[29]
     t0 = casadi.cos(q3)
     t1 = casadi.sin(q3)
     t2 = q2 + L3*t1
-    t3 = cz3*m3
-    t4 = t1*t3
-    t5 = t0*t3
-    t6 = m3*(t2 + cx3*t1 + cy3*t0)
-    t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1
-    t8 = L3 + cx3
-    t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8
-    t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8
-    t11 = cz2*m2
-    t12 = m2*(cy2 + q2)
-    t13 = t11 + t0*t5 + t1*t4
-    t14 = t12 + t6
-    t15 = cz1*m1
-    t16 = cx1*m1
-    t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9
-    t18 = t1*m3
-    t19 = t0*m3
-    t20 = t19*t8 - cy3*t18
-    t21 = m2 + t0*t19 + t1*t18
-    t22 = cy3*m3
-    t23 = m3*(L3 + cx3)
-    t24 = izz3 + cy3*t22 + t23*t8
+    t3 = 3.393*t2 - 1.6965*t1
+    t4 = 0.0006786*t0
+    t5 = 0.5 - L3
+    t6 = -0.2831*t1 + t3*t5
+    t7 = -2.6505 + 5.301*q2
+    t8 = t3 + t7
+    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
+    t10 = 3.393*t1
+    t11 = 3.393*t0
+    t12 = -t11*t5
+    t13 = 5.301 + t0*t11 + t1*t10
+    t14 = -1.6965 + 3.393*L3
+    t15 = 0.2831 - t14*t5
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t17
-    M[0, 1] = -t13
-    M[0, 2] = t10
-    M[1, 0] = -t13
-    M[1, 1] = t21
-    M[1, 2] = t20
-    M[2, 0] = t10
-    M[2, 1] = t20
-    M[2, 2] = t24
+    M[0, 0] = t9
+    M[1, 1] = t13
+    M[1, 2] = t12
+    M[2, 1] = t12
+    M[2, 2] = t15
     return casadi.Function(
         "rpr_mass_matrix",
-        [q, p, pi],
+        [q, p],
         [M],
-        ["q", "p", "pi"],
+        ["q", "p"],
         ["M"],
     )
 
 
 def gravity_function(symbol_type=casadi.SX):
-    """Gravity torques (19 operations) as a casadi.Function.
+    """Gravity torques (12 operations) as a casadi.Function.
 
     Output G: G(q) (3x1).
     """
     q = symbol_type.sym("q", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q3 = q[2]
     L3 = p[0]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
     t0 = casadi.cos(q3)
     t1 = 9.81*t0
     t2 = casadi.sin(q3)
-    t3 = 9.81*t2
-    t4 = t1*m3
-    t5 = t3*m3
-    t6 = cz3*t5
-    t7 = cz3*t4
-    t8 = L3 + cx3
-    t9 = cy3*t4 + t5*t8
-    t10 = t2*t4 - t0*t5
-    t11 = t0*t6 - t2*t7
+    t3 = -9.81*t2
+    t4 = 3.393*t1
+    t5 = 3.393*t3
+    t6 = -0.5 + L3
+    t7 = t5*t6
+    t8 = t0*t5 + t2*t4
     G = symbol_type.zeros(3, 1)
-    G[0, 0] = t11
-    G[1, 0] = t10
-    G[2, 0] = -t9
+    G[1, 0] = t8
+    G[2, 0] = t7
     return casadi.Function(
         "rpr_gravity",
-        [q, p, pi],
+        [q, p],
         [G],
-        ["q", "p", "pi"],
+        ["q", "p"],
         ["G"],
     )
 
 
 def coriolis_function(symbol_type=casadi.SX):
-    """Coriolis and centrifugal torques (114 operations) as a casadi.Function.
+    """Coriolis and centrifugal torques (57 operations) as a casadi.Function.
 
     Output c: c = C(q, dq) dq (3x1).
     """
     q = symbol_type.sym("q", 3)
     dq = symbol_type.sym("dq", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q2 = q[1]
     q3 = q[2]
     dq1 = dq[0]
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cz1 = pi[3]
-    m2 = pi[10]
-    cy2 = pi[12]
-    cz2 = pi[13]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
-    ixx3 = pi[24]
-    iyy3 = pi[25]
-    izz3 = pi[26]
-    ixy3 = pi[27]
-    ixz3 = pi[28]
-    iyz3 = pi[29]
     t0 = dq1**2
     t1 = q2*t0
     t2 = 2*dq1*dq2
@@ -416,124 +357,93 @@ def coriolis_function(symbol_type=casadi.SX):
     t6 = dq1*t5
     t7 = dq3*t6
     t8 = dq3*t4
-    t9 = t4**2
-    t10 = t6**2
-    t11 = dq3**2
-    t12 = t4*t6
-    t13 = t10 + t11
-    t14 = t11 + t9
-    t15 = 2*t8
-    t16 = 2*t7
-    t17 = t10 + t9
-    t18 = L3*t13 + t1*t5
-    t19 = L3*t12 + t1*t3
-    t20 = t2 + L3*t15
-    t21 = m3*(-t18 - cx3*t13 - cy3*t12)
-    t22 = m3*(-t19 - cx3*t12 - cy3*t14)
-    t23 = m3*(t20 + cx3*t15 - cy3*t16 - cz3*t17)
-    t24 = ixx3 + izz3 - iyy3
-    t25 = cy3*t23 + iyz3*(t10 - t11) - cz3*t22 - ixz3*t12 - t24*t7 - 2*ixy3*t8
-    t26 = L3 + cx3
-    t27 = iyy3 + izz3 - ixx3
-    t28 = cz3*t21 + ixz3*(t11 - t9) + iyz3*t12 - t23*t26 - t27*t8 - 2*ixy3*t7
-    t29 = ixy3*(t9 - t10) + t22*t26 - cy3*t21 - t12*(iyy3 - ixx3)
-    t30 = m2*(-t1 - cy2*t0)
-    t31 = m2*(t2 - cz2*t0)
-    t32 = t30 + t21*t5 + t22*t3
-    t33 = t23 + t31
-    t34 = t0*m1
-    t35 = cx1*t34
-    t36 = cz1*t34
-    t37 = cx1*t36 + cy2*t31 + q2*t33 + t25*t3 - cz1*t35 - cz2*t30 - t28*t5
+    t9 = t6**2
+    t10 = dq3**2
+    t11 = t4*t6
+    t12 = t10 + t9
+    t13 = 2*t8
+    t14 = L3*t12 + t1*t5
+    t15 = L3*t11 + t1*t3
+    t16 = t2 + L3*t13
+    t17 = 1.6965*t12 - 3.393*t14
+    t18 = 1.6965*t11 - 3.393*t15
+    t19 = 3.393*t16 - 1.6965*t13
+    t20 = 0.0006786*t7
+    t21 = 0.5 - L3
+    t22 = -0.5655214*t8 + t19*t21
+    t23 = 0.2824214*t11 + t18*t21
+    t24 = 5.301*t2
+    t25 = 2.6505*t0 - 5.301*t1 + t17*t5 + t18*t3
+    t26 = t19 + t24
+    t27 = -0.5*t24 + q2*t26 - t20*t3 - t22*t5
     c = symbol_type.zeros(3, 1)
-    c[0, 0] = t37
-    c[1, 0] = t32
-    c[2, 0] = t29
+    c[0, 0] = t27
+    c[1, 0] = t25
+    c[2, 0] = -t23
     return casadi.Function(
         "rpr_coriolis",
-        [q, dq, p, pi],
+        [q, dq, p],
         [c],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["c"],
     )
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (93 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (49 operations) as a casadi.Function.
 
     Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
     """
     q = symbol_type.sym("q", 3)
     dq = symbol_type.sym("dq", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q2 = q[1]
     q3 = q[2]
     dq1 = dq[0]
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    m2 = pi[10]
-    cy2 = pi[12]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
-    ixx3 = pi[24]
-    iyy3 = pi[25]
-    ixy3 = pi[27]
-    ixz3 = pi[28]
-    iyz3 = pi[29]
     t0 = casadi.cos(q3)
     t1 = casadi.sin(q3)
     t2 = q2 + L3*t1
-    t3 = t1*m3
-    t4 = cz3*t3
-    t5 = cz3*m3
-    t6 = t0*t5
-    t7 = m3*(t2 + cx3*t1 + cy3*t0)
-    t8 = ixy3*t1
-    t9 = -t8 + cy3*t7 + cz3*t6 + t0*ixx3
-    t10 = L3 + cx3
-    t11 = ixy3*t0 - cz3*t4 - t1*iyy3 - t10*t7
-    t12 = m2*(cy2 + q2)
-    t13 = t0*m3
-    t14 = m2 + m3
-    t15 = cy3*m3
-    t16 = t10*m3
-    t17 = t12 + t7 + cy2*m2 + q2*t14 + t0*t15 + t1*t16
-    t18 = L3*t0
-    t19 = m3*(t18 + cx3*t0 - cy3*t1)
-    t20 = cy3*t19 - cz3*t4 - ixy3*t0 - t1*ixx3
-    t21 = t8 + cz3*t6 + t0*iyy3 + t10*t19
-    t22 = t21 - t9
-    t23 = t20 - t11
-    t24 = q2*t19 + t0*t23 + t1*t22
-    t25 = cy3*t6 + t10*t4 - ixz3*t1 - iyz3*t0
-    t26 = cy3*t13 + t10*t3
-    t27 = (1/2)*dq1
-    t28 = t24*t27
-    t29 = (1/2)*t17
-    t30 = (1/2)*dq3
-    t31 = dq1*t29
+    t3 = 3.393*t2 - 1.6965*t1
+    t4 = 0.0006786*t0
+    t5 = 0.5 - L3
+    t6 = -0.2831*t1 + t3*t5
+    t7 = -2.6505 + 5.301*q2
+    t8 = 3.393*t1
+    t9 = 1.6965 - 3.393*L3
+    t10 = -2.6505 + t3 + t7 + 8.694*q2 - t1*t9
+    t11 = L3*t0
+    t12 = 3.393*t11 - 1.6965*t0
+    t13 = 0.0006786*t1
+    t14 = -0.2831*t0 + t12*t5
+    t15 = t14 + t4
+    t16 = t13 + t6
+    t17 = q2*t12 - t0*t16 - t1*t15
+    t18 = t5*t8
+    t19 = (1/2)*t10
+    t20 = (1/2)*t17
+    t21 = dq1*t19
+    t22 = dq1*t20
     C = symbol_type.zeros(3, 3)
-    C[0, 0] = dq2*t29 + t24*t30
-    C[0, 1] = t31
-    C[0, 2] = t28 + dq3*t25
-    C[1, 0] = -t31
-    C[1, 2] = -dq3*t26
-    C[2, 0] = -t28
+    C[0, 0] = dq2*t19 + dq3*t20
+    C[0, 1] = t21
+    C[0, 2] = t22
+    C[1, 0] = -t21
+    C[1, 2] = dq3*t18
+    C[2, 0] = -t22
     return casadi.Function(
         "rpr_coriolis_matrix",
-        [q, dq, p, pi],
+        [q, dq, p],
         [C],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["C"],
     )
 
 
 def inverse_dynamics_function(symbol_type=casadi.SX):
-    """Inverse dynamics (151 operations) as a casadi.Function.
+    """Inverse dynamics (77 operations) as a casadi.Function.
 
     Output tau: tau = M ddq + C dq + G + F (3x1).
     """
@@ -541,7 +451,6 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     dq = symbol_type.sym("dq", 3)
     ddq = symbol_type.sym("ddq", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q2 = q[1]
     q3 = q[2]
     dq1 = dq[0]
@@ -551,24 +460,6 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     ddq2 = ddq[1]
     ddq3 = ddq[2]
     L3 = p[0]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cz1 = pi[3]
-    iyy1 = pi[5]
-    m2 = pi[10]
-    cy2 = pi[12]
-    cz2 = pi[13]
-    ixx2 = pi[14]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
-    ixx3 = pi[24]
-    iyy3 = pi[25]
-    izz3 = pi[26]
-    ixy3 = pi[27]
-    ixz3 = pi[28]
-    iyz3 = pi[29]
     t0 = dq1**2
     t1 = ddq2 - q2*t0
     t2 = ddq1*q2 + 2*dq1*dq2
@@ -578,54 +469,42 @@ def inverse_dynamics_function(symbol_type=casadi.SX):
     t6 = dq1*t5
     t7 = ddq1*t3 - dq3*t6
     t8 = ddq1*t5 + dq3*t4
-    t9 = t4**2
-    t10 = t6**2
-    t11 = dq3**2
-    t12 = t4*t6
-    t13 = dq3*t4
-    t14 = dq3*t6
-    t15 = t10 + t11
-    t16 = ddq3 + t12
-    t17 = t13 - t8
-    t18 = ddq3 - t12
-    t19 = t11 + t9
-    t20 = t14 + t7
-    t21 = t13 + t8
-    t22 = t7 - t14
-    t23 = t10 + t9
-    t24 = 9.81*t3 + t1*t5 - L3*t15
-    t25 = -9.81*t5 + L3*t18 + t1*t3
-    t26 = t2 + L3*t21
-    t27 = m3*(t24 + cz3*t17 - cx3*t15 - cy3*t16)
-    t28 = m3*(t25 + cx3*t18 - cy3*t19 - cz3*t20)
-    t29 = m3*(t26 + cx3*t21 + cy3*t22 - cz3*t23)
-    t30 = cy3*t29 + ixz3*t18 + iyz3*(t10 - t11) + t7*ixx3 - cz3*t28 - ixy3*t21 - t14*(izz3 - iyy3)
-    t31 = L3 + cx3
-    t32 = cz3*t27 + ixy3*t22 + ixz3*(t11 - t9) + iyz3*t16 + t13*(ixx3 - izz3) - t29*t31 - t8*iyy3
-    t33 = ddq3*izz3 + ixy3*(t9 - t10) + ixz3*t20 + iyz3*t17 + t28*t31 - cy3*t27 - t12*(iyy3 - ixx3)
-    t34 = m2*(t1 - cy2*t0 - cz2*ddq1)
-    t35 = m2*(t2 + cy2*ddq1 - cz2*t0)
-    t36 = t34 + t27*t5 + t28*t3
-    t37 = t29 + t35
-    t38 = m1*(cz1*ddq1 - cx1*t0)
-    t39 = m1*(-cx1*ddq1 - cz1*t0)
-    t40 = ixx2 + iyy1
-    t41 = cy2*t35 + cz1*t38 + ddq1*t40 + q2*t37 + t3*t30 - cx1*t39 - cz2*t34 - t32*t5
+    t9 = t6**2
+    t10 = dq3**2
+    t11 = t4*t6
+    t12 = dq3*t4
+    t13 = t10 + t9
+    t14 = ddq3 - t11
+    t15 = t12 + t8
+    t16 = 9.81*t3 + t1*t5 - L3*t13
+    t17 = -9.81*t5 + L3*t14 + t1*t3
+    t18 = t2 + L3*t15
+    t19 = 1.6965*t13 + 3.393*t16
+    t20 = 3.393*t17 - 1.6965*t14
+    t21 = 3.393*t18 - 1.6965*t15
+    t22 = 0.0006786*t7
+    t23 = 0.5 - L3
+    t24 = -0.2824214*t12 - 0.2831*t8 + t21*t23
+    t25 = 0.2831*ddq3 - 0.2824214*t11 - t20*t23
+    t26 = 5.301*t2 - 2.6505*ddq1
+    t27 = 2.6505*t0 + 5.301*t1 + t19*t5 + t20*t3
+    t28 = t21 + t26
+    t29 = 0.447901*ddq1 - 0.5*t26 + q2*t28 + t22*t3 - t24*t5
     tau = symbol_type.zeros(3, 1)
-    tau[0, 0] = t41
-    tau[1, 0] = t36
-    tau[2, 0] = t33
+    tau[0, 0] = t29
+    tau[1, 0] = t27
+    tau[2, 0] = t25
     return casadi.Function(
         "rpr_inverse_dynamics",
-        [q, dq, ddq, p, pi],
+        [q, dq, ddq, p],
         [tau],
-        ["q", "dq", "ddq", "p", "pi"],
+        ["q", "dq", "ddq", "p"],
         ["tau"],
     )
 
 
 def wrench_torque_function(symbol_type=casadi.SX):
-    """Joint torques of an external wrench (37 operations) as a casadi.Function.
+    """Joint torques of an external wrench (33 operations) as a casadi.Function.
 
     Output tau_w: -J^T w (3x1).
     """
@@ -643,14 +522,15 @@ def wrench_torque_function(symbol_type=casadi.SX):
     w_nz = wrench[5]
     L3 = p[0]
     t0 = casadi.cos(q1)
-    t1 = L3*casadi.sin(q3)
-    t2 = casadi.sin(q1)
-    t3 = t2*w_fx
-    t4 = casadi.cos(q3)
+    t1 = casadi.sin(q3)
+    t2 = L3*t1
+    t3 = casadi.sin(q1)
+    t4 = t3*w_fx
+    t5 = casadi.cos(q3)
     tau_w = symbol_type.zeros(3, 1)
-    tau_w[0, 0] = -w_nz + w_fx*(-q2*t0 - t0*t1) + w_fy*(-q2*t2 - t1*t2)
-    tau_w[1, 0] = -t3 + t0*w_fy
-    tau_w[2, 0] = w_fz*(t1*t0**2 + t1*t2**2) - t0*w_nx - t2*w_ny - L3*t3*t4 + L3*t0*t4*w_fy
+    tau_w[0, 0] = -w_nz + w_fx*(-q2*t0 - t0*t2) + w_fy*(-q2*t3 - t2*t3)
+    tau_w[1, 0] = -t4 + t0*w_fy
+    tau_w[2, 0] = -t0*w_nx - t3*w_ny + L3*t1*w_fz - L3*t4*t5 + L3*t0*t5*w_fy
     return casadi.Function(
         "rpr_wrench_torque",
         [q, wrench, p],
@@ -661,14 +541,13 @@ def wrench_torque_function(symbol_type=casadi.SX):
 
 
 def static_torque_function(symbol_type=casadi.SX):
-    """Static torques holding the arm against gravity and an external wrench (54 operations) as a casadi.Function.
+    """Static torques holding the arm against gravity and an external wrench (48 operations) as a casadi.Function.
 
     Output tau_s: G - J^T w (3x1).
     """
     q = symbol_type.sym("q", 3)
     wrench = symbol_type.sym("wrench", 6)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q1 = q[0]
     q2 = q[1]
     q3 = q[2]
@@ -679,46 +558,41 @@ def static_torque_function(symbol_type=casadi.SX):
     w_ny = wrench[4]
     w_nz = wrench[5]
     L3 = p[0]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
     t0 = casadi.cos(q3)
     t1 = 9.81*t0
     t2 = casadi.sin(q3)
     t3 = 9.81*t2
-    t4 = t1*m3
-    t5 = t3*m3
-    t6 = casadi.cos(q1)
-    t7 = t6*w_fy
-    t8 = casadi.sin(q1)
-    t9 = t8*w_fx
-    t10 = t7 - t9
-    t11 = t4 + t10*t2 - t0*w_fz
-    t12 = -t5 + t0*t10 + t2*w_fz
-    t13 = t6*w_fx + t8*w_fy
-    t14 = t8*w_nx
-    t15 = -t14 + t6*w_ny
-    t16 = cz3*t5 + t15*t2 - t0*w_nz
-    t17 = L3*t13 + cz3*t4 + t0*t15 + t2*w_nz
-    t18 = L3*t12 - cx3*t5 - cy3*t4 - t6*w_nx - t8*w_ny
-    t19 = t0*t12 + t11*t2
-    t20 = t0*t16 - q2*t13 - t17*t2
+    t4 = 3.393*t3
+    t5 = casadi.cos(q1)
+    t6 = t5*w_fy
+    t7 = casadi.sin(q1)
+    t8 = t7*w_fx
+    t9 = t6 - t8
+    t10 = 3.393*t1 + t2*t9 - t0*w_fz
+    t11 = -t4 + t0*t9 + t2*w_fz
+    t12 = t5*w_fx + t7*w_fy
+    t13 = t7*w_nx
+    t14 = -t13 + t5*w_ny
+    t15 = t14*t2 - t0*w_nz
+    t16 = L3*t12 + t0*t14 + t2*w_nz
+    t17 = 0.5*t4 + L3*t11 - t5*w_nx - t7*w_ny
+    t18 = t0*t11 + t10*t2
+    t19 = t0*t15 - q2*t12 - t16*t2
     tau_s = symbol_type.zeros(3, 1)
-    tau_s[0, 0] = t20
-    tau_s[1, 0] = t19
-    tau_s[2, 0] = t18
+    tau_s[0, 0] = t19
+    tau_s[1, 0] = t18
+    tau_s[2, 0] = t17
     return casadi.Function(
         "rpr_static_torque",
-        [q, wrench, p, pi],
+        [q, wrench, p],
         [tau_s],
-        ["q", "wrench", "p", "pi"],
+        ["q", "wrench", "p"],
         ["tau_s"],
     )
 
 
 def energy_function(symbol_type=casadi.SX):
-    """Kinetic and potential energy and the lagrangian (109 operations) as a casadi.Function.
+    """Kinetic and potential energy and the lagrangian (52 operations) as a casadi.Function.
 
     Output kinetic: kinetic energy T = 1/2 dq^T M dq.
     Output potential: potential energy V = -sum m_i g^T p_ci.
@@ -727,76 +601,43 @@ def energy_function(symbol_type=casadi.SX):
     q = symbol_type.sym("q", 3)
     dq = symbol_type.sym("dq", 3)
     p = symbol_type.sym("p", 1)
-    pi = symbol_type.sym("pi", 30)
     q2 = q[1]
     q3 = q[2]
     dq1 = dq[0]
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    m1 = pi[0]
-    cx1 = pi[1]
-    cy1 = pi[2]
-    cz1 = pi[3]
-    iyy1 = pi[5]
-    m2 = pi[10]
-    cx2 = pi[11]
-    cy2 = pi[12]
-    cz2 = pi[13]
-    ixx2 = pi[14]
-    m3 = pi[20]
-    cx3 = pi[21]
-    cy3 = pi[22]
-    cz3 = pi[23]
-    ixx3 = pi[24]
-    iyy3 = pi[25]
-    izz3 = pi[26]
-    ixy3 = pi[27]
-    ixz3 = pi[28]
-    iyz3 = pi[29]
     t0 = casadi.cos(q3)
     t1 = casadi.sin(q3)
     t2 = q2 + L3*t1
-    t3 = cz3*m3
-    t4 = t1*t3
-    t5 = t0*t3
-    t6 = m3*(t2 + cx3*t1 + cy3*t0)
-    t7 = cy3*t6 + cz3*t5 + t0*ixx3 - ixy3*t1
-    t8 = L3 + cx3
-    t9 = ixy3*t0 - cz3*t4 - t1*iyy3 - t6*t8
-    t10 = cy3*t4 + ixz3*t0 - iyz3*t1 - t5*t8
-    t11 = cz2*m2
-    t12 = m2*(cy2 + q2)
-    t13 = t11 + t0*t5 + t1*t4
-    t14 = t12 + t6
-    t15 = cz1*m1
-    t16 = cx1*m1
-    t17 = ixx2 + iyy1 + cx1*t16 + cy2*t12 + cz1*t15 + cz2*t11 + q2*t14 + t0*t7 - t1*t9
-    t18 = t1*m3
-    t19 = t0*m3
-    t20 = t19*t8 - cy3*t18
-    t21 = m2 + t0*t19 + t1*t18
-    t22 = cy3*m3
-    t23 = m3*(L3 + cx3)
-    t24 = izz3 + cy3*t22 + t23*t8
-    t25 = t17*dq1**2 + t21*dq2**2 + t24*dq3**2
-    t26 = dq1*t10 + dq2*t20
-    t27 = (1/2)*t25 + dq3*t26 - dq1*dq2*t13
-    t28 = 9.81*cx2*m2
-    t29 = 9.81*cy1*m1
-    t30 = 9.81*t0
-    t31 = m3*(-L3*t30 - cx3*t30 + 9.81*cy3*t1)
+    t3 = 3.393*t2 - 1.6965*t1
+    t4 = 0.0006786*t0
+    t5 = 0.5 - L3
+    t6 = -0.2831*t1 + t3*t5
+    t7 = -2.6505 + 5.301*q2
+    t8 = t3 + t7
+    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
+    t10 = 3.393*t1
+    t11 = 3.393*t0
+    t12 = t11*t5
+    t13 = 5.301 + t0*t11 + t1*t10
+    t14 = -1.6965 + 3.393*L3
+    t15 = 0.2831 - t14*t5
+    t16 = t13*dq2**2 + t15*dq3**2 + t9*dq1**2
+    t17 = (1/2)*t16 - dq2*dq3*t12
+    t18 = 16.642665*t0
+    t19 = 33.28533*L3*t0
     kinetic = symbol_type.zeros(1, 1)
-    kinetic[0, 0] = t27
+    kinetic[0, 0] = t17
     potential = symbol_type.zeros(1, 1)
-    potential[0, 0] = t28 + t29 - t31
+    potential[0, 0] = t19 - t18
     lagrangian = symbol_type.zeros(1, 1)
-    lagrangian[0, 0] = t27 + t31 - t28 - t29
+    lagrangian[0, 0] = t17 + t18 - t19
     return casadi.Function(
         "rpr_energy",
-        [q, dq, p, pi],
+        [q, dq, p],
         [kinetic, potential, lagrangian],
-        ["q", "dq", "p", "pi"],
+        ["q", "dq", "p"],
         ["kinetic", "potential", "lagrangian"],
     )
 
@@ -808,9 +649,7 @@ def forward_dynamics_function(symbol_type=casadi.SX):
     tau = symbol_type.sym("tau", 3)
     p = symbol_type.sym("p", 1)
     inputs = [q, dq, tau, p]
-    pi = symbol_type.sym("pi", 30)
-    inputs.append(pi)
-    extra = [pi]
+    extra = []
     mass = mass_matrix_function(symbol_type)(q, p, *extra)
     bias = inverse_dynamics_function(symbol_type)(q, dq, symbol_type.zeros(3), p, *extra)
     ddq = casadi.solve(mass, tau - bias)

@@ -11,14 +11,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
- *   gravity: 1 ops (1 multiplications)
- *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
- *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
- *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <stdio.h>
 

@@ -10,14 +10,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
- *   gravity: 1 ops (1 multiplications)
- *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
- *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
- *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -321,167 +321,121 @@ void scara_manipulability_batch(size_t count, const double *q, const double *p, 
     }
 }
 
-void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[restrict 9])
+void scara_mass_matrix(const double q[3], const double *p, double M[restrict 9])
 {
     const double q2 = q[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double izz3 = pi[26];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L2 + L1*t2;
-    const double t4 = m3*(t1 - cy3);
-    const double t5 = m3*(cx3 + t3);
-    const double t6 = m2*(t1 - cy2);
-    const double t7 = m2*(cx2 + t3);
-    const double t8 = t4 + t6;
-    const double t9 = t5 + t7;
-    const double t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4;
-    const double t11 = cy1*m1;
-    const double t12 = m1*(L1 + cx1);
-    const double t13 = t12 + t0*t8 + t2*t9;
-    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11;
-    const double t15 = cy3*m3;
-    const double t16 = m3*(L2 + cx3);
-    const double t17 = cy2*m2;
-    const double t18 = m2*(L2 + cx2);
-    const double t19 = t16 + t18;
-    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15;
-    M[0] = t14;
-    M[1] = t10;
+    const double t4 = -0.1342125 + 1.193*t3;
+    const double t5 = 1.6862000000000001*t1;
+    const double t6 = t4 + 0.4932*t3;
+    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
+    const double t8 = -0.4031625 + 2.481*L1;
+    const double t9 = t8 + t0*t5 + t2*t6;
+    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
+    const double t11 = -0.1342125 + 1.193*L2;
+    const double t12 = t11 + 0.4932*L2;
+    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
+    M[0] = t10;
+    M[1] = t7;
     M[2] = 0;
-    M[3] = t10;
-    M[4] = t20;
+    M[3] = t7;
+    M[4] = t13;
     M[5] = 0;
     M[6] = 0;
     M[7] = 0;
-    M[8] = m3;
+    M[8] = 0.4932;
 }
 
-void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict M)
+void scara_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_mass_matrix(q + i * 3, p, pi, M + i * 9);
+        scara_mass_matrix(q + i * 3, p, M + i * 9);
     }
 }
 
-void scara_gravity(const double q[3], const double *p, const double *pi, double G[restrict 3])
+void scara_gravity(const double q[3], const double *p, double G[restrict 3])
 {
     (void)q;
     (void)p;
-    const double m3 = pi[20];
-    const double t0 = 9.81*m3;
     G[0] = 0;
     G[1] = 0;
-    G[2] = t0;
+    G[2] = 4.838292000000001;
 }
 
-void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *restrict G)
+void scara_gravity_batch(size_t count, const double *q, const double *p, double *restrict G)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_gravity(q + i * 3, p, pi, G + i * 3);
+        scara_gravity(q + i * 3, p, G + i * 3);
     }
 }
 
-void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[restrict 3])
+void scara_coriolis(const double q[3], const double dq[3], const double *p, double c[restrict 3])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = dq1 + dq2;
     const double t3 = t2*t2;
     const double t4 = cos(q2);
-    const double t5 = t1*t4 - L2*t3;
+    const double t5 = L2*t3 + t1*t4;
     const double t6 = sin(q2);
-    const double t7 = -t1*t6;
-    const double t8 = m3*(t5 - cx3*t3);
-    const double t9 = m3*(t7 - cy3*t3);
-    const double t10 = m2*(t5 - cx2*t3);
-    const double t11 = m2*(t7 - cy2*t3);
-    const double t12 = t10 + t8;
-    const double t13 = t11 + t9;
-    const double t14 = L2*t13 + cx2*t11 + cx3*t9 - cy2*t10 - cy3*t8;
-    const double t15 = m1*(t1 - cx1*t0);
-    const double t16 = -cy1*t0*m1;
-    const double t17 = t16 + t12*t6 + t13*t4;
-    const double t18 = t14 + L1*t17 + cx1*t16 - cy1*t15;
-    c[0] = t18;
-    c[1] = t14;
+    const double t7 = t1*t6;
+    const double t8 = 1.193*t7;
+    const double t9 = 0.1342125*t3 - 1.6862000000000001*t5;
+    const double t10 = t8 + 0.4932*t7;
+    const double t11 = -0.1125*t8 + L2*t10;
+    const double t12 = t10*t4 + t6*t9;
+    const double t13 = t11 + L1*t12;
+    c[0] = t13;
+    c[1] = t11;
     c[2] = 0;
 }
 
-void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict c)
+void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict c)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_coriolis(q + i * 3, dq + i * 3, p, pi, c + i * 3);
+        scara_coriolis(q + i * 3, dq + i * 3, p, c + i * 3);
     }
 }
 
-void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[restrict 9])
+void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[restrict 9])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L1*t2;
     const double t4 = L2 + t3;
-    const double t5 = m2*(t1 - cy2) + m3*(t1 - cy3);
-    const double t6 = m2*(cx2 + t4) + m3*(cx3 + t4);
-    const double t7 = t1*m3;
-    const double t8 = t3*m3;
-    const double t9 = t1*m2;
-    const double t10 = t7 + t9;
-    const double t11 = t3*m2;
-    const double t12 = L2*t10 + cx2*t9 + cx3*t7 + cy2*t11 + cy3*t8;
-    const double t13 = t11 + t8;
-    const double t14 = t5 - t10;
-    const double t15 = t13 - t6;
-    const double t16 = t0*t15 + t14*t2;
-    const double t17 = -t12 + L1*t16;
-    const double t18 = (1.0/2.0)*t17;
-    const double t19 = dq1*t18;
-    C[0] = dq2*t18;
-    C[1] = t19 - dq2*t12;
+    const double t5 = 1.193*t1;
+    const double t6 = t5 + 0.4932*t1;
+    const double t7 = -0.1342125 + 1.6862000000000001*t4;
+    const double t8 = 0.1125*t5 - L2*t6;
+    const double t9 = 1.6862000000000001*t3;
+    const double t10 = t9 - t7;
+    const double t11 = t0*t10;
+    const double t12 = t8 + L1*t11;
+    const double t13 = (1.0/2.0)*t12;
+    const double t14 = dq1*t13;
+    C[0] = dq2*t13;
+    C[1] = t14 + dq2*t8;
     C[2] = 0;
-    C[3] = -t19;
+    C[3] = -t14;
     C[4] = 0;
     C[5] = 0;
     C[6] = 0;
@@ -489,15 +443,15 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
     C[8] = 0;
 }
 
-void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict C)
+void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict C)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_coriolis_matrix(q + i * 3, dq + i * 3, p, pi, C + i * 9);
+        scara_coriolis_matrix(q + i * 3, dq + i * 3, p, C + i * 9);
     }
 }
 
-void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[restrict 3])
+void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
     const double dq1 = dq[0];
@@ -507,52 +461,35 @@ void scara_inverse_dynamics(const double q[3], const double dq[3], const double 
     const double ddq3 = ddq[2];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double izz3 = pi[26];
     const double t0 = dq1*dq1;
-    const double t1 = -L1*t0;
+    const double t1 = L1*t0;
     const double t2 = L1*ddq1;
     const double t3 = dq1 + dq2;
     const double t4 = ddq1 + ddq2;
     const double t5 = t3*t3;
     const double t6 = cos(q2);
     const double t7 = sin(q2);
-    const double t8 = t1*t6 + t2*t7 - L2*t5;
-    const double t9 = L2*t4 + t2*t6 - t1*t7;
+    const double t8 = t2*t7 - L2*t5 - t1*t6;
+    const double t9 = L2*t4 + t1*t7 + t2*t6;
     const double t10 = 9.81 + ddq3;
-    const double t11 = m3*(t8 - cx3*t5 - cy3*t4);
-    const double t12 = m3*(t9 + cx3*t4 - cy3*t5);
-    const double t13 = t10*m3;
-    const double t14 = m2*(t8 - cx2*t5 - cy2*t4);
-    const double t15 = m2*(t9 + cx2*t4 - cy2*t5);
-    const double t16 = t11 + t14;
-    const double t17 = t12 + t15;
-    const double t18 = izz2 + izz3;
-    const double t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11;
-    const double t20 = m1*(t1 - cx1*t0 - cy1*ddq1);
-    const double t21 = m1*(t2 + cx1*ddq1 - cy1*t0);
-    const double t22 = t21 + t16*t7 + t17*t6;
-    const double t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20;
-    tau[0] = t23;
-    tau[1] = t19;
-    tau[2] = t13;
+    const double t11 = 0.4932*t10;
+    const double t12 = 1.193*t9 - 0.1342125*t4;
+    const double t13 = 0.1342125*t5 + 1.6862000000000001*t8;
+    const double t14 = t12 + 0.4932*t9;
+    const double t15 = 0.00524366*t4 - 0.1125*t12 + L2*t14;
+    const double t16 = 2.481*t2 - 0.4031625*ddq1;
+    const double t17 = t16 + t13*t7 + t14*t6;
+    const double t18 = t15 + 0.0224*ddq1 - 0.1625*t16 + L1*t17;
+    tau[0] = t18;
+    tau[1] = t15;
+    tau[2] = t11;
 }
 
-void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *restrict tau)
+void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *restrict tau)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, pi, tau + i * 3);
+        scara_inverse_dynamics(q + i * 3, dq + i * 3, ddq + i * 3, p, tau + i * 3);
     }
 }
 
@@ -582,7 +519,7 @@ void scara_wrench_torque_batch(size_t count, const double *q, const double *wren
     }
 }
 
-void scara_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[restrict 3])
+void scara_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[restrict 3])
 {
     const double q1 = q[0];
     const double q2 = q[1];
@@ -592,13 +529,12 @@ void scara_static_torque(const double q[3], const double wrench[6], const double
     const double w_nz = wrench[5];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m3 = pi[20];
     const double t0 = q1 + q2;
     const double t1 = cos(t0);
     const double t2 = sin(t0);
     const double t3 = t1*w_fx + t2*w_fy;
     const double t4 = t2*w_fx - t1*w_fy;
-    const double t5 = -w_fz + 9.81*m3;
+    const double t5 = 4.838292000000001 - w_fz;
     const double t6 = -w_nz + L2*t4;
     const double t7 = t4*cos(q2) - t3*sin(q2);
     const double t8 = t6 + L1*t7;
@@ -607,15 +543,15 @@ void scara_static_torque(const double q[3], const double wrench[6], const double
     tau_s[2] = t5;
 }
 
-void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *restrict tau_s)
+void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_s)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_static_torque(q + i * 3, wrench + i * 6, p, pi, tau_s + i * 3);
+        scara_static_torque(q + i * 3, wrench + i * 6, p, tau_s + i * 3);
     }
 }
 
-void scara_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
+void scara_energy(const double q[3], const double dq[3], const double *p, double kinetic[restrict 1], double potential[restrict 1], double lagrangian[restrict 1])
 {
     const double q2 = q[1];
     const double q3 = q[2];
@@ -624,72 +560,48 @@ void scara_energy(const double q[3], const double dq[3], const double *p, const 
     const double dq3 = dq[2];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double m1 = pi[0];
-    const double cx1 = pi[1];
-    const double cy1 = pi[2];
-    const double cz1 = pi[3];
-    const double izz1 = pi[6];
-    const double m2 = pi[10];
-    const double cx2 = pi[11];
-    const double cy2 = pi[12];
-    const double cz2 = pi[13];
-    const double izz2 = pi[16];
-    const double m3 = pi[20];
-    const double cx3 = pi[21];
-    const double cy3 = pi[22];
-    const double cz3 = pi[23];
-    const double izz3 = pi[26];
     const double t0 = sin(q2);
     const double t1 = L1*t0;
     const double t2 = cos(q2);
     const double t3 = L2 + L1*t2;
-    const double t4 = m3*(t1 - cy3);
-    const double t5 = m3*(cx3 + t3);
-    const double t6 = m2*(t1 - cy2);
-    const double t7 = m2*(cx2 + t3);
-    const double t8 = t4 + t6;
-    const double t9 = t5 + t7;
-    const double t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4;
-    const double t11 = cy1*m1;
-    const double t12 = m1*(L1 + cx1);
-    const double t13 = t12 + t0*t8 + t2*t9;
-    const double t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11;
-    const double t15 = cy3*m3;
-    const double t16 = m3*(L2 + cx3);
-    const double t17 = cy2*m2;
-    const double t18 = m2*(L2 + cx2);
-    const double t19 = t16 + t18;
-    const double t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15;
-    const double t21 = t14*dq1*dq1 + t20*dq2*dq2 + m3*dq3*dq3;
-    const double t22 = (1.0/2.0)*t21 + dq1*dq2*t10;
-    const double t23 = 9.81*cz1*m1;
-    const double t24 = 9.81*cz2*m2;
-    const double t25 = m3*(-9.81*cz3 - 9.81*q3);
-    kinetic[0] = t22;
-    potential[0] = t23 + t24 - t25;
-    lagrangian[0] = t22 + t25 - t23 - t24;
+    const double t4 = -0.1342125 + 1.193*t3;
+    const double t5 = 1.6862000000000001*t1;
+    const double t6 = t4 + 0.4932*t3;
+    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
+    const double t8 = -0.4031625 + 2.481*L1;
+    const double t9 = t8 + t0*t5 + t2*t6;
+    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
+    const double t11 = -0.1342125 + 1.193*L2;
+    const double t12 = t11 + 0.4932*L2;
+    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
+    const double t14 = t10*dq1*dq1 + t13*dq2*dq2;
+    const double t15 = (1.0/2.0)*t14 + 0.2466*dq3*dq3 + dq1*dq2*t7;
+    const double t16 = 4.838292000000001*q3;
+    kinetic[0] = t15;
+    potential[0] = 0.48382920000000007 + t16;
+    lagrangian[0] = -0.48382920000000007 + t15 - t16;
 }
 
-void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
+void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)
 {
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_energy(q + i * 3, dq + i * 3, p, pi, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
+        scara_energy(q + i * 3, dq + i * 3, p, kinetic + i * 1, potential + i * 1, lagrangian + i * 1);
     }
 }
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
  * ddq is NaN where M is not numerically positive definite. */
-void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[restrict 3])
+void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
     const double zero[3] = { 0 };
     int i;
 
-    scara_mass_matrix(q, p, pi, M);
-    scara_inverse_dynamics(q, dq, zero, p, pi, bias);
+    scara_mass_matrix(q, p, M);
+    scara_inverse_dynamics(q, dq, zero, p, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

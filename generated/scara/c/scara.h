@@ -10,14 +10,14 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
- *   gravity: 1 ops (1 multiplications)
- *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
- *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
- *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q3 (rad for q1, q2; m for q3).
  * p: parameters L1, L2 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3.
  */
 #ifndef SCARA_KINEMATICS_H
 #define SCARA_KINEMATICS_H
@@ -123,64 +123,59 @@ void scara_manipulability(const double q[3], const double *p, double mu[SYMKIN_R
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (58 operations).
+/* Mass matrix (33 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_mass_matrix(const double q[3], const double *p, const double *pi, double M[SYMKIN_RESTRICT 9]);
+void scara_mass_matrix(const double q[3], const double *p, double M[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void scara_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
-/* Gravity torques (1 operations).
+/* Gravity torques (0 operations).
  * G[3]: G(q) (3x1)
  *   units: N m for q1, q2; N for q3
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_gravity(const double q[3], const double *p, const double *pi, double G[SYMKIN_RESTRICT 3]);
+void scara_gravity(const double q[3], const double *p, double G[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void scara_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (51 operations).
+/* Coriolis and centrifugal torques (24 operations).
  * c[3]: c = C(q, dq) dq (3x1)
  *   units: N m for q1, q2; N for q3
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_coriolis(const double q[3], const double dq[3], const double *p, const double *pi, double c[SYMKIN_RESTRICT 3]);
+void scara_coriolis(const double q[3], const double dq[3], const double *p, double c[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (43 operations).
+/* Coriolis matrix (christoffel symbols) (24 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, const double *pi, double C[SYMKIN_RESTRICT 9]);
+void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (77 operations).
+/* Inverse dynamics (46 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)
  *   units: N m for q1, q2; N for q3
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[3]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 3]);
+void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void scara_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Joint torques of an external wrench (22 operations).
  * tau_w[3]: -J^T w (3x1)
@@ -193,19 +188,18 @@ void scara_wrench_torque(const double q[3], const double wrench[6], const double
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
-/* Static torques holding the arm against gravity and an external wrench (20 operations).
+/* Static torques holding the arm against gravity and an external wrench (19 operations).
  * tau_s[3]: G - J^T w (3x1)
  *   units: N m for q1, q2; N for q3
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_static_torque(const double q[3], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 3]);
+void scara_static_torque(const double q[3], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 3]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (84 operations).
+/* Kinetic and potential energy and the lagrangian (49 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void scara_static_torque_batch(size_t count, const double *q, const double *wren
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
  * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[2]: parameters (L1, L2; SI units, angles in rad)
- * pi[30]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void scara_energy(const double q[3], const double dq[3], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void scara_energy(const double q[3], const double dq[3], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 3, each output count x its size. */
-void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[3] (N m for q1, q2; N for q3) in place of ddq.
  * ddq[3]: joint accelerations; rad/s^2 for q1, q2; m/s^2 for q3 */
-void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 3]);
+void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[SYMKIN_RESTRICT 3]);
 
 #ifdef __cplusplus
 }

@@ -10,14 +10,14 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
-  gravity: 1 ops (1 multiplications)
-  coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
-  inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+  mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+  gravity: 0 ops (none)
+  coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+  inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
-  static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
-  energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
+  static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+  energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -219,212 +219,146 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     return mu
 
 
-def mass_matrix(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Mass matrix: 58 operations.
+def mass_matrix(q, p=DEFAULT_PARAMETERS):
+    """Mass matrix: 33 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns M: M(q) (3x3), shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    izz3 = pi[..., 26]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m3*(t1 - cy3)
-    t5 = m3*(cx3 + t3)
-    t6 = m2*(t1 - cy2)
-    t7 = m2*(cx2 + t3)
-    t8 = t4 + t6
-    t9 = t5 + t7
-    t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
-    t11 = cy1*m1
-    t12 = m1*(L1 + cx1)
-    t13 = t12 + t0*t8 + t2*t9
-    t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11
-    t15 = cy3*m3
-    t16 = m3*(L2 + cx3)
-    t17 = cy2*m2
-    t18 = m2*(L2 + cx2)
-    t19 = t16 + t18
-    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15
+    t4 = -0.1342125 + 1.193*t3
+    t5 = 1.6862*t1
+    t6 = t4 + 0.4932*t3
+    t7 = 0.00524366 - 0.1125*t4 + L2*t6
+    t8 = -0.4031625 + 2.481*L1
+    t9 = t8 + t0*t5 + t2*t6
+    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
+    t11 = -0.1342125 + 1.193*L2
+    t12 = t11 + 0.4932*L2
+    t13 = 0.00524366 - 0.1125*t11 + L2*t12
     M = numpy.zeros(batch + (3, 3))
-    M[..., 0, 0] = t14
-    M[..., 0, 1] = t10
-    M[..., 1, 0] = t10
-    M[..., 1, 1] = t20
-    M[..., 2, 2] = m3
+    M[..., 0, 0] = t10
+    M[..., 0, 1] = t7
+    M[..., 1, 0] = t7
+    M[..., 1, 1] = t13
+    M[..., 2, 2] = 0.493200000000000
     return M
 
 
-def gravity(q, p=DEFAULT_PARAMETERS, pi=None):
-    """Gravity torques: 1 operations.
+def gravity(q, p=DEFAULT_PARAMETERS):
+    """Gravity torques: 0 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns G: G(q) (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
-    m3 = pi[..., 20]
-    t0 = 9.81*m3
     G = numpy.zeros(batch + (3,))
-    G[..., 2] = t0
+    G[..., 2] = 4.83829200000000
     return G
 
 
-def coriolis(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis and centrifugal torques: 51 operations.
+def coriolis(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis and centrifugal torques: 24 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns c: c = C(q, dq) dq (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = dq1 + dq2
     t3 = t2**2
     t4 = numpy.cos(q2)
-    t5 = t1*t4 - L2*t3
+    t5 = L2*t3 + t1*t4
     t6 = numpy.sin(q2)
-    t7 = -t1*t6
-    t8 = m3*(t5 - cx3*t3)
-    t9 = m3*(t7 - cy3*t3)
-    t10 = m2*(t5 - cx2*t3)
-    t11 = m2*(t7 - cy2*t3)
-    t12 = t10 + t8
-    t13 = t11 + t9
-    t14 = L2*t13 + cx2*t11 + cx3*t9 - cy2*t10 - cy3*t8
-    t15 = m1*(t1 - cx1*t0)
-    t16 = -cy1*t0*m1
-    t17 = t16 + t12*t6 + t13*t4
-    t18 = t14 + L1*t17 + cx1*t16 - cy1*t15
+    t7 = t1*t6
+    t8 = 1.193*t7
+    t9 = 0.1342125*t3 - 1.6862*t5
+    t10 = t8 + 0.4932*t7
+    t11 = -0.1125*t8 + L2*t10
+    t12 = t10*t4 + t6*t9
+    t13 = t11 + L1*t12
     c = numpy.zeros(batch + (3,))
-    c[..., 0] = t18
-    c[..., 1] = t14
+    c[..., 0] = t13
+    c[..., 1] = t11
     return c
 
 
-def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Coriolis matrix (christoffel symbols): 43 operations.
+def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
+    """Coriolis matrix (christoffel symbols): 24 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric, shape (..., 3, 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L1*t2
     t4 = L2 + t3
-    t5 = m2*(t1 - cy2) + m3*(t1 - cy3)
-    t6 = m2*(cx2 + t4) + m3*(cx3 + t4)
-    t7 = t1*m3
-    t8 = t3*m3
-    t9 = t1*m2
-    t10 = t7 + t9
-    t11 = t3*m2
-    t12 = L2*t10 + cx2*t9 + cx3*t7 + cy2*t11 + cy3*t8
-    t13 = t11 + t8
-    t14 = t5 - t10
-    t15 = t13 - t6
-    t16 = t0*t15 + t14*t2
-    t17 = -t12 + L1*t16
-    t18 = (1/2)*t17
-    t19 = dq1*t18
+    t5 = 1.193*t1
+    t6 = t5 + 0.4932*t1
+    t7 = -0.1342125 + 1.6862*t4
+    t8 = 0.1125*t5 - L2*t6
+    t9 = 1.6862*t3
+    t10 = t9 - t7
+    t11 = t0*t10
+    t12 = t8 + L1*t11
+    t13 = (1/2)*t12
+    t14 = dq1*t13
     C = numpy.zeros(batch + (3, 3))
-    C[..., 0, 0] = dq2*t18
-    C[..., 0, 1] = t19 - dq2*t12
-    C[..., 1, 0] = -t19
+    C[..., 0, 0] = dq2*t13
+    C[..., 0, 1] = t14 + dq2*t8
+    C[..., 1, 0] = -t14
     return C
 
 
-def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
-    """Inverse dynamics: 77 operations.
+def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
+    """Inverse dynamics: 46 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     ddq: joint accelerations (rad/s^2 or m/s^2), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau: tau = M ddq + C dq + G + F (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     dq1 = dq[..., 0]
@@ -434,46 +368,29 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS, pi=None):
     ddq3 = ddq[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    izz3 = pi[..., 26]
     t0 = dq1**2
-    t1 = -L1*t0
+    t1 = L1*t0
     t2 = L1*ddq1
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
     t6 = numpy.cos(q2)
     t7 = numpy.sin(q2)
-    t8 = t1*t6 + t2*t7 - L2*t5
-    t9 = L2*t4 + t2*t6 - t1*t7
+    t8 = t2*t7 - L2*t5 - t1*t6
+    t9 = L2*t4 + t1*t7 + t2*t6
     t10 = 9.81 + ddq3
-    t11 = m3*(t8 - cx3*t5 - cy3*t4)
-    t12 = m3*(t9 + cx3*t4 - cy3*t5)
-    t13 = t10*m3
-    t14 = m2*(t8 - cx2*t5 - cy2*t4)
-    t15 = m2*(t9 + cx2*t4 - cy2*t5)
-    t16 = t11 + t14
-    t17 = t12 + t15
-    t18 = izz2 + izz3
-    t19 = L2*t17 + cx2*t15 + cx3*t12 + t18*t4 - cy2*t14 - cy3*t11
-    t20 = m1*(t1 - cx1*t0 - cy1*ddq1)
-    t21 = m1*(t2 + cx1*ddq1 - cy1*t0)
-    t22 = t21 + t16*t7 + t17*t6
-    t23 = t19 + L1*t22 + cx1*t21 + ddq1*izz1 - cy1*t20
+    t11 = 0.4932*t10
+    t12 = 1.193*t9 - 0.1342125*t4
+    t13 = 0.1342125*t5 + 1.6862*t8
+    t14 = t12 + 0.4932*t9
+    t15 = 0.00524366*t4 - 0.1125*t12 + L2*t14
+    t16 = 2.481*t2 - 0.4031625*ddq1
+    t17 = t16 + t13*t7 + t14*t6
+    t18 = t15 + 0.0224*ddq1 - 0.1625*t16 + L1*t17
     tau = numpy.zeros(batch + (3,))
-    tau[..., 0] = t23
-    tau[..., 1] = t19
-    tau[..., 2] = t13
+    tau[..., 0] = t18
+    tau[..., 1] = t15
+    tau[..., 2] = t11
     return tau
 
 
@@ -507,21 +424,17 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     return tau_w
 
 
-def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
-    """Static torques holding the arm against gravity and an external wrench: 20 operations.
+def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
+    """Static torques holding the arm against gravity and an external wrench: 19 operations.
 
     q: joint positions (rad or m), 3 values per state.
     wrench: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point, 6 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns tau_s: G - J^T w (3x1), shape (..., 3).
     """
     q = numpy.asarray(q, dtype=float)
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q1 = q[..., 0]
     q2 = q[..., 1]
@@ -531,13 +444,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     w_nz = wrench[..., 5]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m3 = pi[..., 20]
     t0 = q1 + q2
     t1 = numpy.cos(t0)
     t2 = numpy.sin(t0)
     t3 = t1*w_fx + t2*w_fy
     t4 = t2*w_fx - t1*w_fy
-    t5 = -w_fz + 9.81*m3
+    t5 = 4.838292 - w_fz
     t6 = -w_nz + L2*t4
     t7 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
     t8 = t6 + L1*t7
@@ -548,13 +460,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS, pi=None):
     return tau_s
 
 
-def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
-    """Kinetic and potential energy and the lagrangian: 84 operations.
+def energy(q, dq, p=DEFAULT_PARAMETERS):
+    """Kinetic and potential energy and the lagrangian: 49 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
-    pi: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2), 30 values.
     Returns kinetic: kinetic energy T = 1/2 dq^T M dq, shape (..., ).
     Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
     Returns lagrangian: Lagrangian L = T - V, shape (..., ).
@@ -562,9 +473,6 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     q = numpy.asarray(q, dtype=float)
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
-    if pi is None:
-        raise ValueError("pi: give the 30 inertial parameters the robot file leaves out")
-    pi = numpy.asarray(pi, dtype=float)
     batch = q.shape[:-1]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -573,63 +481,39 @@ def energy(q, dq, p=DEFAULT_PARAMETERS, pi=None):
     dq3 = dq[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    m1 = pi[..., 0]
-    cx1 = pi[..., 1]
-    cy1 = pi[..., 2]
-    cz1 = pi[..., 3]
-    izz1 = pi[..., 6]
-    m2 = pi[..., 10]
-    cx2 = pi[..., 11]
-    cy2 = pi[..., 12]
-    cz2 = pi[..., 13]
-    izz2 = pi[..., 16]
-    m3 = pi[..., 20]
-    cx3 = pi[..., 21]
-    cy3 = pi[..., 22]
-    cz3 = pi[..., 23]
-    izz3 = pi[..., 26]
     t0 = numpy.sin(q2)
     t1 = L1*t0
     t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
-    t4 = m3*(t1 - cy3)
-    t5 = m3*(cx3 + t3)
-    t6 = m2*(t1 - cy2)
-    t7 = m2*(cx2 + t3)
-    t8 = t4 + t6
-    t9 = t5 + t7
-    t10 = izz2 + izz3 + L2*t9 + cx2*t7 + cx3*t5 - cy2*t6 - cy3*t4
-    t11 = cy1*m1
-    t12 = m1*(L1 + cx1)
-    t13 = t12 + t0*t8 + t2*t9
-    t14 = t10 + izz1 + L1*t13 + cx1*t12 + cy1*t11
-    t15 = cy3*m3
-    t16 = m3*(L2 + cx3)
-    t17 = cy2*m2
-    t18 = m2*(L2 + cx2)
-    t19 = t16 + t18
-    t20 = izz2 + izz3 + L2*t19 + cx2*t18 + cx3*t16 + cy2*t17 + cy3*t15
-    t21 = t14*dq1**2 + t20*dq2**2 + m3*dq3**2
-    t22 = (1/2)*t21 + dq1*dq2*t10
-    t23 = 9.81*cz1*m1
-    t24 = 9.81*cz2*m2
-    t25 = m3*(-9.81*cz3 - 9.81*q3)
+    t4 = -0.1342125 + 1.193*t3
+    t5 = 1.6862*t1
+    t6 = t4 + 0.4932*t3
+    t7 = 0.00524366 - 0.1125*t4 + L2*t6
+    t8 = -0.4031625 + 2.481*L1
+    t9 = t8 + t0*t5 + t2*t6
+    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
+    t11 = -0.1342125 + 1.193*L2
+    t12 = t11 + 0.4932*L2
+    t13 = 0.00524366 - 0.1125*t11 + L2*t12
+    t14 = t10*dq1**2 + t13*dq2**2
+    t15 = (1/2)*t14 + 0.2466*dq3**2 + dq1*dq2*t7
+    t16 = 4.838292*q3
     kinetic = numpy.zeros(batch + ())
-    kinetic[...] = t22
+    kinetic[...] = t15
     potential = numpy.zeros(batch + ())
-    potential[...] = t23 + t24 - t25
+    potential[...] = 0.4838292 + t16
     lagrangian = numpy.zeros(batch + ())
-    lagrangian[...] = t22 + t25 - t23 - t24
+    lagrangian[...] = -0.4838292 + t15 - t16
     return kinetic, potential, lagrangian
 
 
-def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS, pi=None):
+def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
     """Joint accelerations from M(q) ddq = tau - c - G - F (a linear solve, no inverse).
 
     c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
     """
     q = numpy.asarray(q, dtype=float)
-    extra = {"pi": pi}
+    extra = {}
     mass = mass_matrix(q, p, **extra)
     bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
     rhs = numpy.asarray(tau, dtype=float) - bias

@@ -10,20 +10,19 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 58 ops (29 additions, 27 multiplications, 2 trig)
- *   gravity: 1 ops (1 multiplications)
- *   coriolis: 51 ops (18 additions, 29 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 43 ops (18 additions, 22 multiplications, 1 divisions, 2 trig)
- *   inverse_dynamics: 77 ops (33 additions, 40 multiplications, 2 trig, 2 powers)
+ *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   gravity: 0 ops (none)
+ *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
- *   static_torque: 20 ops (7 additions, 9 multiplications, 4 trig)
- *   energy: 84 ops (38 additions, 40 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
+ *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
  *
  * CPython extension 'scara_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
  * where it needs them), each of shape (3,) or (N, 3) (the wrench: (6,) or (N, 6)), then optionally p (the
- * parameters L1, L2) and the 30 inertial parameters pi the robot
- * file leaves out (required by the dynamics functions); p and pi may also be given by
+ * parameters L1, L2); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
  * Build: symkin derive scara --out DIR.
  */
@@ -39,7 +38,7 @@
 
 #define MAX_STATES 3
 #define MAX_OUTPUTS 3
-#define NUM_INERTIAL 30
+#define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
@@ -377,11 +376,12 @@ static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssi
 static void mass_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_mass_matrix_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    scara_mass_matrix_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None, pi=None)", 1, { 3 }, 1, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, { 3 }, 0, mass_matrix_adapter, 1,
     { 2 },
     { { 3, 3 } },
 NULL,
@@ -396,11 +396,12 @@ static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_
 static void gravity_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_gravity_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    scara_gravity_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None, pi=None)", 1, { 3 }, 1, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, { 3 }, 0, gravity_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -415,11 +416,12 @@ static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t na
 static void coriolis_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_coriolis_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    scara_coriolis_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, { 3, 3 }, 0, coriolis_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -434,11 +436,12 @@ static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t n
 static void coriolis_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_coriolis_matrix_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    scara_coriolis_matrix_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, { 3, 3 }, 0, coriolis_matrix_adapter, 1,
     { 2 },
     { { 3, 3 } },
 NULL,
@@ -453,11 +456,12 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_inverse_dynamics_batch(count, states[0], states[1], states[2], p, pi, outputs[0]);
+    (void)pi;
+    scara_inverse_dynamics_batch(count, states[0], states[1], states[2], p, outputs[0]);
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, { 3, 3, 3 }, 1, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 3, 3, 3 }, 0, inverse_dynamics_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -492,11 +496,12 @@ static PyObject *py_wrench_torque(PyObject *self, PyObject *const *args, Py_ssiz
 static void static_torque_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_static_torque_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    scara_static_torque_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding static_torque_binding = {
-    "static_torque(q, wrench, p=None, pi=None)", 2, { 3, 6 }, 1, static_torque_adapter, 1,
+    "static_torque(q, wrench, p=None)", 2, { 3, 6 }, 0, static_torque_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -511,11 +516,12 @@ static PyObject *py_static_torque(PyObject *self, PyObject *const *args, Py_ssiz
 static void energy_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    scara_energy_batch(count, states[0], states[1], p, pi, outputs[0], outputs[1], outputs[2]);
+    (void)pi;
+    scara_energy_batch(count, states[0], states[1], p, outputs[0], outputs[1], outputs[2]);
 }
 
 static const binding energy_binding = {
-    "energy(q, dq, p=None, pi=None)", 2, { 3, 3 }, 1, energy_adapter, 3,
+    "energy(q, dq, p=None)", 2, { 3, 3 }, 0, energy_adapter, 3,
     { 0, 0, 0 },
     { { 0, 0 }, { 0, 0 }, { 0, 0 } },
 NULL,
@@ -530,14 +536,15 @@ static PyObject *py_energy(PyObject *self, PyObject *const *args, Py_ssize_t nar
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
+    (void)pi;
     size_t i;
     for (i = 0; i < count; ++i) {
-        scara_forward_dynamics(states[0] + i * 3, states[1] + i * 3, states[2] + i * 3, p, pi, outputs[0] + i * 3);
+        scara_forward_dynamics(states[0] + i * 3, states[1] + i * 3, states[2] + i * 3, p, outputs[0] + i * 3);
     }
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, { 3, 3, 3 }, 1, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, { 3, 3, 3 }, 0, forward_dynamics_adapter, 1,
     { 1 },
     { { 3, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
@@ -565,23 +572,23 @@ static PyMethodDef methods[] = {
     {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL | METH_KEYWORDS,
      "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "mass_matrix(q, p=None, pi=None): mass matrix; returns M."},
+     "mass_matrix(q, p=None): mass matrix; returns M."},
     {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL | METH_KEYWORDS,
-     "gravity(q, p=None, pi=None): gravity torques; returns G."},
+     "gravity(q, p=None): gravity torques; returns G."},
     {"coriolis", (PyCFunction)(void (*)(void))py_coriolis, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis(q, dq, p=None, pi=None): Coriolis and centrifugal torques; returns c."},
+     "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis_matrix(q, dq, p=None, pi=None): Coriolis matrix (Christoffel symbols); returns C."},
+     "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
+     "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
      "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
     {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
-     "static_torque(q, wrench, p=None, pi=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+     "static_torque(q, wrench, p=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
     {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
-     "energy(q, dq, p=None, pi=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
+     "energy(q, dq, p=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
+     "forward_dynamics(q, dq, tau, p=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},
 };
 

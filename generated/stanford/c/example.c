@@ -11,14 +11,14 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 703 ops (290 additions, 405 multiplications, 8 trig)
- *   gravity: 146 ops (55 additions, 83 multiplications, 8 trig)
- *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
- *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+ *   mass_matrix: 334 ops (118 additions, 208 multiplications, 8 trig)
+ *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
+ *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
+ *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
- *   static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
- *   energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  */
 #include <stdio.h>
 

@@ -10,14 +10,14 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 703 ops (290 additions, 405 multiplications, 8 trig)
- *   gravity: 146 ops (55 additions, 83 multiplications, 8 trig)
- *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
- *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+ *   mass_matrix: 334 ops (118 additions, 208 multiplications, 8 trig)
+ *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
+ *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
+ *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
- *   static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
- *   energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q6 (rad for q1, q2, q4, q5, q6; m for q3).
  * p: parameters d1, d2, d6 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3, 4, 5, 6.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3, 4, 5, 6.
  */
 #ifndef STANFORD_KINEMATICS_H
 #define STANFORD_KINEMATICS_H
@@ -123,64 +123,59 @@ void stanford_manipulability(const double q[6], const double *p, double mu[SYMKI
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (703 operations).
+/* Mass matrix (334 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_mass_matrix(const double q[6], const double *p, const double *pi, double M[SYMKIN_RESTRICT 36]);
+void stanford_mass_matrix(const double q[6], const double *p, double M[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void stanford_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
-/* Gravity torques (146 operations).
+/* Gravity torques (98 operations).
  * G[6]: G(q) (6x1)
  *   units: N m for q1, q2, q4, q5, q6; N for q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_gravity(const double q[6], const double *p, const double *pi, double G[SYMKIN_RESTRICT 6]);
+void stanford_gravity(const double q[6], const double *p, double G[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void stanford_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (519 operations).
+/* Coriolis and centrifugal torques (234 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  *   units: N m for q1, q2, q4, q5, q6; N for q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[SYMKIN_RESTRICT 6]);
+void stanford_coriolis(const double q[6], const double dq[6], const double *p, double c[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (2376 operations).
+/* Coriolis matrix (christoffel symbols) (1266 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[SYMKIN_RESTRICT 36]);
+void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (580 operations).
+/* Inverse dynamics (289 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  *   units: N m for q1, q2, q4, q5, q6; N for q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 6]);
+void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void stanford_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
 /* Joint torques of an external wrench (122 operations).
  * tau_w[6]: -J^T w (6x1)
@@ -193,19 +188,18 @@ void stanford_wrench_torque(const double q[6], const double wrench[6], const dou
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
-/* Static torques holding the arm against gravity and an external wrench (263 operations).
+/* Static torques holding the arm against gravity and an external wrench (220 operations).
  * tau_s[6]: G - J^T w (6x1)
  *   units: N m for q1, q2, q4, q5, q6; N for q3
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
+void stanford_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (826 operations).
+/* Kinetic and potential energy and the lagrangian (400 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void stanford_static_torque_batch(size_t count, const double *q, const double *w
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void stanford_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void stanford_energy(const double q[6], const double dq[6], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void stanford_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m for q1, q2, q4, q5, q6; N for q3) in place of ddq.
  * ddq[6]: joint accelerations; rad/s^2 for q1, q2, q4, q5, q6; m/s^2 for q3 */
-void stanford_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 6]);
+void stanford_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[SYMKIN_RESTRICT 6]);
 
 #ifdef __cplusplus
 }

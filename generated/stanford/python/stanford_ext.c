@@ -10,20 +10,19 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 703 ops (290 additions, 405 multiplications, 8 trig)
- *   gravity: 146 ops (55 additions, 83 multiplications, 8 trig)
- *   coriolis: 519 ops (250 additions, 248 multiplications, 8 trig, 13 powers)
- *   coriolis_matrix: 2376 ops (1042 additions, 1319 multiplications, 7 divisions, 8 trig)
- *   inverse_dynamics: 580 ops (287 additions, 272 multiplications, 8 trig, 13 powers)
+ *   mass_matrix: 334 ops (118 additions, 208 multiplications, 8 trig)
+ *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
+ *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
+ *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
- *   static_torque: 263 ops (98 additions, 155 multiplications, 10 trig)
- *   energy: 826 ops (338 additions, 473 multiplications, 1 divisions, 8 trig, 6 powers)
+ *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
+ *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
  *
  * CPython extension 'stanford_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau
  * where it needs them), each of shape (6,) or (N, 6) (the wrench: (6,) or (N, 6)), then optionally p (the
- * parameters d1, d2, d6) and the 60 inertial parameters pi the robot
- * file leaves out (required by the dynamics functions); p and pi may also be given by
+ * parameters d1, d2, d6); p and pi may also be given by
  * keyword. It returns new NumPy arrays with the batch dimension first.
  * Build: symkin derive stanford --out DIR.
  */
@@ -39,7 +38,7 @@
 
 #define MAX_STATES 3
 #define MAX_OUTPUTS 3
-#define NUM_INERTIAL 60
+#define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
@@ -377,11 +376,12 @@ static PyObject *py_manipulability(PyObject *self, PyObject *const *args, Py_ssi
 static void mass_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_mass_matrix_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    stanford_mass_matrix_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None, pi=None)", 1, { 6 }, 1, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, { 6 }, 0, mass_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -396,11 +396,12 @@ static PyObject *py_mass_matrix(PyObject *self, PyObject *const *args, Py_ssize_
 static void gravity_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_gravity_batch(count, states[0], p, pi, outputs[0]);
+    (void)pi;
+    stanford_gravity_batch(count, states[0], p, outputs[0]);
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None, pi=None)", 1, { 6 }, 1, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, { 6 }, 0, gravity_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -415,11 +416,12 @@ static PyObject *py_gravity(PyObject *self, PyObject *const *args, Py_ssize_t na
 static void coriolis_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_coriolis_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    stanford_coriolis_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None, pi=None)", 2, { 6, 6 }, 1, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -434,11 +436,12 @@ static PyObject *py_coriolis(PyObject *self, PyObject *const *args, Py_ssize_t n
 static void coriolis_matrix_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_coriolis_matrix_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    stanford_coriolis_matrix_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None, pi=None)", 2, { 6, 6 }, 1, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -453,11 +456,12 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_inverse_dynamics_batch(count, states[0], states[1], states[2], p, pi, outputs[0]);
+    (void)pi;
+    stanford_inverse_dynamics_batch(count, states[0], states[1], states[2], p, outputs[0]);
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None, pi=None)", 3, { 6, 6, 6 }, 1, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 6, 6, 6 }, 0, inverse_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -492,11 +496,12 @@ static PyObject *py_wrench_torque(PyObject *self, PyObject *const *args, Py_ssiz
 static void static_torque_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_static_torque_batch(count, states[0], states[1], p, pi, outputs[0]);
+    (void)pi;
+    stanford_static_torque_batch(count, states[0], states[1], p, outputs[0]);
 }
 
 static const binding static_torque_binding = {
-    "static_torque(q, wrench, p=None, pi=None)", 2, { 6, 6 }, 1, static_torque_adapter, 1,
+    "static_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, static_torque_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -511,11 +516,12 @@ static PyObject *py_static_torque(PyObject *self, PyObject *const *args, Py_ssiz
 static void energy_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
-    stanford_energy_batch(count, states[0], states[1], p, pi, outputs[0], outputs[1], outputs[2]);
+    (void)pi;
+    stanford_energy_batch(count, states[0], states[1], p, outputs[0], outputs[1], outputs[2]);
 }
 
 static const binding energy_binding = {
-    "energy(q, dq, p=None, pi=None)", 2, { 6, 6 }, 1, energy_adapter, 3,
+    "energy(q, dq, p=None)", 2, { 6, 6 }, 0, energy_adapter, 3,
     { 0, 0, 0 },
     { { 0, 0 }, { 0, 0 }, { 0, 0 } },
 NULL,
@@ -530,14 +536,15 @@ static PyObject *py_energy(PyObject *self, PyObject *const *args, Py_ssize_t nar
 static void forward_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
+    (void)pi;
     size_t i;
     for (i = 0; i < count; ++i) {
-        stanford_forward_dynamics(states[0] + i * 6, states[1] + i * 6, states[2] + i * 6, p, pi, outputs[0] + i * 6);
+        stanford_forward_dynamics(states[0] + i * 6, states[1] + i * 6, states[2] + i * 6, p, outputs[0] + i * 6);
     }
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None, pi=None)", 3, { 6, 6, 6 }, 1, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, { 6, 6, 6 }, 0, forward_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",
@@ -565,23 +572,23 @@ static PyMethodDef methods[] = {
     {"manipulability", (PyCFunction)(void (*)(void))py_manipulability, METH_FASTCALL | METH_KEYWORDS,
      "manipulability(q, p=None): Yoshikawa manipulability of the task Jacobian (|det J| when square); returns mu."},
     {"mass_matrix", (PyCFunction)(void (*)(void))py_mass_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "mass_matrix(q, p=None, pi=None): mass matrix; returns M."},
+     "mass_matrix(q, p=None): mass matrix; returns M."},
     {"gravity", (PyCFunction)(void (*)(void))py_gravity, METH_FASTCALL | METH_KEYWORDS,
-     "gravity(q, p=None, pi=None): gravity torques; returns G."},
+     "gravity(q, p=None): gravity torques; returns G."},
     {"coriolis", (PyCFunction)(void (*)(void))py_coriolis, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis(q, dq, p=None, pi=None): Coriolis and centrifugal torques; returns c."},
+     "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
-     "coriolis_matrix(q, dq, p=None, pi=None): Coriolis matrix (Christoffel symbols); returns C."},
+     "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "inverse_dynamics(q, dq, ddq, p=None, pi=None): inverse dynamics; returns tau."},
+     "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,
      "wrench_torque(q, wrench, p=None): joint torques of an external wrench; returns tau_w."},
     {"static_torque", (PyCFunction)(void (*)(void))py_static_torque, METH_FASTCALL | METH_KEYWORDS,
-     "static_torque(q, wrench, p=None, pi=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
+     "static_torque(q, wrench, p=None): static torques holding the arm against gravity and an external wrench; returns tau_s."},
     {"energy", (PyCFunction)(void (*)(void))py_energy, METH_FASTCALL | METH_KEYWORDS,
-     "energy(q, dq, p=None, pi=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
+     "energy(q, dq, p=None): kinetic and potential energy and the Lagrangian; returns kinetic, potential, lagrangian."},
     {"forward_dynamics", (PyCFunction)(void (*)(void))py_forward_dynamics, METH_FASTCALL | METH_KEYWORDS,
-     "forward_dynamics(q, dq, tau, p=None, pi=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
+     "forward_dynamics(q, dq, tau, p=None): forward dynamics ddq = M^-1 (tau - c - G - F) (Cholesky); returns ddq."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -5,19 +5,19 @@
  * Operation counts after common-subexpression elimination:
  *   fk: 91 ops (28 additions, 51 multiplications, 12 trig)
  *   position: 48 ops (16 additions, 22 multiplications, 10 trig)
- *   jacobian: 126 ops (36 additions, 76 multiplications, 10 trig, 4 powers)
+ *   jacobian: 103 ops (29 additions, 64 multiplications, 10 trig)
  *   position_jacobian: 89 ops (27 additions, 52 multiplications, 10 trig)
- *   fk_jacobian: 157 ops (43 additions, 102 multiplications, 12 trig)
+ *   fk_jacobian: 138 ops (43 additions, 83 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 807 ops (342 additions, 455 multiplications, 10 trig)
- *   gravity: 164 ops (60 additions, 94 multiplications, 10 trig)
- *   coriolis: 607 ops (289 additions, 292 multiplications, 10 trig, 16 powers)
- *   coriolis_matrix: 2767 ops (1237 additions, 1513 multiplications, 7 divisions, 10 trig)
- *   inverse_dynamics: 655 ops (319 additions, 310 multiplications, 10 trig, 16 powers)
- *   wrench_torque: 157 ops (53 additions, 94 multiplications, 10 trig)
- *   static_torque: 248 ops (93 additions, 141 multiplications, 14 trig)
- *   energy: 932 ops (389 additions, 522 multiplications, 1 divisions, 14 trig, 6 powers)
+ *   mass_matrix: 523 ops (211 additions, 302 multiplications, 10 trig)
+ *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
+ *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
+ *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
+ *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
+ *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
+ *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
+ *   energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -26,7 +26,7 @@
  * q: joint positions q1..q6 (rad).
  * p: parameters d1, a2, a3, d4, d5, d6 in this order.
  * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.
- * Inertial data (mass, centre of mass, inertia): passed as pi for links 1, 2, 3, 4, 5, 6.
+ * Inertial data (mass, centre of mass, inertia): compiled in for links 1, 2, 3, 4, 5, 6.
  */
 #ifndef UR5_KINEMATICS_H
 #define UR5_KINEMATICS_H
@@ -71,7 +71,7 @@ void ur5_position(const double q[6], const double *p, double p_tool[SYMKIN_RESTR
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_position_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT p_tool);
 
-/* Geometric jacobian (126 operations).
+/* Geometric jacobian (103 operations).
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
  *   units: rows x y z in m and rows wx wy wz in rad, each per unit of the column's joint (rad)
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -91,7 +91,7 @@ void ur5_position_jacobian(const double q[6], const double *p, double Jp[SYMKIN_
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_position_jacobian_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT Jp);
 
-/* Forward kinematics and jacobian (157 operations).
+/* Forward kinematics and jacobian (138 operations).
  * T[16]: pose of the tool in the base frame (4x4)
  *   units: rotation (rows 0-2, columns 0-2) dimensionless, position (column 3) in m, last row 0 0 0 1
  * J[36]: geometric Jacobian (6x6, rows x y z wx wy wz, base frame)
@@ -123,66 +123,61 @@ void ur5_manipulability(const double q[6], const double *p, double mu[SYMKIN_RES
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (807 operations).
+/* Mass matrix (523 operations).
  * M[36]: M(q) (6x6)
  *   units: kg m^2
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_mass_matrix(const double q[6], const double *p, const double *pi, double M[SYMKIN_RESTRICT 36]);
+void ur5_mass_matrix(const double q[6], const double *p, double M[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT M);
+void ur5_mass_matrix_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT M);
 
-/* Gravity torques (164 operations).
+/* Gravity torques (144 operations).
  * G[6]: G(q) (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_gravity(const double q[6], const double *p, const double *pi, double G[SYMKIN_RESTRICT 6]);
+void ur5_gravity(const double q[6], const double *p, double G[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_gravity_batch(size_t count, const double *q, const double *p, const double *pi, double *SYMKIN_RESTRICT G);
+void ur5_gravity_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT G);
 
-/* Coriolis and centrifugal torques (607 operations).
+/* Coriolis and centrifugal torques (395 operations).
  * c[6]: c = C(q, dq) dq (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_coriolis(const double q[6], const double dq[6], const double *p, const double *pi, double c[SYMKIN_RESTRICT 6]);
+void ur5_coriolis(const double q[6], const double dq[6], const double *p, double c[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT c);
+void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (2767 operations).
+/* Coriolis matrix (christoffel symbols) (1863 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p, const double *pi, double C[SYMKIN_RESTRICT 36]);
+void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT C);
+void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Inverse dynamics (655 operations).
+/* Inverse dynamics (441 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * ddq[6]: joint accelerations (rad/s^2 or m/s^2) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, const double *pi, double tau[SYMKIN_RESTRICT 6]);
+void ur5_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, const double *pi, double *SYMKIN_RESTRICT tau);
+void ur5_inverse_dynamics_batch(size_t count, const double *q, const double *dq, const double *ddq, const double *p, double *SYMKIN_RESTRICT tau);
 
-/* Joint torques of an external wrench (157 operations).
+/* Joint torques of an external wrench (132 operations).
  * tau_w[6]: -J^T w (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -193,19 +188,18 @@ void ur5_wrench_torque(const double q[6], const double wrench[6], const double *
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_w);
 
-/* Static torques holding the arm against gravity and an external wrench (248 operations).
+/* Static torques holding the arm against gravity and an external wrench (229 operations).
  * tau_s[6]: G - J^T w (6x1)
  *   units: N m
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * wrench[6]: external wrench on the tool (fx fy fz in N, nx ny nz in N m), base frame, at the tool point (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_static_torque(const double q[6], const double wrench[6], const double *p, const double *pi, double tau_s[SYMKIN_RESTRICT 6]);
+void ur5_static_torque(const double q[6], const double wrench[6], const double *p, double tau_s[SYMKIN_RESTRICT 6]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, const double *pi, double *SYMKIN_RESTRICT tau_s);
+void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (932 operations).
+/* Kinetic and potential energy and the lagrangian (605 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci
@@ -215,16 +209,15 @@ void ur5_static_torque_batch(size_t count, const double *q, const double *wrench
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
  * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
  * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
- * pi[60]: inertial parameters (m1, cx1, cy1, cz1, ixx1, iyy1, izz1, ixy1, ixz1, iyz1, m2, cx2, cy2, cz2, ixx2, iyy2, izz2, ixy2, ixz2, iyz2, m3, cx3, cy3, cz3, ixx3, iyy3, izz3, ixy3, ixz3, iyz3, m4, cx4, cy4, cz4, ixx4, iyy4, izz4, ixy4, ixz4, iyz4, m5, cx5, cy5, cz5, ixx5, iyy5, izz5, ixy5, ixz5, iyz5, m6, cx6, cy6, cz6, ixx6, iyy6, izz6, ixy6, ixz6, iyz6; m in kg, cx cy cz in m, ixx iyy izz ixy ixz iyz in kg m^2)
  */
-void ur5_energy(const double q[6], const double dq[6], const double *p, const double *pi, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
+void ur5_energy(const double q[6], const double dq[6], const double *p, double kinetic[SYMKIN_RESTRICT 1], double potential[SYMKIN_RESTRICT 1], double lagrangian[SYMKIN_RESTRICT 1]);
 /* The same for count states: q is count x 6, each output count x its size. */
-void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, const double *pi, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
+void ur5_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT kinetic, double *SYMKIN_RESTRICT potential, double *SYMKIN_RESTRICT lagrangian);
 
 /* Forward dynamics: ddq from M(q) ddq = tau - c - G - F (Cholesky solve, no inverse).
  * Inputs as for inverse_dynamics, with tau[6] (N m) in place of ddq.
  * ddq[6]: joint accelerations; rad/s^2 */
-void ur5_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, const double *pi, double ddq[SYMKIN_RESTRICT 6]);
+void ur5_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[SYMKIN_RESTRICT 6]);
 
 #ifdef __cplusplus
 }

@@ -30,7 +30,12 @@ from symkin.cli.values import (
 from symkin.derive import Model, derive
 from symkin.errors import SymkinError
 from symkin.solve.ik.numeric import DEFAULT_RESTARTS, solve_ik
-from symkin.solve.ik.path import follow_path, newton_path_table, path_table_json
+from symkin.solve.ik.path import (
+    follow_path,
+    newton_path_table,
+    path_table_json,
+    path_table_latex,
+)
 from symkin.solve.ik.plot import plot_path, plot_solutions
 from symkin.solve.ik.solutions import all_solutions
 from symkin.solve.ik.target import pose_from_target
@@ -62,6 +67,8 @@ def ik_path(
         )
     if args.table:
         return ik_table(model, args, start, end, q0, overrides)
+    if args.latex:
+        raise SymkinError("--latex prints the lecture's table: use it with --table")
     return ik_follow(model, args, start, end, q0, overrides)
 
 
@@ -144,6 +151,8 @@ def ik_table(
     robot = model.robot
     if args.json:
         print(json_text({"robot": robot.name, **path_table_json(path)}))
+    elif args.latex:
+        print(path_table_latex(path, robot.name, args.steps, args.lang), end="")
     else:
         print(newton_path_text(robot, path, start, end, args.steps, args.tolerance))
     if args.plot:
@@ -174,8 +183,8 @@ def command_ik(args: argparse.Namespace) -> int:
         raise SymkinError("give either --target or --path-from (with --to and --steps)")
     if args.path_from is not None:
         return ik_path(model, args, q0, overrides)
-    if args.to is not None or args.steps is not None or args.table:
-        raise SymkinError("--to, --steps and --table go with --path-from, not --target")
+    if args.to is not None or args.steps is not None or args.table or args.latex:
+        raise SymkinError("--to, --steps, --table and --latex go with --path-from, not --target")
     values = target_from_text(args.target, "--target")
     pose, position_only, task = ik_problem(values, args.task, args.euler)
     rows = task or model.task_rows

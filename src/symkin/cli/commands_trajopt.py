@@ -109,8 +109,8 @@ def _add_path_options(trajopt: argparse.ArgumentParser) -> None:
         "--rate",
         type=float,
         metavar="HZ",
-        help="with --out: also write trajectory_resampled.csv at HZ samples per second "
-        "(states, accelerations, feedforward torques)",
+        help="with --out: also write trajectory_resampled.csv and .json at HZ samples per "
+        "second (states, accelerations, feedforward torques)",
     )
 
 
@@ -197,6 +197,6 @@ def command_trajopt(args: argparse.Namespace) -> None:
         )
         paths = write_trajectory(trajectory, args.out, plot=args.plot, functions=functions)
         if args.rate is not None:
-            paths.append(write_resampled(resampled(trajectory, functions, args.rate), args.out))
+            paths += write_resampled(resampled(trajectory, functions, args.rate), args.out)
         if not args.json:
             print(f"wrote {', '.join(str(path) for path in paths)}")

@@ -17,6 +17,7 @@ from symkin.cli.commands import (
     command_list,
     command_show,
 )
+from symkin.cli.commands_check import add_check
 from symkin.cli.commands_geometry import command_dh, command_urdf
 from symkin.cli.commands_identify import command_identify
 from symkin.cli.commands_ik import command_ik
@@ -118,6 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_dh(commands)
     add_urdf(commands)
     add_workspace_commands(commands, add_robot_argument)
+    add_check(commands)
     for name, command in commands.choices.items():
         add_run_options(command, cached=name in CACHED_COMMANDS)
     return parser
@@ -388,10 +390,23 @@ def add_ik(commands: Commands) -> None:
         action="store_true",
         help="the lecture's scheme: one Newton step per waypoint from (--path-from, --q0)",
     )
+    add_table_latex_options(ik)
     add_set_option(ik)
     ik.add_argument("--json", action="store_true", help="print a JSON object")
     ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
     ik.set_defaults(run=command_ik)
+
+
+def add_table_latex_options(ik: argparse.ArgumentParser) -> None:
+    """``--latex`` and ``--lang`` of ``symkin ik --table``."""
+    ik.add_argument(
+        "--latex",
+        action="store_true",
+        help="with --table: print the table as a standalone LaTeX document (the lecture's columns)",
+    )
+    ik.add_argument(
+        "--lang", choices=LANGUAGES, default="en", help="language of --latex (default: en)"
+    )
 
 
 def add_trajopt(commands: Commands) -> None:

@@ -17,6 +17,7 @@ from symkin.derive import Model
 from symkin.derive.budget import NOT_SQUARE, OVER_BUDGET, ClosedForm
 from symkin.derive.kinematics import joint_dh_values, placement_xyz_rpy
 from symkin.derive.lagrange import READABLE_DOF
+from symkin.emit.formula_text import formula_text
 from symkin.errors import BudgetWarning, ParameterError, SymkinError
 from symkin.progress import note
 from symkin.robot import Robot
@@ -107,12 +108,12 @@ def json_text(data: dict) -> str:
 def text_matrix(matrix: sp.MatrixBase) -> str:
     """One line per row, entries in SymPy syntax."""
     return "\n".join(
-        "  [" + ", ".join(sp.sstr(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)
+        "  [" + ", ".join(formula_text(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)
     )
 
 
 def condition_text(condition: sp.Eq) -> str:
-    return f"{sp.sstr(condition.lhs)} = {sp.sstr(condition.rhs)}"
+    return f"{formula_text(condition.lhs)} = {formula_text(condition.rhs)}"
 
 
 def dh_table_text(model: Model) -> str:
@@ -121,7 +122,9 @@ def dh_table_text(model: Model) -> str:
     lines = [f"  {'i':>2}  {'type':<9}" + "".join(f"  {c:<14}" for c in columns)]
     for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
         values = joint_dh_values(joint, q)
-        lines.append(f"  {i:>2}  {joint.type:<9}" + "".join(f"  {sp.sstr(v):<14}" for v in values))
+        lines.append(
+            f"  {i:>2}  {joint.type:<9}" + "".join(f"  {formula_text(v):<14}" for v in values)
+        )
     return "\n".join(lines)
 
 
@@ -133,9 +136,11 @@ def placement_table_text(model: Model) -> str:
     for i, (joint, q) in enumerate(zip(model.robot.joints, model.q, strict=True), start=1):
         xyz, rpy = placement_xyz_rpy(joint.placement)
         theta, d, _, _ = joint_dh_values(joint, q)
-        motion = f"Rz({sp.sstr(theta)})" if joint.type == "revolute" else f"Tz({sp.sstr(d)})"
+        motion = (
+            f"Rz({formula_text(theta)})" if joint.type == "revolute" else f"Tz({formula_text(d)})"
+        )
         triples = [
-            " ".join(sp.sstr(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
+            " ".join(formula_text(sp.N(v, 6) if v.is_number else v) for v in t) for t in (xyz, rpy)
         ]
         lines.append(
             f"  {i:>2}  {joint.type:<9}  {joint.name or '':<20}  {triples[0]:<34}  "
@@ -158,12 +163,22 @@ def convention_text(convention: str) -> str:
     return "placed joints" if convention == "placement" else f"{convention} DH"
 
 
+def data_notes(robot: Robot) -> list[str]:
+    """One line per link whose file documents its inertial data (``inertia_note``)."""
+    return [
+        f"note: joint {i} link inertia: {printable(joint.link.inertia_note)}"
+        for i, joint in enumerate(robot.joints, start=1)
+        if joint.link is not None and joint.link.inertia_note
+    ]
+
+
 def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
     robot = model.robot
     parameters = ", ".join(f"{n} = {'(symbol)' if v is None else v}" for n, v in robot.parameters)
     out = [
         f"{robot.name}: {printable(robot.title)}",
         f"source: {printable(robot.source) or '(not given)'}",
+        *data_notes(robot),
         f"{robot.dof} joints, {convention_text(robot.convention)}; "
         f"parameters: {parameters or 'none'}",
         "",
@@ -187,7 +202,7 @@ def show_text(model: Model, rows: tuple[str, ...] | None) -> str:
         out.append(f"  det J: closed form {_not_found_text(form)}; generated code computes it")
         out.append("  numerically from the Jacobian, and so do 'symkin eval' and kinematic_state")
     else:
-        out.append(f"  det J = {sp.sstr(determinant)}")
+        out.append(f"  det J = {formula_text(determinant)}")
         if determinant == 0:
             out.append("  singular in every configuration: these rows are linearly dependent")
         else:
@@ -229,12 +244,12 @@ def dynamics_show_json(model: Model) -> dict:
     dynamics = model.lagrange
 
     def strings(matrix: sp.MatrixBase) -> list:
-        return [[sp.sstr(e) for e in matrix.row(i)] for i in range(matrix.rows)]
+        return [[formula_text(e) for e in matrix.row(i)] for i in range(matrix.rows)]
 
     return {
         "M": strings(dynamics.mass_matrix),
         "C": strings(dynamics.coriolis_matrix),
-        "G": [sp.sstr(e) for e in dynamics.gravity_vector],
+        "G": [formula_text(e) for e in dynamics.gravity_vector],
     }
 
 
@@ -253,11 +268,11 @@ def show_json(model: Model, rows: tuple[str, ...] | None) -> dict:
         "robot": model.robot.name,
         "q": [s.name for s in model.q],
         "task_rows": list(rows or model.task_rows),
-        "T": [[sp.sstr(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
-        "jacobian": [[sp.sstr(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
-        "det": sp.sstr(determinant.value) if determinant.found else None,
+        "T": [[formula_text(e) for e in model.forward_kinematics.row(i)] for i in range(4)],
+        "jacobian": [[formula_text(e) for e in model.geometric_jacobian.row(i)] for i in range(6)],
+        "det": formula_text(determinant.value) if determinant.found else None,
         "det_status": determinant.status,
-        "singular": [sp.sstr(c) for c in singular.value]
+        "singular": [formula_text(c) for c in singular.value]
         if singular.found
         else ([] if singular.status == NOT_SQUARE else None),
         "singular_status": singular.status,

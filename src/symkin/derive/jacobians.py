@@ -18,6 +18,7 @@ import sympy as sp
 
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, joint_axis_sign
 from symkin.derive.orientation_rates import orientation_rates
+from symkin.derive.pythagorean import fold_matrix
 from symkin.derive.simplify import derivative_matrix
 from symkin.errors import SymkinError
 from symkin.robot import Robot
@@ -271,6 +272,7 @@ def singular_configurations(determinant: sp.Expr, q: Sequence[sp.Symbol]) -> tup
 def inverse_from_adjugate(
     kinematics: Kinematics, matrix: sp.MatrixBase, determinant: sp.Expr
 ) -> sp.ImmutableMatrix:
-    """``J^-1 = adj(J) / det(J)``, the adjugate contracted entry by entry."""
-    adjugate = kinematics.contract(sp.Matrix(matrix).adjugate(method="berkowitz"))
+    """``J^-1 = adj(J) / det(J)``, the adjugate contracted entry by entry and
+    ``sin^2 + cos^2`` folded (:mod:`symkin.derive.pythagorean`; the RPR arm's cofactors)."""
+    adjugate = fold_matrix(kinematics.contract(sp.Matrix(matrix).adjugate(method="berkowitz")))
     return sp.ImmutableMatrix(adjugate / determinant)

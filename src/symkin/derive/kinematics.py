@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from symkin.derive.pythagorean import fold_pythagorean
 from symkin.derive.simplify import contract_matrix, contract_product
 from symkin.robot import Joint, Robot
 from symkin.spatial import euler_zyx_from_rotation, rot_x, rot_z, rpy_from_rotation
@@ -249,7 +250,8 @@ def euler_zyx_of_tool(kinematics: Kinematics, method: str = "atan2") -> tuple[sp
 
     ``method="atan2"`` uses ``theta = atan2(-r31, sqrt(r11^2 + r21^2))``;
     ``method="lecture"`` the lecture's eq. (14.7)
-    ``theta = atan2(-r31, r11 cos psi + r21 sin psi)``.
+    ``theta = atan2(-r31, r11 cos psi + r21 sin psi)``.  ``sin^2 + cos^2`` is folded to 1
+    (a planar arm's ``sqrt(r11^2 + r21^2)``; :mod:`symkin.derive.pythagorean`).
     """
     angles = euler_zyx_from_rotation(kinematics.tool_rotation, method=method)
-    return tuple(sp.sympify(a) for a in (angles.psi, angles.theta, angles.phi))
+    return tuple(fold_pythagorean(sp.sympify(a)) for a in (angles.psi, angles.theta, angles.phi))

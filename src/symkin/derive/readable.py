@@ -15,8 +15,9 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
   :func:`~symkin.derive.budget.run_within`); past the budget one
   :class:`~symkin.errors.BudgetWarning` names the robot, the result and ``{budget}``, and the
   model keeps the product form;
-* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046) it is not attempted under a
-  budget: one warning says so at once, where the child would only have spent the budget.
+* past :data:`MAX_TERMS` terms (a random 12R arm: 3,046; a generic-twist 6R: 1,511) it is
+  not attempted under a budget: one warning says so at once, where the child would
+  only have spent the budget.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ import sympy as sp
 from symkin.derive import jacobians
 from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
 from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
+from symkin.derive.pythagorean import fold_matrix
 from symkin.errors import BudgetWarning
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
@@ -38,9 +40,11 @@ from symkin.symbols import joint_symbols
 # with right-angle twists 165 (readable FK + J 1 s), the Jaco-like 6R 198, a random 8R 404
 # (9 s), a random 12R 3,046 (over 80 s).
 INLINE_TERMS = 200
-# Past this many terms the contraction is not attempted under a budget (the time grows about
-# as the square of the terms: 404 terms 9 s, so 1,000 terms about a minute); with no budget
-# (``budget=None``) it is.
+# Past this many terms the contraction is not attempted under a budget: with parallel axes
+# TR10i's search grows about as the square of the terms (404 terms 9 s, 1,000 about a
+# minute); without, the "readable" form is the plain expansion (a generic 6R: 1,511 terms),
+# unreadable, and as a kernel candidate it about doubled the CPU time of a 6R's derive
+# (measured 14.5 s without it).  With no budget (``budget=None``) it is attempted.
 MAX_TERMS = 1000
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
@@ -70,11 +74,16 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
     :class:`ClosedForm`: found, or over budget (with one warning) for the caller to fall back
     to the product form."""
 
+    size = expanded_size(robot)
+    inline = size <= INLINE_TERMS
+
     def contracted() -> Readable:
         kinematics = kinematics_from_robot(robot)
-        return kinematics, jacobians.geometric_jacobian(robot, kinematics)
+        jacobian = jacobians.geometric_jacobian(robot, kinematics)
+        # sin^2 + cos^2 left by z x (p - o) products (PUMA J(3,2), 258 -> 209 ops) folded in
+        # about 1 ms; a long generic chain keeps them (1.3 s more at six generic joints).
+        return kinematics, fold_matrix(jacobian) if inline else jacobian
 
-    size = expanded_size(robot)
     if budget is not None and size > MAX_TERMS:
         note = (
             f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
@@ -82,5 +91,5 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         )
         warnings.warn(BudgetWarning(note), stacklevel=4)
         return ClosedForm(QUANTITY, OVER_BUDGET, None, note)
-    within = None if size <= INLINE_TERMS else budget
+    within = None if inline else budget
     return closed_form_within(QUANTITY, robot.name, within, contracted, FALLBACK)

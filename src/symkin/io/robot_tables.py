@@ -19,7 +19,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.errors import RobotError, RobotWarning
-from symkin.io.context import Context, as_table, check_keys, read_choice, show
+from symkin.io.context import Context, as_table, check_keys, read_choice, read_text, show
 from symkin.io.drive_tables import check_positive, read_drive, read_stiffness
 from symkin.io.expressions import (
     finite_float,
@@ -34,6 +34,7 @@ from symkin.names import reserved_reason
 from symkin.robot import NAME_PATTERN, Joint, Link
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
 from symkin.symbols import WRENCH_NAMES
+from symkin.text import unprintable_characters
 
 # Allowed keys per table.  Anything else is an error with a "did you mean" hint.
 JOINT_KEYS = (
@@ -47,7 +48,7 @@ PLACED_JOINT_KEYS = (
 FRAME_KEYS = ("xyz", "rpy")
 LINK_KEYS = (
     "mass", "com", "inertia", "shape", "density", "motor_inertia", "friction", "stiffness",
-    "drive",
+    "drive", "inertia_note",
 )  # fmt: skip
 PAYLOAD_KEYS = ("mass", "com", "inertia", "shape", "density")
 INERTIA_KEYS = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
@@ -318,7 +319,11 @@ def _link(value: Any, ctx: Context) -> Link:
     if not isinstance(value, dict):
         raise ctx.error(f"'link' must be a table, got {show(value)}")
     check_keys(value, LINK_KEYS, ctx)
-    mass, inertia = _mass_and_inertia(value, ctx)
+    note = read_text(value, "inertia_note", ctx)
+    if unprintable_characters(note):
+        # Shown by `symkin show`: one line of printable text, like a title.
+        raise ctx.error(f"{ctx.key('inertia_note')!r} must be one line of printable text")
+    mass, inertia = _mass_and_inertia(value, ctx, documented=bool(note))
     drive, reflected = read_drive(value, ctx)
     motor_inertia = sympy_value(value.get("motor_inertia", 0), "motor_inertia", ctx)
     _check_not_negative(motor_inertia, "motor_inertia", ctx)
@@ -330,6 +335,7 @@ def _link(value: Any, ctx: Context) -> Link:
         inertia=inertia,
         motor_inertia=motor_inertia if reflected is None else reflected,
         **_friction(value.get("friction", {}), ctx),
+        inertia_note=note,
     )
 
 
@@ -344,8 +350,11 @@ def read_payload(value: Any, ctx: Context) -> Link:
     return Link(mass=mass, com=com, inertia=inertia)  # type: ignore[arg-type]
 
 
-def _mass_and_inertia(table: dict[str, Any], ctx: Context) -> tuple[sp.Expr, tuple[sp.Expr, ...]]:
-    """The mass and the six tensor elements: given, or from ``shape`` and density or mass."""
+def _mass_and_inertia(
+    table: dict[str, Any], ctx: Context, documented: bool = False
+) -> tuple[sp.Expr, tuple[sp.Expr, ...]]:
+    """The mass and the six tensor elements: given, or from ``shape`` and density or mass
+    (``documented``: see :func:`_inertia`)."""
     if "shape" in table:
         return mass_and_inertia_from_shape(table, ctx)
     if "density" in table:
@@ -354,25 +363,28 @@ def _mass_and_inertia(table: dict[str, Any], ctx: Context) -> tuple[sp.Expr, tup
         raise ctx.error(f"{ctx.key('mass')!r} is missing; a [joints.link] table needs a mass")
     mass = sympy_value(table["mass"], "mass", ctx)
     _check_not_negative(mass, "mass", ctx)
-    return mass, _inertia(table.get("inertia", {}), ctx)
+    return mass, _inertia(table.get("inertia", {}), ctx, documented)
 
 
-def _inertia(value: Any, ctx: Context) -> tuple[sp.Expr, ...]:
-    """The six tensor elements about the COM; missing ones are 0."""
+def _inertia(value: Any, ctx: Context, documented: bool = False) -> tuple[sp.Expr, ...]:
+    """The six tensor elements about the COM; missing ones are 0.  ``documented``: the file
+    explains the tensor (``inertia_note``), so a violated triangle inequality is not warned
+    about."""
     table = as_table(value, "inertia", ctx)
     inner = ctx.within("inertia")
     check_keys(table, INERTIA_KEYS, inner)
     elements = tuple(sympy_value(table.get(k, 0), k, inner) for k in INERTIA_KEYS)
     numbers = [numeric_value(e, ctx) for e in elements]
     if all(n is not None for n in numbers):
-        _check_inertia_physical(np.array(numbers, dtype=float), inner)
+        _check_inertia_physical(np.array(numbers, dtype=float), inner, documented)
     return elements
 
 
-def _check_inertia_physical(elements: np.ndarray, ctx: Context) -> None:
+def _check_inertia_physical(elements: np.ndarray, ctx: Context, documented: bool) -> None:
     """Reject tensors no rigid body can have (negative moments, not PSD) with an error; warn
     (:class:`RobotWarning`) about a violated triangle inequality, which published models with
-    lumped inertias do have (e.g. Corke's PUMA 560) and which the dynamics can still use."""
+    lumped inertias do have (e.g. Corke's PUMA 560) and which the dynamics can still use,
+    unless the file documents the tensor (``documented``)."""
     ixx, iyy, izz, ixy, ixz, iyz = elements
     tolerance = 1e-9 * float(np.max(np.abs(elements)))
     where = ctx.prefix.rstrip(".")
@@ -386,6 +398,8 @@ def _check_inertia_physical(elements: np.ndarray, ctx: Context) -> None:
             f"{where!r} is not positive semi-definite: principal moments "
             f"{', '.join(f'{m:g}' for m in moments)}"
         )
+    if documented:
+        return
     for first, second, third, names in (
         (ixx, iyy, izz, ("ixx", "iyy", "izz")),
         (iyy, izz, ixx, ("iyy", "izz", "ixx")),

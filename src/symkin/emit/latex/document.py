@@ -226,11 +226,17 @@ def _document(
         if text_width_cm == TEXT_WIDTH_CM
         else f"a4paper,textwidth={text_width_cm:g}cm,vmargin=2cm"
     )
+    # The German title is German (issue 21); the robot's own title follows as a subtitle.
+    names = {
+        "name": robot.name.replace("_", r"\_"),
+        "title": escape_text(robot.title or robot.name),
+    }
     return render(
         "latex/document.tex.j2",
         geometry=geometry,
         header=header_lines(model, "LaTeX derivation", command),
-        title=escape_text(robot.title or robot.name),
+        title=t["title"].format(name=names["name"], title=names["title"]),
+        subtitle=t["subtitle"].format(name=names["name"], title=names["title"]),
         intro=intro,
         configuration=configuration,
         legend=legend,

@@ -56,6 +56,11 @@ class Layout:
             text = f"{mantissa.rstrip('0').rstrip('.')} \\cdot 10^{{{int(exponent)}}}"
         return text.replace(".", "{,}") if self.decimal_comma else text
 
+    def given_number(self, value: float) -> str:
+        """A number from the robot file (a parameter value) with all its digits, as typed:
+        ``d_3 = 0.15005``, never rounded like :meth:`number` rounds computed values."""
+        return self.tex(sp.Float(float(value)))
+
     # -- breaking long expressions --------------------------------------------------------
 
     def pieces(self, expr: sp.Expr, budget: float) -> list[str]:

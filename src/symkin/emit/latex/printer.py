@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
+from symkin.emit.formula_text import shortest_float
+
 # ---------------------------------------------------------------- printer
 
 
@@ -107,6 +109,17 @@ class KinematicsLatexPrinter(LatexPrinter):
 
     def _print_cos(self, expr: sp.Function, exp: str | None = None) -> str:
         return self._print_trig(expr, "c", exp)
+
+    def _print_Float(self, expr: sp.Float) -> str:
+        """The fewest digits that give the Float back (``0.3256``, not ``0.325600000000000``;
+        :func:`symkin.emit.formula_text.shortest_float`), ``1.5 \\cdot 10^{-17}`` for powers."""
+        text = shortest_float(expr)
+        if text is None:
+            return super()._print_Float(expr)
+        mantissa, _, exponent = text.partition("e")
+        if self._settings["decimal_separator"] == "comma":
+            mantissa = mantissa.replace(".", "{,}")
+        return f"{mantissa} \\cdot 10^{{{int(exponent)}}}" if exponent else mantissa
 
     def _print_atan2(self, expr: sp.Function, exp: str | None = None) -> str:
         y, x = (self._print(a) for a in expr.args)

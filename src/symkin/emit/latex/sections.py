@@ -212,7 +212,7 @@ class SectionWriter:
             if value is None:
                 items.append(f"${name_tex}$ ({t['no_value']})")
             else:
-                items.append(f"${name_tex} = {self.layout.number(value)}$")
+                items.append(f"${name_tex} = {self.layout.given_number(value)}$")
         separator = "; " if self.layout.decimal_comma else ", "
         return t["parameters"] + " " + separator.join(items) + "."
 

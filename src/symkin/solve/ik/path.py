@@ -14,10 +14,12 @@ tolerance; these rows are labelled ``ka, kb, ...`` (``5a, 5b`` for ``k = 5``).  
 task rows of the geometric Jacobian; it is inverted when square, otherwise its pseudo-inverse
 (least squares, minimum norm) is used.  Joint limits play no part in the scheme.
 
-Each table row holds ``target = X_i``, ``q = Q_i``, ``real = X_i,real`` and
-``delta = X_i - X_i,real``: the error left at that row (target minus reached, so ``delta`` is
-the correction still to be made; zero in row 0).  The step from row ``i`` is therefore
-``J^-1 (X_{i+1} - X_i + delta_i)``.
+Each table row holds ``target = X_i``, ``q = Q_i``, ``real = X_i,real`` and, as the lecture's
+``dx, dy`` columns "for Gl. (14.15)", ``delta``: the increment fed into the next Newton step,
+``X_{i+1} - X_i,real`` (row 0: ``X_1 - X_0``), and at the end point (row ``k`` and the
+correction rows ``ka, kb, ...``) ``X_k - X_k,real``.  Every row's step is therefore
+``Q_next = Q_i + J^-1(Q_i) delta_i``, and the last row's ``delta`` is the error left at the end.
+:attr:`PathRow.error` is the error left at a row, ``X_i - X_i,real``.
 
 **The path follower** (:func:`follow_path`) solves every waypoint to tolerance with
 :func:`symkin.solve.ik.numeric.solve_ik`, each seeded with the previous solution; positions are
@@ -36,6 +38,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
+from symkin.emit.latex.number_table import number_table_document
 from symkin.errors import ParameterError, SymkinError, literal
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.ik.joints import parameter_vector
@@ -56,13 +59,19 @@ START_MISMATCH = 1e-6
 
 @dataclass(frozen=True)
 class PathRow:
-    """One row of the lecture's table (task coordinates in ``NewtonPath.task`` order)."""
+    """One row of the lecture's table (task coordinates in ``NewtonPath.task`` order);
+    ``delta`` is the increment for the next step (module docstring)."""
 
     label: str
     target: np.ndarray
     q: np.ndarray
     real: np.ndarray
     delta: np.ndarray
+
+    @property
+    def error(self) -> np.ndarray:
+        """``X_i - X_i,real``: how far the row's reached position misses its own target."""
+        return self.target - self.real
 
 
 @dataclass(frozen=True)
@@ -144,13 +153,14 @@ def newton_path_table(
             "from the given pair all the same (row 0's real position is the given start)",
             stacklevel=2,
         )
-    real = start
-    table = [PathRow("0", start, q, real, start - real)]
+    targets = [start + i * (end - start) / steps for i in range(steps)] + [end]
+    # Row 0's real position is the given start (the known pair), not FK(q0).
+    table = [PathRow("0", start, q, start, targets[1] - start)]
     for i in range(1, steps + 1):
-        target = start + i * (end - start) / steps
-        q = q + newton_step(J, target - real)
+        q = q + newton_step(J, table[-1].delta)
         real, J = position_and_jacobian(q)
-        table.append(PathRow(str(i), target, q, real, target - real))
+        aim = targets[min(i + 1, steps)]
+        table.append(PathRow(str(i), targets[i], q, real, aim - real))
     for k in range(max_corrections):
         if np.linalg.norm(table[-1].delta) <= tolerance:
             break
@@ -170,7 +180,7 @@ def _values(values: Sequence[float], count: int, what: str) -> np.ndarray:
 
 def path_table_text(path: NewtonPath, joint_names: Sequence[str]) -> str:
     """The table as the lecture prints it: ``i``, the targets, the joints, the reached
-    position and the error ``delta = target - real``."""
+    position and ``delta``, the increment for the next step (Gl. (14.15))."""
     head = (
         [f"{r}_i" for r in path.task]
         + list(joint_names)
@@ -183,7 +193,7 @@ def path_table_text(path: NewtonPath, joint_names: Sequence[str]) -> str:
         lines.append(
             f"{row.label:>4}"
             + "".join(f"{v + 0.0:>12.6f}" for v in values)
-            + "".join(f"{d + 0.0:>12.2e}" for d in row.delta)
+            + "".join(f"{d + 0.0:>12.3e}" for d in row.delta)
         )
     return "\n".join(lines)
 
@@ -205,6 +215,39 @@ def path_table_json(path: NewtonPath) -> dict:
             for row in path.rows
         ],
     }
+
+
+# The lecture's words over the dx, dy columns, by language of the document.
+INCREMENT_HEADING = {"en": "for eq. (14.15)", "de": "für Gl. (14.15)"}
+TABLE_TITLE = {
+    "en": "Newton path of {name} in {steps} steps (Tabelle 14-2/14-3 layout)",
+    "de": "Newton-Verfahren für {name} in {steps} Schritten",
+}
+
+
+def path_table_latex(path: NewtonPath, robot_name: str, steps: int, lang: str = "en") -> str:
+    """The table as a standalone LaTeX document in the lecture's column layout: ``i``,
+    ``x_i, y_i``, ``q_1 .. q_n``, ``x_i,real, y_i,real``, then ``dx, dy`` under the heading
+    "for Gl. (14.15)" (German: decimal comma).  Units are the robot file's (m, rad)."""
+    if lang not in INCREMENT_HEADING:
+        raise ParameterError(f"{{lang}} must be one of en, de, got {literal(repr(lang))}")
+    task = path.task
+    n = len(path.rows[0].q)
+    headings = (
+        [f"{r}_{{i}}" for r in task]
+        + [f"q_{{{j}}}" for j in range(1, n + 1)]
+        + [rf"{r}_{{i,\mathrm{{real}}}}" for r in task]
+        + [rf"\Delta {r}" for r in task]
+    )
+    rows = [(row.label, [*row.target, *row.q, *row.real, *row.delta]) for row in path.rows]
+    return number_table_document(
+        TABLE_TITLE[lang].format(name=robot_name, steps=steps),
+        headings,
+        rows,
+        group=(INCREMENT_HEADING[lang], len(task)),
+        decimal_comma=lang == "de",
+        comment=f"Newton path table of {robot_name}, generated by symkin ik --table --latex",
+    )
 
 
 def waypoint_poses(start: np.ndarray, end: np.ndarray, steps: int) -> tuple[np.ndarray, ...]:

@@ -164,7 +164,37 @@ def plot_path(
         arms, ("--", "-"), ("arm at the start", "arm at the end"), strict=True
     ):
         _draw(axes, arm, planar, marker="o", linestyle=style, color="grey", alpha=0.7, label=label)
-    _draw(axes, target_points, planar, marker="x", color="tab:blue", label="targets X_i")
+    _draw_path(axes, target_points, reached_points, planar)
+    if not planar:
+        _equal_3d(axes, np.vstack([target_points, reached_points, *arms]))
+    axes.set_title(f"{model.robot.name}: Cartesian path")
+    axes.legend(loc="best", fontsize="small")
+
+    _joint_values_panel(figure.add_subplot(122), qs, labels)
+    figure.tight_layout()
+    return save_figure(figure, path)
+
+
+def _draw_path(axes, target_points: np.ndarray, reached_points: np.ndarray, planar: bool) -> None:
+    """Bild 14-10 of the lecture: the straight line, the targets on it, the points reached."""
+    _draw(
+        axes,
+        target_points[[0, -1]],
+        planar,
+        linestyle="-",
+        linewidth=0.8,
+        color="tab:blue",
+        label="straight line X_0 to X_end",
+    )
+    _draw(
+        axes,
+        target_points,
+        planar,
+        marker="x",
+        linestyle="none",
+        color="tab:blue",
+        label="targets X_i",
+    )
     _draw(
         axes,
         reached_points,
@@ -174,11 +204,3 @@ def plot_path(
         color="tab:red",
         label="reached FK(q_i)",
     )
-    if not planar:
-        _equal_3d(axes, np.vstack([target_points, reached_points, *arms]))
-    axes.set_title(f"{model.robot.name}: Cartesian path")
-    axes.legend(loc="best", fontsize="small")
-
-    _joint_values_panel(figure.add_subplot(122), qs, labels)
-    figure.tight_layout()
-    return save_figure(figure, path)

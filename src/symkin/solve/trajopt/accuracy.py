@@ -74,10 +74,16 @@ def control_function(trajectory: Any, functions: RobotFunctions) -> Callable:
 
 
 def integrate_interval(
-    functions: RobotFunctions, control: Callable, k: int, x0: np.ndarray, h: float
+    functions: RobotFunctions,
+    control: Callable,
+    k: int,
+    x0: np.ndarray,
+    h: float,
+    dense: bool = True,
 ):
-    """``solve_ivp`` over interval k from ``x0`` (dense output kept), on the generated
-    forward dynamics as a CasADi function (half the time of the NumPy kernel per call)."""
+    """``solve_ivp`` over interval k from ``x0`` (with ``dense``, the dense output kept), on
+    the generated forward dynamics as a CasADi function (half the time of the NumPy kernel
+    per call)."""
     n = functions.dof
 
     def rhs(s, x):
@@ -91,7 +97,7 @@ def integrate_interval(
         method="DOP853",
         rtol=RESIMULATION_TOLERANCE,
         atol=RESIMULATION_TOLERANCE,
-        dense_output=True,
+        dense_output=dense,
     )
 
 
@@ -106,9 +112,9 @@ def accuracy(trajectory: Any, functions: RobotFunctions, problem: TrajectoryProb
     origins = _origins_function(functions) if problem.obstacles else None
     x = nodes[0]
     for k, length in enumerate(h):
-        local = integrate_interval(functions, control, k, nodes[k], length)
+        local = integrate_interval(functions, control, k, nodes[k], length, origins is not None)
         defects[k] = np.abs(local.y[:, -1] - nodes[k + 1]).max()
-        x = integrate_interval(functions, control, k, x, length).y[:, -1]
+        x = integrate_interval(functions, control, k, x, length, dense=False).y[:, -1]
         if origins is not None:
             samples = local.sol(np.linspace(0.0, length, SAMPLES_PER_INTERVAL + 1))
             clearance[k] = _clearance(origins, samples[: functions.dof], problem)

@@ -4,6 +4,7 @@ control problem of one's own (docs/trajopt.md, "The open problem")."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
@@ -133,17 +134,23 @@ def _smoothed_coulomb(coulomb: tuple[float, ...] | None, velocity: float) -> Cal
 
 def _link_origins(model: Model, parameters) -> Callable:
     """``q -> [o_0, .., o_n, p_tool]``, the frame origins from the generated point kernels
-    (CasADi backend; velocities and accelerations fed zeros and pruned by CasADi)."""
+    (CasADi backend; velocities and accelerations fed zeros and pruned by CasADi).  The point
+    kernels are derived on the first call only: problems without obstacles never pay for
+    them."""
     import casadi
 
     n = model.robot.dof
-    points = tuple((link, (0.0, 0.0, 0.0)) for link in range(n + 1))
-    module = generated_point_module(model, points, backend="casadi")
-    functions = [getattr(module, f"point{k}_function")(casadi.SX) for k in range(1, n + 2)]
-    position = generated_casadi_module(model, "kinematics").position_function(casadi.SX)
     zeros = casadi.DM.zeros(n)
 
+    @functools.cache
+    def kernels() -> list:
+        points = tuple((link, (0.0, 0.0, 0.0)) for link in range(n + 1))
+        module = generated_point_module(model, points, backend="casadi")
+        found = [getattr(module, f"point{k}_function")(casadi.SX) for k in range(1, n + 2)]
+        return [*found, generated_casadi_module(model, "kinematics").position_function(casadi.SX)]
+
     def origins(q):
-        return [f(q, zeros, zeros, parameters)[0] for f in functions] + [position(q, parameters)]
+        *points, position = kernels()
+        return [f(q, zeros, zeros, parameters)[0] for f in points] + [position(q, parameters)]
 
     return origins

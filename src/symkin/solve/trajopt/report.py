@@ -145,10 +145,13 @@ def resampled_rows(samples: dict[str, np.ndarray]) -> tuple[list[str], np.ndarra
     return header, np.column_stack([samples["t"], *(samples[name] for name in names)])
 
 
-def write_resampled(samples: dict[str, np.ndarray], out: str | Path) -> Path:
-    """``trajectory_resampled.csv`` in ``out``: the samples a controller plays back."""
+def write_resampled(samples: dict[str, np.ndarray], out: str | Path) -> list[Path]:
+    """``trajectory_resampled.csv`` and ``.json`` in ``out``: the samples a controller plays
+    back (the JSON holds the same arrays under their names)."""
     header, rows = resampled_rows(samples)
     csv = io.StringIO()
     np.savetxt(csv, rows, delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+    text = json.dumps({k: v.tolist() for k, v in samples.items()}, allow_nan=False) + "\n"
     replace_file(Path(out), "trajectory_resampled.csv", csv.getvalue())
-    return Path(out) / "trajectory_resampled.csv"
+    replace_file(Path(out), "trajectory_resampled.json", text)
+    return [Path(out) / "trajectory_resampled.csv", Path(out) / "trajectory_resampled.json"]
