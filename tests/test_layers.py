@@ -97,3 +97,17 @@ def test_long_functions_give_their_reason():
     assert not offenders, "functions over 60 lines without a '# long:' reason: " + ", ".join(
         offenders
     )
+
+
+def test_every_package_of_the_tree_is_listed_for_the_wheel():
+    """pyproject.toml lists the packages by hand (templates are mapped in); a folder with an
+    ``__init__.py`` missing from that list is left out of the wheel and breaks ``symkin``."""
+    import tomllib
+
+    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    listed = set(setuptools["packages"])
+    in_tree = {
+        ".".join(init.parent.relative_to(PACKAGE.parent).parts)
+        for init in PACKAGE.rglob("__init__.py")
+    }
+    assert in_tree - listed == set()
