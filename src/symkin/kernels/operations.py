@@ -103,9 +103,9 @@ def _fraction(a: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """``sympy.fraction(a)``, without rebuilding a product that has no denominator: no
     factor is a non-integer rational, an ``exp`` or a power other than a positive number's."""
     # Mul(2, x + y) would distribute: such a product (built unevaluated) goes to SymPy.
-    if a.is_Mul and not (len(a.args) == 2 and a.args[0].is_Rational and a.args[1].is_Add):
-        if all(_in_numerator(f) for f in a.args):
-            return a, sp.S.One
+    distributes = len(a.args) == 2 and a.args[0].is_Rational and a.args[1].is_Add
+    if a.is_Mul and not distributes and all(_in_numerator(f) for f in a.args):
+        return a, sp.S.One
     return fraction(a)
 
 
