@@ -51,6 +51,9 @@ HAND_PICKED = [
     x**y,
     sp.Integer(1),
     sp.Integer(-4),
+    sp.Float("-inf") * x + y,
+    sp.Float(0.0) * x - y,
+    sp.Float(-2.5e-300) * x - sp.Float(1e300) * y,
 ]
 
 

@@ -37,6 +37,7 @@ from symkin.derive.energy import Energies, energies_from_dynamics
 from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, kinematics_from_robot
 from symkin.derive.lagrange import lagrange_dynamics
 from symkin.derive.motion import PointMotion
+from symkin.derive.named_pose import NamedPose, named_pose
 from symkin.derive.newton_euler import inverse_dynamics_recursion, newton_euler_dynamics
 from symkin.derive.readable import Readable, readable_form
 from symkin.derive.wrench import tip_load, wrench_torque
@@ -135,6 +136,12 @@ class Model:
         if form.found:
             return form.value
         return self.product_form.kinematics, self.product_form.geometric_jacobian
+
+    @cached_property
+    def named_pose(self) -> NamedPose:
+        """FK and geometric Jacobian as named intermediates, link by link (the kernels' form
+        of a chain without a readable form; see :mod:`symkin.derive.named_pose`)."""
+        return named_pose(self.robot)
 
     @cached_property
     def product_form(self) -> Model:

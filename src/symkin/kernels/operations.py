@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections import Counter
 
 import sympy as sp
-from sympy.core.function import UndefinedFunction, _coeff_isneg
+from sympy.core.function import UndefinedFunction
 from sympy.core.operations import LatticeOp
 from sympy.simplify.radsimp import fraction
 
@@ -97,6 +97,22 @@ def _other_counts(a: sp.Expr, ops: Counter[str], args: list[sp.Expr]) -> None:
         ops[prefix + a.func.__name__.upper()] += 1
     if not a.is_Symbol:
         args.extend(a.args)
+
+
+def _coeff_isneg(a: sp.Expr) -> bool:
+    """SymPy's ``_coeff_isneg`` (is the leading number negative?) without asking the
+    assumption system about each new Float, which was most of what counting still cost."""
+    if a.is_Mul:
+        a = a.args[0]
+    if not a.is_Number:
+        return False
+    if a.is_Rational:
+        return a.p < 0
+    if a.is_Float:
+        sign, mantissa, exponent, _ = a._mpf_
+        if mantissa or not exponent:  # finite: nonzero, or zero
+            return bool(mantissa) and sign == 1
+    return bool(a.is_extended_negative)
 
 
 def _fraction(a: sp.Expr) -> tuple[sp.Expr, sp.Expr]:

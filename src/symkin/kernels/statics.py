@@ -43,24 +43,25 @@ def statics_kernels(model: Model) -> tuple[Kernel, ...]:
 
 
 def wrench_torque_kernel(model: Model) -> Kernel:
-    """``-J^T w`` from the readable or the product form of ``J``, whichever is shorter."""
+    """``-J^T w`` from the readable or the product form of ``J``, whichever is shorter; from
+    the link-by-link named ``J`` when there is no readable form (as the pose kernels)."""
     n = model.robot.dof
     force = units.generalized_force(model.robot)
-    forms = (model,) if model.product_form is model else (model, model.product_form)
-    outputs = [
-        [
-            (
-                "tau_w",
-                wrench_torque(form.geometric_jacobian, model.wrench),
-                f"-J^T w ({n}x1)",
-                "vector",
-                force,
-            )
-        ]
-        for form in forms
-    ]
     inputs = with_wrench(model, state_inputs(model))
-    return shortest_kernel("wrench_torque", "joint torques of an external wrench", inputs, outputs)
+    description = "joint torques of an external wrench"
+
+    def output(jacobian: sp.MatrixBase) -> tuple[str, sp.MatrixBase, str, str, str]:
+        return ("tau_w", wrench_torque(jacobian, model.wrench), f"-J^T w ({n}x1)", "vector", force)
+
+    if not model.kinematics.simplified:
+        pose = model.named_pose
+        outputs = [output(pose.geometric_jacobian)]
+        return kernel_from_assignments(
+            "wrench_torque", description, inputs, pose.assignments, outputs
+        )
+    forms = (model,) if model.product_form is model else (model, model.product_form)
+    outputs_by_form = [[output(form.geometric_jacobian)] for form in forms]
+    return shortest_kernel("wrench_torque", description, inputs, outputs_by_form)
 
 
 def static_torque_kernel(model: Model) -> Kernel:
