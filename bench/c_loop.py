@@ -167,6 +167,29 @@ def table(
     return lines
 
 
+def peer_targets(
+    runs: dict[tuple[str, str, str], Run], rows: dict[str, str], kernels: dict[str, str]
+) -> list[tuple[str, str, bool | None]]:
+    """The issue's target for every (row, kernel): symkin's C at or below the independent
+    CasADi model's C in the same C loop; ``(target, measured, met)``."""
+    checks: list[tuple[str, str, bool | None]] = []
+    for row, row_label in rows.items():
+        for kernel, kernel_label in kernels.items():
+            if (row, kernel, "symkin") not in runs:
+                continue
+            ours, peer = runs[row, kernel, "symkin"].median, runs[row, kernel, "peer"].median
+            met = None if ours is None or peer is None else ours <= peer
+            checks.append(
+                (
+                    f"{row_label}: C {kernel_label} at or below the independent CasADi C "
+                    "in the same C loop",
+                    f"{_ns(ours)} ns vs {_ns(peer)} ns",
+                    met,
+                )
+            )
+    return checks
+
+
 METHOD = (
     "Each figure is the median over all rounds of the per-repeat CPU time per call "
     "(`CLOCK_THREAD_CPUTIME_ID`, the loop and a checksum of the outputs included), every "

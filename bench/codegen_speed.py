@@ -4,11 +4,14 @@ The script generates every backend of the catalogue PUMA 560 into a temporary di
 builds the CPython extension (as ``symkin derive puma560 --out DIR`` does), then times, in
 one run and on the same machine:
 
-* **C loop.** ``bench/codegen_speed_loop.c`` calls ``puma560_fk`` and ``puma560_fk_jacobian``
-  over a table of 65,536 joint vectors, timed with ``clock_gettime`` inside C; the same harness
-  calls the C code that ``casadi.CodeGenerator`` writes for the generated CasADi module's
-  ``fk_function()`` and ``fk_jacobian_function()``.  Both are compiled with the flags symkin
-  builds its extension with (``gcc -O2``), the kernels in their own translation unit.
+* **C loop.** ``bench/codegen_speed_loop.c`` calls ``<robot>_fk`` and ``<robot>_fk_jacobian``
+  of the PUMA 560 and the Panda over a table of 65,536 joint vectors, timed with
+  ``clock_gettime`` inside C; the same harness calls the C that ``casadi.CodeGenerator`` writes
+  for the generated CasADi module's ``fk_function()`` and ``fk_jacobian_function()`` (CasADi
+  printing symkin's graph) and for the independent CasADi model of ``bench/casadi_peer.py``
+  (written from the DH table).  All are compiled with the flags symkin builds its extension
+  with (``gcc -O2``), the kernels in their own translation unit, and alternated round by round
+  (``bench/c_loop.py``); each harness run reports its peak resident set.
 * **Per call from Python.** symkin's extension (``fk(q)``, ``jacobian(q)``), ctypes on the
   same C, ctypes on CasADi's C, a ``casadi.Function`` call, Pinocchio
   (``framesForwardKinematics``, ``computeFrameJacobian``) on a model built from the same DH
@@ -60,7 +63,7 @@ from types import ModuleType
 
 import numpy as np
 
-from c_loop import METHOD, Job, Run, casadi_c, compile_harness, run_rounds
+from c_loop import METHOD, Job, Run, casadi_c, compile_harness, peer_targets, run_rounds
 from c_loop import table as c_loop_table
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -71,6 +74,7 @@ HARNESS = Path(__file__).resolve().with_name("codegen_speed_loop.c")
 ROBOT = "puma560"
 C_LOOP_ROBOTS = {"puma560": "PUMA 560", "panda": "Panda"}
 C_LOOP_KERNELS = ("fk", "fk_jacobian")
+C_LOOP_LABELS = {"fk": "FK", "fk_jacobian": "FK + Jacobian"}
 BATCH = 100_000  # configurations in the batch measurements
 SAMPLES = 65_536  # distinct joint vectors the per-call measurements walk through
 MIN_REPEATS = 3  # a contender that runs past its time budget still gets this many repeats
@@ -823,7 +827,7 @@ def render(
         "them as numbers. " + METHOD + " Ratios are an implementation's median over symkin's "
         "(above 1: symkin is faster).",
         "",
-        *c_loop_table(c_results, C_LOOP_ROBOTS, {"fk": "FK", "fk_jacobian": "FK + Jacobian"}),
+        *c_loop_table(c_results, C_LOOP_ROBOTS, C_LOOP_LABELS),
     ]
     ref_fkj = c_results[ROBOT, "fk_jacobian", "symkin"].median
     lines += [
@@ -944,6 +948,7 @@ def render(
             ours_ops["total"] <= TARGET_OPERATIONS,
         )
     )
+    checks += peer_targets(c_results, C_LOOP_ROBOTS, C_LOOP_LABELS)
     lines += ["", "### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
     for text, measured, met in checks:
         verdict = "not measured" if met is None else ("met" if met else "**NOT met**")

@@ -22,10 +22,14 @@ In one run, on the same machine:
   figures in the generated files' headers), next to the issue's figures for SymPyBotics and
   Lagrange in SymPy, SymEngine and ``sympy.physics.mechanics``.  SymPyBotics itself is not on
   PyPI and cannot be installed here; its figures are quoted, not measured.
-* **Inverse dynamics per call in a C loop**: ``bench/dynamics_speed_loop.c`` calls the generated
-  ``<robot>_inverse_dynamics`` over 65,536 precomputed states, and the C that
-  ``casadi.CodeGenerator`` writes for the generated CasADi module's
-  ``inverse_dynamics_function()``; both compiled with ``gcc -O2`` (symkin's extension flags).
+* **Inverse and forward dynamics per call in a C loop**: ``bench/dynamics_speed_loop.c`` calls
+  the generated ``<robot>_inverse_dynamics`` and ``<robot>_forward_dynamics`` over 65,536
+  precomputed states, and the C that ``casadi.CodeGenerator`` writes for the generated CasADi
+  module's ``inverse_dynamics_function()`` and ``forward_dynamics_function()`` (CasADi printing
+  symkin's graph) and for the independent CasADi model of ``bench/casadi_peer.py`` (Newton–Euler
+  from the DH table, forward dynamics by ``casadi.solve``); all compiled with ``gcc -O2``
+  (symkin's extension flags) and alternated round by round (``bench/c_loop.py``), each harness
+  run's peak resident set recorded.
   Three generated codes (``BUILDS``): the PUMA 560 with its parameters as input ``p``, the PUMA
   560 with numeric parameters (``Robot.with_parameter_values()``: no ``p``, base inertial
   parameters; its torques are first checked against the code with ``p``), and the Panda with
@@ -71,7 +75,7 @@ from pathlib import Path
 
 import numpy as np
 
-from c_loop import METHOD, Job, Run, casadi_c, compile_harness, run_rounds
+from c_loop import METHOD, Job, Run, casadi_c, compile_harness, peer_targets, run_rounds
 from c_loop import table as c_loop_rows
 from codegen_speed import (
     FULL,
@@ -145,6 +149,7 @@ BUILDS = {
 }
 PUMA_BUILDS = ("puma560", "puma560-numeric")
 C_LOOP_KERNELS = ("inverse_dynamics", "forward_dynamics")
+C_LOOP_LABELS = {"inverse_dynamics": "tau", "forward_dynamics": "forward dynamics"}
 
 # The issue's figures (SymPy 1.14, the same kind of 2-core machine, PUMA 560 with numeric
 # geometry and symbolic inertia); SymPyBotics is not on PyPI, so they are quoted, not measured.
@@ -730,7 +735,7 @@ def c_loop_table(
         *c_loop_rows(
             results,
             {key: label for key, (_, label) in BUILDS.items()},
-            {"inverse_dynamics": "tau", "forward_dynamics": "forward dynamics"},
+            C_LOOP_LABELS,
         ),
     ]
 
@@ -825,6 +830,7 @@ def targets_table(
                 c_ns < TARGET_C_NS,
             )
         )
+    checks += peer_targets(c_results, {k: label for k, (_, label) in BUILDS.items()}, C_LOOP_LABELS)
     lines = ["### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
     for text, measured, met in checks:
         verdict = "not measured" if met is None else ("met" if met else "**NOT met**")
