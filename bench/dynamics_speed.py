@@ -885,7 +885,7 @@ def render(
         "Before timing, every implementation's torques were compared with symkin's C at "
         f"{CHECK_STATES} random states (largest difference, N·m): "
         + ", ".join(f"{what} {worst:.1e}" for what, worst in checked.differences.items())
-        + ". The C-loop checksums of symkin's and CasADi's code agree. "
+        + ". The C-loop checksums of symkin's and both CasADi codes agree. "
         + " ".join(checked.notes),
     ]
     return "\n".join(lines)
