@@ -8,9 +8,13 @@ RUN_STAMP := $(VENV)/.installed-run
 TEST_STAMP := $(VENV)/.installed-test
 # The edit-test loop: everything but the slow, LaTeX and outside-oracle tests.
 FAST := not slow and not needs_latex and not oracle
-# bench/derivation_scaling.py: its options, and a SymPyBotics checkout (not on PyPI) if any.
+# `make bench`: QUICK is each script's short setting (QUICK= for the full runs, an hour or
+# more); SCALING adds options to bench/derivation_scaling.py; SYMPYBOTICS is a SymPyBotics
+# checkout (not on PyPI) for the scripts that run it (without it they say "not run").
+QUICK ?= --quick
 SCALING ?=
 SYMPYBOTICS ?=
+SB := $(if $(SYMPYBOTICS),--sympybotics $(SYMPYBOTICS))
 
 .PHONY: run test test-fast lint bench clean generate
 
@@ -46,14 +50,22 @@ test: $(TEST_STAMP)
 test-fast: $(TEST_STAMP)
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile -m "$(FAST)"
 
+# Every script in bench/ that writes a table into docs/benchmarks.md (each its own marked
+# section, with the machine and the load average), one after the other: see bench/README.md.
 bench: $(TEST_STAMP)
 	$(PIP) install -e '.[test,bench]'
-	$(BIN)/python bench/derivation_time.py
-	$(BIN)/python bench/codegen_speed.py
-	$(BIN)/python bench/dynamics_speed.py
-	$(BIN)/python bench/inertial_parameters.py
+	$(BIN)/python bench/derivation_time.py $(QUICK) $(SB)
+	$(BIN)/python bench/codegen_speed.py $(QUICK)
+	$(BIN)/python bench/dynamics_speed.py $(QUICK)
+	$(BIN)/python bench/inertial_parameters.py $(SB)
+	$(BIN)/python bench/elastic_speed.py $(QUICK)
+	$(BIN)/python bench/ik_speed.py $(QUICK)
+	$(BIN)/python bench/trajopt_time.py $(QUICK)
+	$(BIN)/python bench/trajopt_peers.py $(QUICK)
+	$(BIN)/python bench/derivation_scaling.py $(QUICK) $(SCALING) $(SB)
 	$(BIN)/python bench/urdf_time.py
-	$(BIN)/python bench/derivation_scaling.py $(SCALING) $(if $(SYMPYBOTICS),--sympybotics $(SYMPYBOTICS))
+	$(BIN)/python bench/derivatives_speed.py $(QUICK)
+	$(BIN)/python bench/identification_time.py
 
 clean:
 	rm -rf $(VENV) build dist src/*.egg-info .pytest_cache

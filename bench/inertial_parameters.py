@@ -1,10 +1,12 @@
-"""Size of the generated inverse dynamics with symbolic inertia, by how the inertial data enter.
+"""Size of the generated inverse dynamics and mass matrix with symbolic inertia, by how the
+inertial data enter, against SymPyBotics when a checkout is given.
 
-The issue compares symkin's ``tau`` with SymPyBotics' (962 operations for the PUMA 560, 860 for
-the Panda, numeric geometry and symbolic inertia) and asks for at most half.  This script
-measures, for both robots with numeric geometry, the operations of one ``tau`` kernel (the
-same recursion, the same kernel passes as ``symkin.kernels.dynamics_kernels``) with the inertial
-data as input in three forms:
+The issue compared symkin's ``tau`` and ``M`` with SymPyBotics' (tau 962 operations for the
+PUMA 560, M 883 against 780; numeric geometry and symbolic inertia).  This script counts, for
+both robots with numeric geometry, the operations of one ``tau`` kernel and one ``M`` kernel
+(the same recursion and the same kernel passes as ``symkin.kernels.dynamics_kernels``; M by n
+unit-acceleration passes, as ``symkin.derive.newton_euler``) with the inertial data as input
+in three forms:
 
 * **file form**: per link the mass, the centre of mass and the inertia about it (the robot
   file's keys, the ``pi`` input of symkin's generated code);
@@ -14,13 +16,18 @@ data as input in three forms:
   (``symkin.derive.base_parameters.symbolic_base_parameters``), the form the identification
   literature uses.
 
-Operation counts are deterministic, so this runs once; it takes about ten seconds.  It prints
-a Markdown table and writes it into ``docs/benchmarks.md`` between
+SymPyBotics is not on PyPI: with ``--sympybotics DIR`` (a checkout; never copied here) it is
+run in this process on the same DH table (its ``gen_invdyn`` and ``gen_inertiamatrix`` with
+its incremental CSE, ``Subexprs``, no friction, no drive inertia) and its output is counted
+with symkin's counter; without it its column says "not run".  Operation counts are
+deterministic, so this runs once (about ten seconds, a minute with SymPyBotics).  It prints a
+Markdown table and writes it into ``docs/benchmarks.md`` between
 ``<!-- inertial-parameters:begin -->`` and ``<!-- inertial-parameters:end -->``.
 
 Usage::
 
     .venv/bin/python bench/inertial_parameters.py
+    .venv/bin/python bench/inertial_parameters.py --sympybotics /somewhere/SymPyBotics
     .venv/bin/python bench/inertial_parameters.py --no-write
 """
 
@@ -34,24 +41,63 @@ from pathlib import Path
 import sympy as sp
 
 from codegen_speed import write_docs
+from derivation_scaling import sympybotics_version
 from derivation_time import version
-from dynamics_speed import DOCS, SYMPYBOTICS_OPERATIONS, robot_variant
+from dynamics_speed import DOCS, robot_variant
 from symkin import derive
 from symkin.derive.base_parameters import (
     barycentric_links,
     barycentric_symbols,
     symbolic_base_parameters,
 )
+from symkin.derive.dynamics import motor_inertia_matrix
 from symkin.derive.recursion import Recorder, joint_torques
-from symkin.kernels import KernelInput, inertial_symbols, kernel_from_assignments, state_inputs
+from symkin.kernels import (
+    KernelInput,
+    count_operations,
+    inertial_symbols,
+    kernel_from_assignments,
+    state_inputs,
+)
 
 BEGIN = "<!-- inertial-parameters:begin -->"
 END = "<!-- inertial-parameters:end -->"
 FORMS = ("file form", "barycentric", "base parameters")
+ROBOTS = ("puma560", "panda")
 
 
-def tau_operations(name: str) -> dict[str, tuple[int, int]]:
-    """``{form: (inertial inputs, operations of tau)}`` for one catalogue robot."""
+def _kernel_operations(name: str, inputs, recorder: Recorder, matrix: sp.Matrix) -> int:
+    kernel = kernel_from_assignments(
+        name, name, inputs, recorder.assignments, [("out", matrix, name, "matrix")]
+    )
+    return kernel.operation_counts["total"]
+
+
+def _mass_matrix(model, links) -> tuple[Recorder, sp.Matrix]:
+    """M as ``symkin.derive.newton_euler`` builds it: n unit-acceleration passes without
+    gravity, plus the rotor inertias, the lower triangle mirrored."""
+    robot, n = model.robot, model.robot.dof
+    zeros, no_gravity = [sp.Integer(0)] * n, [sp.Integer(0)] * 3
+    recorder = Recorder("s")
+    columns = [
+        joint_torques(
+            robot,
+            model.kinematics,
+            recorder,
+            zeros,
+            [sp.Integer(int(k == j)) for k in range(n)],
+            no_gravity,
+            links,
+        )
+        for j in range(n)
+    ]
+    mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
+    return recorder, sp.Matrix(n, n, lambda r, c: mass[max(r, c), min(r, c)])
+
+
+def operations(name: str) -> dict[str, tuple[int, int, int]]:
+    """``{form: (inertial inputs, operations of tau, operations of M)}`` for one catalogue
+    robot (M as :func:`_mass_matrix` builds it)."""
     robot = robot_variant(name, "symbolic", "numeric")
     model = derive(robot)
     delta = barycentric_symbols(robot.dof)
@@ -63,49 +109,89 @@ def tau_operations(name: str) -> dict[str, tuple[int, int]]:
     }
     result = {}
     for form, (links, symbols) in forms.items():
+        pi = KernelInput("pi", tuple(symbols), form)
         recorder = Recorder("s")
         torque = joint_torques(
             robot, model.kinematics, recorder, model.dq, model.ddq, robot.gravity, links
         )
-        kernel = kernel_from_assignments(
-            "inverse_dynamics",
-            f"inverse dynamics, inertial data in {form}",
-            (*state_inputs(model, "dq", "ddq"), KernelInput("pi", tuple(symbols), form)),
-            recorder.assignments,
-            [("tau", sp.Matrix(torque), "joint torques", "vector")],
+        tau = _kernel_operations(
+            "tau", (*state_inputs(model, "dq", "ddq"), pi), recorder, sp.Matrix(torque)
         )
-        result[form] = (len(symbols), kernel.operation_counts["total"])
+        m = _kernel_operations("M", (*state_inputs(model), pi), *_mass_matrix(model, links))
+        result[form] = (len(symbols), tau, m)
     return result
 
 
-def render(counts: dict[str, dict[str, tuple[int, int]]]) -> str:
+def sympybotics_operations(name: str, checkout: Path) -> tuple[int, int]:
+    """Operations of SymPyBotics' tau and M (its incremental CSE, ``Subexprs``) for the same
+    robot with numeric geometry and its own symbolic (barycentric) inertia, no friction, no
+    drive inertia, counted with symkin's counter (``symkin.kernels.count_operations``)."""
+    sys.path.insert(0, str(checkout))
+    import sympybotics
+    from sympybotics.symcode import Subexprs
+
+    robot = robot_variant(name, "symbolic", "numeric")
+    rows = []
+    for joint in robot.joints:
+        if joint.type != "revolute":
+            raise SystemExit(f"{name}: only revolute joints are passed to SymPyBotics here")
+        rows.append((str(joint.alpha), str(joint.a), str(joint.d), f"q + ({joint.theta})"))
+    definition = sympybotics.RobotDef(name, rows, dh_convention=robot.convention)
+    definition.frictionmodel = None
+    definition.gravityacc = sp.Matrix([float(g) for g in robot.gravity])
+    geometry = sympybotics.Geometry(definition)
+    dynamics = sympybotics.Dynamics(definition, geometry)
+    counts = []
+    for generate, attribute in ((dynamics.gen_invdyn, "invdyn"), (dynamics.gen_inertiamatrix, "M")):
+        collector = Subexprs()
+        generate(collector.collect)
+        subexpressions, outputs = collector.get(getattr(dynamics, attribute))
+        expressions = [e for _, e in subexpressions] + list(sp.Matrix(outputs))
+        counts.append(count_operations(expressions)["total"])
+    return counts[0], counts[1]
+
+
+def render(counts: dict[str, dict[str, tuple[int, int, int]]], theirs: dict, checkout) -> str:
     today = datetime.datetime.now(datetime.UTC).date().isoformat()
+    peer = (
+        f"SymPyBotics ({sympybotics_version(checkout)}) was run in the same process on the same "
+        "DH table: its tau and M with its incremental CSE, counted with the same counter"
+        if checkout is not None
+        else "SymPyBotics was not run (it is not on PyPI: pass a checkout with `--sympybotics DIR`)"
+    )
     lines = [
         f"Counted on {today} with symkin {version('symkin')}, SymPy {version('sympy')}. "
         "Generated by `bench/inertial_parameters.py`. Numeric geometry, symbolic inertia; "
-        "operations after the kernel passes, as in the generated files' headers. The file form "
-        "is what `symkin derive` generates; the other two columns are the same recursion with "
-        "other inputs, counted but not emitted. SymPyBotics' figures are the issue's (its tau "
-        "takes barycentric parameters), not measured here.",
+        "operations after the kernel passes, as in the generated files' headers, inverse "
+        "dynamics tau / mass matrix M. The file form is what `symkin derive` generates; the "
+        "other two columns are the same recursion with other inputs, counted but not emitted. "
+        f"{peer}; it takes barycentric parameters and has no rotor inertia.",
         "",
         "| robot | inertial inputs | file form (m, c, I about the COM) | barycentric "
-        "(I about the origin, m c, m) | base parameters | SymPyBotics (issue) | half of it |",
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: |",
+        "(I about the origin, m c, m) | base parameters | SymPyBotics (barycentric) |",
+        "| --- | --- | ---: | ---: | ---: | ---: |",
     ]
     for name, forms in counts.items():
         inputs = " / ".join(str(forms[f][0]) for f in FORMS)
-        cells = " | ".join(str(forms[f][1]) for f in FORMS)
-        theirs = SYMPYBOTICS_OPERATIONS[name]
-        lines.append(f"| {name} | {inputs} | {cells} | {theirs} | {theirs // 2} |")
+        cells = " | ".join(f"{forms[f][1]} / {forms[f][2]}" for f in FORMS)
+        peer_cell = " / ".join(map(str, theirs[name])) if name in theirs else "not run"
+        lines.append(f"| {name} | {inputs} | {cells} | {peer_cell} |")
     return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sympybotics", type=Path, metavar="DIR", help="SymPyBotics checkout")
     parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
     parser.add_argument("--no-write", action="store_true", help="print only")
     args = parser.parse_args(argv)
-    table = render({name: tau_operations(name) for name in SYMPYBOTICS_OPERATIONS})
+    if args.sympybotics is not None and not (args.sympybotics / "sympybotics").is_dir():
+        parser.error(f"--sympybotics {args.sympybotics}: no sympybotics package in it")
+    counts = {name: operations(name) for name in ROBOTS}
+    theirs = {}
+    if args.sympybotics is not None:
+        theirs = {name: sympybotics_operations(name, args.sympybotics) for name in ROBOTS}
+    table = render(counts, theirs, args.sympybotics)
     print(table)
     if not args.no_write:
         write_docs(table, args.docs, (BEGIN, END), "Inverse dynamics by inertial parameters")

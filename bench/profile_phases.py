@@ -28,6 +28,7 @@ from symkin.emit.c import emit_c
 from symkin.emit.casadi import emit_casadi
 from symkin.emit.numpy import emit_numpy
 from symkin.kernels import dynamics_kernels, kinematics_kernels, point_kernels
+from symkin.kernels.statics import statics_kernels
 
 
 class _OverrunError(Exception):
@@ -64,7 +65,7 @@ def phases(model: Model, n: int) -> list[tuple[str, Callable[[], Any]]]:
         return run
 
     def all_kernels() -> tuple:
-        return box.get("kin", ()) + box.get("dyn", ()) + box.get("pts", ())
+        return tuple(k for key in ("kin", "dyn", "sta", "pts") for k in box.get(key, ()))
 
     return [
         ("fk (readable)", lambda: model.forward_kinematics),
@@ -73,12 +74,15 @@ def phases(model: Model, n: int) -> list[tuple[str, Callable[[], Any]]]:
         ("jacobian (product)", lambda: model.product_form.geometric_jacobian),
         ("determinant", lambda: model.determinant()),
         ("kinematics kernels (CSE)", kernels("kin", lambda: kinematics_kernels(model))),
-        ("point closed form (eval)", lambda: model.point_motion(*point[0]).acceleration),
+        # The recursion the CLI's point kernel uses (PointMotion.assignments), not the
+        # expanded closed form ``.acceleration``, which ran for minutes on a generic arm.
+        ("point recursion", lambda: len(model.point_motion(*point[0]).assignments)),
         ("point kernel (CSE)", kernels("pts", lambda: point_kernels(model, point))),
         ("base parameters", lambda: base_parameters(model.robot, model.kinematics)),
         ("newton-euler M,c,G,C", lambda: model.newton_euler),
         ("tau recursion", lambda: model.inverse_dynamics_recursion),
         ("dynamics kernels (passes)", kernels("dyn", lambda: dynamics_kernels(model))),
+        ("statics kernels (passes)", kernels("sta", lambda: statics_kernels(model))),
         ("emit c", lambda: emit_c(model.robot, all_kernels(), "double", ())),
         ("emit numpy", lambda: emit_numpy(model.robot, all_kernels(), ())),
         ("emit casadi", lambda: emit_casadi(model.robot, all_kernels(), ())),

@@ -17,7 +17,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from derivation_time import CLOCK
+from derivation_time import CLOCK, peak_rss_mb
 
 ROOT = Path(__file__).resolve().parent.parent
 RNEA_STATES = 1000  # distinct states one timing pass of Pinocchio's rnea walks through
@@ -99,7 +99,8 @@ def _child_sympybotics(kind: str, source: str, directory: str) -> dict:
         for name in ("invdyn", "g", "c", "C", "M", "H"):
             to_c("C", getattr(model, f"{name}_code"), f"{name}_out", name, definition)
     seconds = CLOCK() - start
-    return {"seconds": seconds, "checked": _sympybotics_pose_error(source, definition, geometry)}
+    checked = _sympybotics_pose_error(source, definition, geometry)
+    return {"seconds": seconds, "checked": checked, "rss_mb": peak_rss_mb()}
 
 
 def _sympybotics_pose_error(source: str, definition, geometry) -> float:
@@ -179,7 +180,8 @@ def cli(argv: list[str]) -> None:
     """Run the ``symkin`` command with ``argv`` exactly as its console script does, and at exit
     write the CPU seconds and peak RSS (MB) of symkin's own process and of the processes it
     waited for (the C compiler) as one JSON line on stderr: ``os.wait4`` in the parent sees
-    only their sum and the larger peak."""
+    only their sum and the larger peak.  symkin's own peak is ``VmHWM``
+    (:func:`derivation_time.peak_rss_mb`): its ``ru_maxrss`` would include the parent's."""
     import atexit
     import resource
 
@@ -188,7 +190,7 @@ def cli(argv: list[str]) -> None:
                       (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))  # fmt: skip
         figures = {
             "own_cpu": own.ru_utime + own.ru_stime,
-            "own_rss_mb": own.ru_maxrss / 1024,
+            "own_rss_mb": peak_rss_mb(),
             "compiler_cpu": tools.ru_utime + tools.ru_stime,
             "compiler_rss_mb": tools.ru_maxrss / 1024,
         }

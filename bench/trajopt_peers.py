@@ -222,9 +222,12 @@ def render(results: dict, agreement: dict, repeat: int, load: tuple[float, float
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat", type=int, help="alternated rounds (3; --quick 1)")
+    parser.add_argument("--quick", action="store_true", help="1 round")
     parser.add_argument("--no-write", action="store_true")
     args = parser.parse_args(argv)
+    if args.repeat is None:
+        args.repeat = 1 if args.quick else 3
     start_load = os.getloadavg()[0]
     results, agreement = measure(args.repeat)
     text = render(results, agreement, args.repeat, (start_load, os.getloadavg()[0]))

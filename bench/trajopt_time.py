@@ -8,12 +8,14 @@ In one run, on the same machine:
   configurations; each for minimum effort (fixed T) and minimum time, with multiple shooting
   and with collocation.  Each is solved ``--repeat`` times with :func:`symkin.solve.trajopt.
   optimal_trajectory` (a fresh ``casadi.Opti`` every time; the rendered CasADi and NumPy
-  modules are built once per robot beforehand and that time is reported on its own).  The
-  table gives IPOPT's status and iterations, the median wall time of ``Opti.solve`` with its
-  range, T, the cost, the fraction of intervals with a torque at its limit, and the
-  **replay error**: the optimal torques, held on each interval, integrated by SciPy's
-  ``solve_ivp`` (DOP853, rtol = atol = 1e-10) on the generated NumPy forward dynamics, and the
-  largest difference of the end state from the goal at rest.
+  modules and the robot's CasADi functions are built once per robot beforehand, and that time
+  is reported on its own), the cases alternated round by round.  The table gives IPOPT's
+  status and iterations, the median time of ``Opti.solve`` in CPU seconds of the process
+  (``SolverStats.cpu_times``, what the shared machine's load inflates least) and in wall
+  seconds, with their ranges, T, the cost, the fraction of intervals with a torque at its
+  limit, and the **replay error**: the optimal torques, held on each interval, integrated by
+  SciPy's ``solve_ivp`` (DOP853, rtol = atol = 1e-10) on the generated NumPy forward dynamics,
+  and the largest difference of the end state from the goal at rest.
 * **Regularisation**: each minimum-time example with multiple shooting solved once more with
   ``regularisation=0``; the relative lengthening of T caused by the default weight.
 * **Peer**: a textbook recursive Newton–Euler (Siciliano et al., Robotics: Modelling, Planning
@@ -21,8 +23,9 @@ In one run, on the same machine:
   and inertial data, mass matrix by n unit-acceleration passes, ``ddq = solve(M, tau - b)``:
   what one writes without symkin.  It is checked against symkin's forward dynamics at random
   states first (the script stops above 1e-9 relative), then the same minimum-effort problems
-  (multiple shooting) are solved with it swapped in for the generated function.  The ratio is
-  the peer's median solve time over symkin's.
+  (multiple shooting) are solved with it swapped in (``functions=``), each peer solve right
+  after symkin's in the same round.  The ratios are symkin's median solve time over the
+  peer's, in CPU and in wall time.
 
 Plots of the multiple-shooting solutions go to ``docs/images/trajopt_<robot>_<objective>.png``.
 The script writes its table into ``docs/benchmarks.md`` between ``<!-- trajopt:begin -->`` and
@@ -32,14 +35,13 @@ fails on it.
 
 Usage::
 
-    .venv/bin/python bench/trajopt_time.py               # 3 repeats, about 10 minutes
-    .venv/bin/python bench/trajopt_time.py --repeat 1 --no-write
+    .venv/bin/python bench/trajopt_time.py               # 3 rounds, about 5 minutes
+    .venv/bin/python bench/trajopt_time.py --quick --no-write     # 2 rounds, print only
 """
 
 from __future__ import annotations
 
 import argparse
-import datetime
 import math
 import os
 import platform
@@ -49,13 +51,11 @@ import time
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
-from unittest import mock
 
 import numpy as np
 
 from codegen_speed import write_docs
-from derivation_time import cpu_model, version
+from derivation_time import measured_line, version
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
@@ -253,7 +253,12 @@ class Row:
         return self.trajectories[-1]
 
     def solve_times(self) -> list[float]:
+        """Wall seconds of ``Opti.solve`` per solve."""
         return [t.stats.solve_time for t in self.trajectories]
+
+    def cpu_times(self) -> list[float]:
+        """CPU seconds of this process during ``Opti.solve`` per solve."""
+        return [t.stats.cpu_times[1] for t in self.trajectories]
 
 
 def replay_error(model, trajectory) -> float:
@@ -290,9 +295,14 @@ def progress(text: str) -> None:
 
 
 def measure(example: Example, repeat: int) -> dict:
+    """Every case ``repeat`` times, alternated round by round; the peer's minimum-effort
+    multiple-shooting solve right after symkin's in each round."""
+    import casadi as ca
+
     import symkin
     from symkin.runtime.modules import generated_casadi_module, generated_numpy_module
-    from symkin.solve.trajopt import optimal_trajectory
+    from symkin.solve.trajopt import optimal_trajectory, robot_functions
+    from trajopt_peers import newton_euler_peer
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the PUMA's published link-3 inertia
@@ -301,49 +311,41 @@ def measure(example: Example, repeat: int) -> dict:
     generated_casadi_module(model)
     generated_numpy_module(model)
     setup = time.perf_counter() - began
-    rows = []
-    for objective in OBJECTIVES:
-        for method in METHODS:
-            row = Row(example, objective, method)
-            for k in range(repeat):
-                row.trajectories.append(
-                    optimal_trajectory(model, problem(example, objective, method))
-                )
+    ours = robot_functions(model)  # built once, for both contenders alike
+    peer_functions = newton_euler_peer(model, ours)
+    peer_forward = newton_euler_forward_dynamics(model.robot)
+    difference = check_peer(model, peer_forward)
+    rows = [Row(example, o, m) for o in OBJECTIVES for m in METHODS]
+    peer = Row(example, "effort", "multiple-shooting")
+    for k in range(repeat):
+        for row in rows:
+            case = problem(example, row.objective, row.method)
+            row.trajectories.append(optimal_trajectory(model, case, functions=ours))
+            progress(
+                f"{model.robot.name} {row.objective} {row.method} {k + 1}/{repeat}: "
+                f"{row.cpu_times()[-1]:.2f} s CPU, {row.last.stats.iterations} iterations"
+            )
+            if (row.objective, row.method) == ("effort", "multiple-shooting"):
+                peer.trajectories.append(optimal_trajectory(model, case, functions=peer_functions))
                 progress(
-                    f"{model.robot.name} {objective} {method} {k + 1}/{repeat}: "
-                    f"{row.last.stats.solve_time:.2f} s, {row.last.stats.iterations} iterations"
+                    f"{model.robot.name} peer effort {k + 1}/{repeat}: "
+                    f"{peer.cpu_times()[-1]:.2f} s CPU"
                 )
-            row.replay_error = replay_error(model, row.last)
-            rows.append(row)
+    for row in rows:
+        row.replay_error = replay_error(model, row.last)
     unregularised = optimal_trajectory(
-        model, problem(example, "time", "multiple-shooting", regularisation=0.0)
+        model, problem(example, "time", "multiple-shooting", regularisation=0.0), functions=ours
     )
     progress(f"{model.robot.name} time without regularisation: T = {unregularised.final_time:.6g}")
-    peer = newton_euler_forward_dynamics(model.robot)
-    difference = check_peer(model, peer)
-    stand_in = SimpleNamespace(forward_dynamics_function=lambda symbol_type=None: peer)
-    peer_times, peer_costs = [], []
-    with mock.patch("symkin.solve.trajopt.solve.generated_casadi_module", return_value=stand_in):
-        for k in range(repeat):
-            result = optimal_trajectory(model, problem(example, "effort", "multiple-shooting"))
-            peer_times.append(result.stats.solve_time)
-            peer_costs.append(result.cost)
-            progress(f"{model.robot.name} peer effort {k + 1}/{repeat}: {peer_times[-1]:.2f} s")
-    import casadi as ca
-
-    ours = generated_casadi_module(model).forward_dynamics_function(ca.SX)
+    fd = generated_casadi_module(model).forward_dynamics_function(ca.SX)
+    instructions = (fd.n_instructions(), peer_forward.n_instructions())
     return {
         "example": example,
         "model": model,
         "setup": setup,
         "rows": rows,
         "unregularised": unregularised,
-        "peer": {
-            "difference": difference,
-            "times": peer_times,
-            "cost": peer_costs[-1],
-            "instructions": (ours.n_instructions(), peer.n_instructions()),
-        },
+        "peer": {"difference": difference, "row": peer, "instructions": instructions},
     }
 
 
@@ -351,6 +353,7 @@ def measure(example: Example, repeat: int) -> dict:
 
 
 def seconds(values: list[float]) -> str:
+    """``median (min–max)`` of ``values``, two decimals."""
     median = statistics.median(values)
     if len(values) == 1:
         return f"{median:.2f}"
@@ -372,7 +375,7 @@ def plot(results: list[dict]) -> list[Path]:
 def examples_table(results: list[dict]) -> str:
     """The worked examples' results (docs/trajopt.md)."""
     lines = [
-        "| example | objective | transcription | IPOPT | iterations | solve time [s] | T [s] "
+        "| example | objective | transcription | IPOPT | iterations | solve CPU [s] | T [s] "
         "| cost | replay error |",
         "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: |",
     ]
@@ -382,7 +385,7 @@ def examples_table(results: list[dict]) -> str:
             cost = f"{t.cost:.6g} N²m²s" if row.objective == "effort" else f"{t.cost:.6g} s"
             lines.append(
                 f"| {row.example.title} | {'minimum ' + row.objective} | {row.method} "
-                f"| {t.stats.status} | {t.stats.iterations} | {seconds(row.solve_times())} "
+                f"| {t.stats.status} | {t.stats.iterations} | {seconds(row.cpu_times())} "
                 f"| {t.final_time:.6g} | {cost} | {row.replay_error:.1e} |"
             )
     return "\n".join(lines)
@@ -391,27 +394,30 @@ def examples_table(results: list[dict]) -> str:
 def render(results: list[dict], args: argparse.Namespace, load: tuple[float, float]) -> str:
     import casadi
 
-    today = datetime.datetime.now(datetime.UTC).date().isoformat()
     lines = [
-        f"Measured on {today}: {cpu_model()}, {os.cpu_count()} cores; Python "
-        f"{platform.python_version()}, CasADi {casadi.__version__} (IPOPT bundled), "
-        f"NumPy {version('numpy')}, SciPy {version('scipy')}, symkin {version('symkin')}. "
-        f"Solve time is the wall time of `Opti.solve` (CasADi's derivative set-up and IPOPT), "
-        f"median (min–max) of {args.repeat} solves. Load average (1 min) at the start and end "
-        f"of the run: {load[0]:.1f} and {load[1]:.1f}. Generated by `bench/trajopt_time.py`.",
+        measured_line(
+            f"Python {platform.python_version()}, CasADi {casadi.__version__} (IPOPT bundled), "
+            f"NumPy {version('numpy')}, SciPy {version('scipy')}, symkin {version('symkin')}. "
+            "Solve time is `Opti.solve` (CasADi's derivative set-up and IPOPT) in CPU seconds of "
+            f"the process and in wall seconds, median (min–max) of {args.repeat} rounds, the "
+            "cases and the peer alternated round by round.",
+            load,
+            "trajopt_time.py",
+        ),
         "",
         "### Worked examples (docs/trajopt.md), 40 intervals",
         "",
-        "| example | objective | transcription | iterations | solve time [s] | T [s] "
-        "| torque at a limit | replay error |",
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: |",
+        "| example | objective | transcription | iterations | solve CPU [s] | solve wall [s] "
+        "| T [s] | torque at a limit | replay error |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for result in results:
         for row in result["rows"]:
             t = row.last
             lines.append(
                 f"| {row.example.title} | minimum {row.objective} | {row.method} "
-                f"| {t.stats.iterations} | {seconds(row.solve_times())} | {t.final_time:.6g} "
+                f"| {t.stats.iterations} | {seconds(row.cpu_times())} "
+                f"| {seconds(row.solve_times())} | {t.final_time:.6g} "
                 f"| {saturation(t):.0%} | {row.replay_error:.1e} |"
             )
     lines += [
@@ -419,8 +425,9 @@ def render(results: list[dict], args: argparse.Namespace, load: tuple[float, flo
         "Once per robot, before the solves: rendering and loading the generated CasADi and "
         "NumPy dynamics modules took "
         + "; ".join(f"{r['model'].robot.name} {r['setup']:.1f} s" for r in results)
-        + ". The replay error is the largest difference between the goal at rest and the end "
-        "state of the optimal torques integrated by `solve_ivp` (DOP853, tolerances 1e-10).",
+        + " (wall). The replay error is the largest difference between the goal at rest and "
+        "the end state of the optimal torques integrated by `solve_ivp` (DOP853, tolerances "
+        "1e-10).",
         "",
         "Minimum time, multiple shooting, with the default regularisation 0.01 against none: "
         + "; ".join(
@@ -431,29 +438,41 @@ def render(results: list[dict], args: argparse.Namespace, load: tuple[float, flo
         )
         + ".",
         "",
+        *_peer_table(results),
+    ]
+    return "\n".join(lines)
+
+
+def _peer_table(results: list[dict]) -> list[str]:
+    lines = [
         "### Generated forward dynamics against a generic CasADi Newton–Euler",
         "",
-        "Minimum effort, multiple shooting, the same problem with the forward dynamics swapped. "
-        "Instructions: `casadi.Function.n_instructions()` of the forward-dynamics function. "
-        "The ratio is the peer's median solve time over symkin's.",
+        "Minimum effort, multiple shooting, the same problem with the forward dynamics swapped "
+        "(`optimal_trajectory(..., functions=...)`, both built once before the solves); each "
+        "peer solve runs right after symkin's in the same round. Instructions: "
+        "`casadi.Function.n_instructions()` of the forward-dynamics function. The ratios are "
+        "symkin's median solve time over the peer's (below 1: symkin is faster), in CPU time "
+        "(the figure to compare across runs) and in wall time (which the machine's load moves).",
         "",
-        "| example | forward dynamics | instructions | iterations | solve time [s] | cost "
-        "| ratio |",
-        "| --- | --- | ---: | ---: | ---: | ---: | ---: |",
+        "| example | forward dynamics | instructions | iterations | solve CPU [s] "
+        "| solve wall [s] | cost | symkin / peer CPU | symkin / peer wall |",
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
     for result in results:
         ours = next(
             r for r in result["rows"] if (r.objective, r.method) == ("effort", "multiple-shooting")
         )
-        peer = result["peer"]
-        ratio = statistics.median(peer["times"]) / statistics.median(ours.solve_times())
+        peer, count = result["peer"]["row"], result["peer"]["instructions"]
+        cpu = statistics.median(ours.cpu_times()) / statistics.median(peer.cpu_times())
+        wall = statistics.median(ours.solve_times()) / statistics.median(peer.solve_times())
+        title = result["example"].title
         lines += [
-            f"| {result['example'].title} | symkin generated (`forward_dynamics_function`) "
-            f"| {peer['instructions'][0]} | {ours.last.stats.iterations} "
-            f"| {seconds(ours.solve_times())} | {ours.last.cost:.6g} | 1 |",
-            f"| {result['example'].title} | generic recursive Newton–Euler in CasADi SX "
-            f"| {peer['instructions'][1]} | — | {seconds(peer['times'])} | {peer['cost']:.6g} "
-            f"| {ratio:.1f}× |",
+            f"| {title} | symkin generated (`forward_dynamics_function`) | {count[0]} "
+            f"| {ours.last.stats.iterations} | {seconds(ours.cpu_times())} "
+            f"| {seconds(ours.solve_times())} | {ours.last.cost:.6g} | 1 | 1 |",
+            f"| {title} | generic recursive Newton–Euler in CasADi SX | {count[1]} "
+            f"| {peer.last.stats.iterations} | {seconds(peer.cpu_times())} "
+            f"| {seconds(peer.solve_times())} | {peer.last.cost:.6g} | {cpu:.2f} | {wall:.2f} |",
         ]
     lines += [
         "",
@@ -461,7 +480,7 @@ def render(results: list[dict], args: argparse.Namespace, load: tuple[float, flo
         + ", ".join(f"{r['peer']['difference']:.0e}" for r in results)
         + " (relative).",
     ]
-    return "\n".join(lines)
+    return lines
 
 
 def _time_row(result: dict) -> Row:
@@ -472,9 +491,14 @@ def _time_row(result: dict) -> Row:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeat", type=int, default=3, help="solves per case (3)")
+    parser.add_argument("--repeat", type=int, help="rounds: solves per case (3; --quick 2)")
+    parser.add_argument("--quick", action="store_true", help="2 rounds")
     parser.add_argument("--no-write", action="store_true", help="print only; no docs, no plots")
     args = parser.parse_args(argv)
+    if args.repeat is None:
+        args.repeat = 2 if args.quick else 3
+    if args.repeat < 1:
+        parser.error("--repeat must be at least 1")
     load_start = os.getloadavg()[0]
     results = [measure(example, args.repeat) for example in EXAMPLES]
     table = render(results, args, (load_start, os.getloadavg()[0]))

@@ -117,16 +117,18 @@ def files_for_robot(
         return robot_kernels(model, dynamics, derivatives) + point_kernels(model, points) + extra
 
     kernels = functools.cache(all_kernels)
+    # "c" and "python" both need the C files: print them once.
+    c_files = functools.cache(lambda: emit_c(robot, kernels(), precision, flags))
 
     emitters: dict[str, Callable[[], dict[str, str]]] = {
         "numpy": lambda: emit_numpy(robot, kernels(), flags),
         "c": lambda: {
-            **emit_c(robot, kernels(), precision, flags),
+            **c_files(),
             **emit_ik_c(robot, kernels(), precision, flags),
             **emit_ik_closed_c(robot, kernels(), precision, flags),
         },
         "python": lambda: {
-            **emit_c(robot, kernels(), precision, flags),
+            **c_files(),
             **emit_python_extension(robot, kernels(), precision, flags),
         },
         "casadi": lambda: emit_casadi(robot, kernels(), flags),

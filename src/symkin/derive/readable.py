@@ -46,6 +46,9 @@ INLINE_TERMS = 200
 # unreadable, and as a kernel candidate it about doubled the CPU time of a 6R's derive
 # (measured 14.5 s without it).  With no budget (``budget=None``) it is attempted.
 MAX_TERMS = 1000
+# The size measure stops counting past this many terms of a partial product (twice
+# MAX_TERMS: the remaining links would have to cancel half the terms to come back under it).
+STOP_COUNTING = 2 * MAX_TERMS
 
 QUANTITY = "angle-sum contraction of the forward kinematics and Jacobian"
 FALLBACK = "they keep their product form (same values, longer expressions)"
@@ -53,16 +56,29 @@ FALLBACK = "they keep their product form (same values, longer expressions)"
 Readable = tuple[Kinematics, sp.ImmutableMatrix]
 
 
-def expanded_size(robot: Robot) -> int:
+def expanded_size(robot: Robot, stop_above: int | None = None) -> int:
     """Number of terms of the 16 entries of ``T`` expanded (the chain multiplied in SymEngine,
-    expanded after each link as the contraction does)."""
+    expanded after each link as the contraction does).
+
+    With ``stop_above``, the count of the partial product ``base A_1 ... A_k`` is returned as
+    soon as it exceeds ``stop_above``: a generic 12R arm's full expansion has 485,575 terms
+    and took about 25 s of CPU only to be refused.  Later links multiply every rotation term
+    by a new joint's sine or cosine, so terms do not cancel there; the caller's margin
+    (:data:`STOP_COUNTING`) covers the position column, where they could.
+    """
     q = joint_symbols(robot.dof)
     transform = _symengine(robot.base)
     for joint, qi in zip(robot.joints, q, strict=True):
         product = transform * _symengine(link_transform(joint, qi, robot.convention))
         transform = product.applyfunc(se.expand)
+        if stop_above is not None and _terms(transform) > stop_above:
+            return _terms(transform)
     transform = (transform * _symengine(robot.tool)).applyfunc(se.expand)
-    return sum(len(e.args) if isinstance(e, se.Add) else 1 for e in transform)
+    return _terms(transform)
+
+
+def _terms(matrix: se.DenseMatrix) -> int:
+    return sum(len(e.args) if isinstance(e, se.Add) else 1 for e in matrix)
 
 
 def _symengine(matrix: sp.MatrixBase) -> se.DenseMatrix:
@@ -74,7 +90,7 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
     :class:`ClosedForm`: found, or over budget (with one warning) for the caller to fall back
     to the product form."""
 
-    size = expanded_size(robot)
+    size = expanded_size(robot, None if budget is None else STOP_COUNTING)
     inline = size <= INLINE_TERMS
 
     def contracted() -> Readable:
@@ -86,7 +102,8 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
 
     if budget is not None and size > MAX_TERMS:
         note = (
-            f"{robot.name}: the {QUANTITY} was not attempted: T expanded has {size:,} terms "
+            f"{robot.name}: the {QUANTITY} was not attempted: T expanded has "
+            f"{'more than ' if size > STOP_COUNTING else ''}{min(size, STOP_COUNTING):,} terms "
             f"(more than {MAX_TERMS:,}, minutes of work); {FALLBACK}"
         )
         warnings.warn(BudgetWarning(note), stacklevel=4)

@@ -55,11 +55,24 @@ def shortest_kernel(
     candidates: dict[int, Kernel] = {}
     for index in reversed(range(len(outputs_by_form))):
         outputs = outputs_by_form[index]
+        # A form equal to one built already (no readable form was derived) costs no new CSE.
+        twin = next((i for i in candidates if _same(outputs_by_form[i], outputs)), None)
+        if twin is not None:
+            candidates[index] = candidates[twin]
+            continue
         best = min((k.operation_counts["total"] for k in candidates.values()), default=None)
         if best is not None and _products_lower_bound(outputs) > best:
             continue
         candidates[index] = kernel_from_outputs(name, description, inputs, outputs)
     return candidates[min(candidates, key=lambda i: (candidates[i].operation_counts["total"], i))]
+
+
+def _same(
+    first: Sequence[tuple[str, sp.MatrixBase, str]],
+    second: Sequence[tuple[str, sp.MatrixBase, str]],
+) -> bool:
+    """Whether two forms' outputs are the same expressions (structural equality)."""
+    return all(a[1] == b[1] for a, b in zip(first, second, strict=True))
 
 
 def _products_lower_bound(outputs: Sequence[tuple[str, sp.MatrixBase, str]]) -> int:

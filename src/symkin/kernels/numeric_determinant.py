@@ -17,7 +17,7 @@ from collections.abc import Sequence
 import sympy as sp
 
 from symkin.kernels.passes import kernel_from_assignments
-from symkin.kernels.spec import Kernel
+from symkin.kernels.spec import Kernel, KernelOutput
 
 
 def numeric_determinant_kernels(
@@ -30,22 +30,25 @@ def numeric_determinant_kernels(
     entries = [[output.matrix[r, c] for c in range(output.matrix.cols)] for r in rows]
     assignments = list(jacobian.assignments)
     determinant = _minors_expansion(entries, assignments)
-    kernels = []
-    for name, description, symbol, value, meaning in (
-        ("det", "determinant", "det", determinant, "det J"),
-        ("manipulability", "Yoshikawa manipulability", "mu", sp.Abs(determinant), "|det J|"),
-    ):
-        kernels.append(
-            kernel_from_assignments(
-                name,
-                f"{description} of the task Jacobian (rows {rows_text}), computed numerically "
-                f"from the Jacobian ({reason})",
-                jacobian.inputs,
-                assignments,
-                [(symbol, sp.Matrix([[value]]), meaning, "scalar", unit)],
-            )
-        )
-    return kernels[0], kernels[1]
+    where = f"of the task Jacobian (rows {rows_text}), computed numerically from the Jacobian"
+    det = kernel_from_assignments(
+        "det",
+        f"determinant {where} ({reason})",
+        jacobian.inputs,
+        assignments,
+        [("det", sp.Matrix([[determinant]]), "det J", "scalar", unit)],
+    )
+    # |det J| reuses det's intermediates: the same passes would only repeat themselves.
+    (value,) = det.outputs
+    absolute = sp.ImmutableMatrix([[sp.Abs(value.matrix[0])]])
+    manipulability = Kernel(
+        "manipulability",
+        f"Yoshikawa manipulability {where} ({reason})",
+        det.inputs,
+        (KernelOutput("mu", absolute, "|det J|", "scalar", unit),),
+        det.assignments,
+    )
+    return det, manipulability
 
 
 def numeric_manipulability_kernel(

@@ -62,10 +62,9 @@ def _summands_inlined(
     def inlined(expr: sp.Expr) -> sp.Expr:
         if not expr.is_Add:
             return expr
-        terms = [
-            definitions[t] if t in definitions and uses[t] == 1 else t
-            for t in sp.Add.make_args(expr)
-        ]
+        if not any(t in definitions and uses[t] == 1 for t in expr.args):
+            return expr  # nothing to inline: no new sum to build
+        terms = [definitions[t] if t in definitions and uses[t] == 1 else t for t in expr.args]
         return sp.Add(*terms)
 
     substituted = [(s, inlined(e)) for s, e in assignments]

@@ -15,6 +15,7 @@ from functools import cached_property
 
 import sympy as sp
 
+from symkin.kernels.operations import visual_counts
 from symkin.symbols import unused_prefix
 
 # Kinds reported in operation counts, from SymPy's count_ops(visual=True) names.
@@ -109,11 +110,7 @@ def count_operations(expressions: Sequence[sp.Expr]) -> dict[str, int]:
     """Arithmetic operations by kind (SymPy's ``count_ops``, square roots split from powers)."""
     raw: Counter[str] = Counter()
     for expr in expressions:
-        visual = sp.count_ops(expr, visual=True)
-        for term in sp.Add.make_args(visual):
-            coefficient, symbol = term.as_coeff_Mul()
-            if isinstance(symbol, sp.Symbol):
-                raw[symbol.name] += int(coefficient)
+        raw.update(visual_counts(expr))
         square_roots = _sqrt_count(expr)
         raw["SQRT"] += square_roots
         raw["POW"] -= square_roots
