@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import dataclasses
 import datetime
 import gc
 import importlib.util
@@ -988,10 +989,17 @@ def write_docs(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats (under a minute)")
+    parser.add_argument(
+        "--rounds", type=int, help="alternated C-loop rounds (default 5; 2 with --quick)"
+    )
     parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
     parser.add_argument("--no-write", action="store_true", help="print only")
     args = parser.parse_args(argv)
     settings = QUICK if args.quick else FULL
+    if args.rounds is not None:
+        if args.rounds < 1:
+            parser.error("--rounds must be at least 1")
+        settings = dataclasses.replace(settings, c_rounds=args.rounds)
 
     load_start = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="symkin-codegen-speed-") as temporary:

@@ -898,6 +898,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats (a few minutes)")
     parser.add_argument(
+        "--rounds", type=int, help="alternated C-loop rounds (default 5; 2 with --quick)"
+    )
+    parser.add_argument(
         "--repeat", type=int, help="fresh processes per derivation measurement (3; quick 1)"
     )
     parser.add_argument(
@@ -911,6 +914,10 @@ def main(argv: list[str] | None = None) -> int:
         _child(args.child)
         return 0
     settings = QUICK if args.quick else FULL
+    if args.rounds is not None:
+        if args.rounds < 1:
+            parser.error("--rounds must be at least 1")
+        settings = dataclasses.replace(settings, c_rounds=args.rounds)
     repeat = args.repeat or (1 if args.quick else 3)
     if repeat < 1:
         parser.error("--repeat must be at least 1")
