@@ -633,11 +633,14 @@ def per_call_contenders() -> tuple[list[Contender], list[Contender], Contender]:
             "T = empty((4, 4)); c_fk(q.ctypes.data, P_ptr, T.ctypes.data)",
         ),
         Contender(
-            Result("ctypes on CasADi-generated C (fresh 4×4 output array)"),
+            Result("ctypes on CasADi C of symkin's graph (fresh 4×4 output array)"),
             "T = empty((4, 4), order='F'); cas_arg[0] = q.ctypes.data; "
             "cas_res[0] = T.ctypes.data; cas_fk(cas_arg, cas_res, None, None, 0)",
         ),
-        Contender(Result("CasADi `Function` call `f(q, p).full()`"), "casadi_fk(q, P).full()"),
+        Contender(
+            Result("CasADi `Function` of symkin's graph, `f(q, p).full()`"),
+            "casadi_fk(q, P).full()",
+        ),
         Contender(
             Result("Pinocchio `framesForwardKinematics` (pose left in `data.oMf`)"),
             "pin.framesForwardKinematics(model, data, q)",

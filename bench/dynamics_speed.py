@@ -602,13 +602,13 @@ def per_call_contenders() -> tuple[list[Contender], Contender]:
             UNPACK + "np_dyn.inverse_dynamics(x, v, a)",
         ),
         Contender(
-            Result("ctypes on CasADi-generated C (fresh output)"),
+            Result("ctypes on CasADi C of symkin's graph (fresh output)"),
             UNPACK + "tau = empty(6); cas_arg[0] = x.ctypes.data; cas_arg[1] = v.ctypes.data; "
             "cas_arg[2] = a.ctypes.data; cas_res[0] = tau.ctypes.data; "
             "cas_id(cas_arg, cas_res, None, None, 0)",
         ),
         Contender(
-            Result("CasADi `Function` call `f(q, dq, ddq, p).full()`"),
+            Result("CasADi `Function` of symkin's graph, `f(q, dq, ddq, p).full()`"),
             UNPACK + "casadi_id(x, v, a, P).full()",
         ),
         Contender(Result("Pinocchio `rnea`"), UNPACK + "pin.rnea(model, data, x, v, a)"),
