@@ -38,6 +38,7 @@ from symkin.solve.ik.result import IKResult
 BACKENDS = ("auto", "c", "numpy", "python")
 ALL_ROWS = frozenset(("x", "y", "z", "wx", "wy", "wz"))
 POSITION_ROWS = frozenset(("x", "y", "z"))
+_IDENTITY = np.eye(3)
 
 
 @dataclass(frozen=True)
@@ -59,7 +60,7 @@ def fits_dls(method: str, rows: tuple[str, ...], weights: object, target: np.nda
     if method != "lm" or weights is not None or frozenset(rows) not in (ALL_ROWS, POSITION_ROWS):
         return False
     R = target[:3, :3]
-    return bool(np.max(np.abs(R.T @ R - np.eye(3))) <= ORTHONORMAL_TOLERANCE["double"])
+    return bool(np.abs(R.T @ R - _IDENTITY).max() <= ORTHONORMAL_TOLERANCE["double"])
 
 
 def choose_backend(backend: str, fits: bool) -> str:

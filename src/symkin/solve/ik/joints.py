@@ -101,7 +101,7 @@ def joint_vector(values: Sequence[float] | np.ndarray, n: int, what: str) -> np.
     array = np.asarray(values, dtype=float).reshape(-1)
     if array.size != n:
         raise SymkinError(f"{what}: expected {n} values, got {array.size}")
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         raise SymkinError(f"{what}: expected finite numbers, got {array.tolist()}")
     return array
 
