@@ -123,5 +123,5 @@ def rest_configuration(
                 f"rest posture: expected {model.robot.dof} joint values or 'middle', "
                 f"got {rest_posture!r}"
             )
-        return middle_configuration(model)
+        return joint_data(model).middle
     return joint_vector(rest_posture, model.robot.dof, "rest posture")

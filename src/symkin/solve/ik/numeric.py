@@ -545,9 +545,9 @@ def solve_ik(
     backend = choose_backend(backend, fits_dls(method, rows, weights, target))
     extension = dls_extension(model, backend)
     seed_q = joint_data(model).middle if q0 is None else joint_vector(q0, n, "q0")
-    rest = None  # no null space to move in (Newton: the lecture's plain iteration)
-    if method == "lm" and len(rows) < n:
-        rest = rest_configuration(model, rest_posture)
+    rest = rest_configuration(model, rest_posture)
+    if method != "lm" or len(rows) >= n:
+        rest = None  # no null space to move in (Newton: the lecture's plain iteration)
     if backend != "python" and rest is None:  # the short way: no Python-side iteration
         settings = dls_settings(max_iterations, restarts, tolerance, seed)
         return solve_dls(model, extension, target, seed_q, rows, settings, overrides)
