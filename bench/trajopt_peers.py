@@ -1,8 +1,8 @@
 """The PUMA 560 minimum-effort transfer of docs/trajopt.md on three dynamics implementations,
 in one run, alternated: symkin's generated CasADi code, a textbook recursive Newton–Euler
-written directly in CasADi (``bench/trajopt_time.py``), and adam-robotics' CasADi dynamics
-(``adam.casadi.KinDynComputations``, CRBA mass matrix and RNEA bias force) read from the URDF
-that ``symkin urdf puma560`` writes.
+written directly in CasADi from the DH table (``bench/casadi_peer.py``), and adam-robotics'
+CasADi dynamics (``adam.casadi.KinDynComputations``, CRBA mass matrix and RNEA bias force)
+read from the URDF that ``symkin urdf puma560`` writes.
 
 The problem is the same for all three: 40 intervals, T = 2 s, the docs' torque and velocity
 limits, symkin's accuracy control at the default tolerance (1e-4), solved by
@@ -40,9 +40,9 @@ from pathlib import Path
 
 import numpy as np
 
+from casadi_peer import newton_euler_forward_dynamics
 from codegen_speed import write_docs
 from derivation_time import cpu_model, version
-from trajopt_time import newton_euler_forward_dynamics
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
@@ -93,7 +93,7 @@ def swapped(ours, inverse, forward):
 
 
 def newton_euler_peer(model, ours):
-    """The generic RNEA of bench/trajopt_time.py: the recursion as the inverse dynamics, and
+    """The generic RNEA of bench/casadi_peer.py: the recursion as the inverse dynamics, and
     its forward dynamics (mass matrix by n unit-acceleration passes, a linear solve)."""
     import casadi as ca
 
