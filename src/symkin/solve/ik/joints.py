@@ -101,7 +101,7 @@ def joint_vector(values: Sequence[float] | np.ndarray, n: int, what: str) -> np.
     array = np.asarray(values, dtype=float).reshape(-1)
     if array.size != n:
         raise SymkinError(f"{what}: expected {n} values, got {array.size}")
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         raise SymkinError(f"{what}: expected finite numbers, got {array.tolist()}")
     return array
 
@@ -123,5 +123,5 @@ def rest_configuration(
                 f"rest posture: expected {model.robot.dof} joint values or 'middle', "
                 f"got {rest_posture!r}"
             )
-        return middle_configuration(model)
+        return joint_data(model).middle
     return joint_vector(rest_posture, model.robot.dof, "rest posture")

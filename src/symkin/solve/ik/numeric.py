@@ -60,6 +60,7 @@ from symkin.solve.ik.backends import (
     dls_settings,
     fits_dls,
     run_dls,
+    solve_dls,
 )
 from symkin.solve.ik.joints import (
     joint_data,
@@ -69,6 +70,7 @@ from symkin.solve.ik.joints import (
     rest_configuration,
     wrap_angles,
 )
+from symkin.solve.ik.result import IKResult
 from symkin.solve.ik.steps import newton_step, null_space_step, rotation_vector
 from symkin.solve.ik.target import task_rows_for
 
@@ -97,35 +99,6 @@ STALL_WINDOW = 10
 STALL_RATIO = 0.99
 # Limits are met when exceeded by no more than this (rounding of the 2 pi shifts).
 LIMIT_SLACK = 1e-12
-
-
-@dataclass(frozen=True)
-class IKResult:
-    """The outcome of :func:`solve_ik`.
-
-    ``q`` is the best configuration found (the solution when ``success``, otherwise the closest
-    pose reached), ``pose`` its forward kinematics.  ``position_error`` (m) and
-    ``rotation_error`` (rad) are the norms of the selected linear and angular error components
-    at ``q``; ``residual`` is the larger of the two.  ``iterations`` counts every iteration of
-    every attempt, ``restarts`` the attempts after the first.  ``backend`` names the
-    implementation that ran (:mod:`symkin.solve.ik.backends`: ``"c"``, ``"numpy"``,
-    ``"python"``; ``"casadi"`` for :func:`~symkin.solve.ik.casadi_ik.solve_ik_casadi`).
-    """
-
-    q: np.ndarray
-    success: bool
-    position_error: float
-    rotation_error: float
-    iterations: int
-    restarts: int
-    pose: np.ndarray
-    rows: tuple[str, ...]
-    method: str
-    backend: str = "python"
-
-    @property
-    def residual(self) -> float:
-        return max(self.position_error, self.rotation_error)
 
 
 @dataclass(frozen=True)
@@ -339,7 +312,7 @@ def _attempt(problem: _Problem, start: np.ndarray, method: str, max_iterations: 
 
 def _target(target: np.ndarray) -> np.ndarray:
     target = np.asarray(target, dtype=float)
-    if target.shape != (4, 4) or not np.all(np.isfinite(target)):
+    if target.shape != (4, 4) or not np.isfinite(target).all():
         raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
     return target
 
@@ -503,7 +476,28 @@ def _solve_dls(
     return _Attempt(run.q, 0.0, run.converged, run.iterations), run.restarts
 
 
-def _check_effort(method: str, max_iterations: int, restarts: int) -> None:
+def _attempts(
+    model: Model,
+    problem: _Problem,
+    seed_q: np.ndarray,
+    method: str,
+    extension: ModuleType | str | None,
+    options: tuple[int, int, int | None, Mapping[str, float] | None],
+) -> tuple[_Attempt, int, int, str]:
+    """The best attempt, all iterations, the restarts and the backend that ran: the general
+    solver when ``extension`` is ``"python"``, else the damped least squares (compiled with
+    an extension module, NumPy with ``None``)."""
+    if extension == "python":
+        best, iterations, restarts = _solve_python(model, problem, seed_q, method, options[:3])
+        return best, iterations, restarts, "python"
+    assert not isinstance(extension, str)
+    best, restarts = _solve_dls(model, problem, seed_q, extension, options)
+    return best, best.iterations, restarts, "numpy" if extension is None else "c"
+
+
+def _check_arguments(method: str, max_iterations: int, restarts: int, tolerance: float) -> None:
+    if not tolerance > 0:
+        raise ParameterError(f"the {{tolerance}} must be positive, got {tolerance}")
     if method not in METHODS:
         raise SymkinError(f"unknown IK method {method!r}; expected one of {', '.join(METHODS)}")
     if max_iterations < 1 or restarts < 0:
@@ -544,27 +538,25 @@ def solve_ik(
     ``"python"``); the result names the one that ran.  Returns the best attempt; see the
     module docstring for the metric.
     """
-    _check_effort(method, max_iterations, restarts)
+    _check_arguments(method, max_iterations, restarts, tolerance)
     n = model.robot.dof
     rows = task_rows_for(model, task, position_only)
     target = _target(target)
     backend = choose_backend(backend, fits_dls(method, rows, weights, target))
     extension = dls_extension(model, backend)
-    fk_jacobian = None if extension is None else extension.fk_jacobian
-    problem = _problem(model, target, rows, weights, tolerance, overrides, fk_jacobian)
     seed_q = joint_data(model).middle if q0 is None else joint_vector(q0, n, "q0")
     rest = rest_configuration(model, rest_posture)
     if method != "lm" or len(rows) >= n:
         rest = None  # no null space to move in (Newton: the lecture's plain iteration)
-    if backend == "python":
-        best, iterations, attempt_count = _solve_python(
-            model, problem, seed_q, method, (max_iterations, restarts, seed)
-        )
-    else:
-        options = (max_iterations, restarts, seed, overrides)
-        best, attempt_count = _solve_dls(model, problem, seed_q, extension, options)
-        iterations = best.iterations
-        backend = "numpy" if extension is None else "c"
+    if backend != "python" and rest is None:  # the short way: no Python-side iteration
+        settings = dls_settings(max_iterations, restarts, tolerance, seed)
+        return solve_dls(model, extension, target, seed_q, rows, settings, overrides)
+    fk_jacobian = None if extension is None else extension.fk_jacobian
+    problem = _problem(model, target, rows, weights, tolerance, overrides, fk_jacobian)
+    best, iterations, attempt_count, backend = _attempts(
+        model, problem, seed_q, method, extension if backend != "python" else "python",
+        (max_iterations, restarts, seed, overrides),
+    )  # fmt: skip
     if rest is not None and best.converged:
         moved = _toward_rest(problem, best, rest)
         iterations += moved.iterations - best.iterations
