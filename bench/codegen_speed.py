@@ -4,11 +4,14 @@ The script generates every backend of the catalogue PUMA 560 into a temporary di
 builds the CPython extension (as ``symkin derive puma560 --out DIR`` does), then times, in
 one run and on the same machine:
 
-* **C loop.** ``bench/codegen_speed_loop.c`` calls ``puma560_fk`` and ``puma560_fk_jacobian``
-  over a table of 65,536 joint vectors, timed with ``clock_gettime`` inside C; the same harness
-  calls the C code that ``casadi.CodeGenerator`` writes for the generated CasADi module's
-  ``fk_function()`` and ``fk_jacobian_function()``.  Both are compiled with the flags symkin
-  builds its extension with (``gcc -O2``), the kernels in their own translation unit.
+* **C loop.** ``bench/codegen_speed_loop.c`` calls ``<robot>_fk`` and ``<robot>_fk_jacobian``
+  of the PUMA 560 and the Panda over a table of 65,536 joint vectors, timed with
+  ``clock_gettime`` inside C; the same harness calls the C that ``casadi.CodeGenerator`` writes
+  for the generated CasADi module's ``fk_function()`` and ``fk_jacobian_function()`` (CasADi
+  printing symkin's graph) and for the independent CasADi model of ``bench/casadi_peer.py``
+  (written from the DH table).  All are compiled with the flags symkin builds its extension
+  with (``gcc -O2``), the kernels in their own translation unit, and alternated round by round
+  (``bench/c_loop.py``); each harness run reports its peak resident set.
 * **Per call from Python.** symkin's extension (``fk(q)``, ``jacobian(q)``), ctypes on the
   same C, ctypes on CasADi's C, a ``casadi.Function`` call, Pinocchio
   (``framesForwardKinematics``, ``computeFrameJacobian``) on a model built from the same DH
@@ -41,6 +44,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import dataclasses
 import datetime
 import gc
 import importlib.util
@@ -53,12 +57,15 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata
 from pathlib import Path
 from types import ModuleType
 
 import numpy as np
+
+from c_loop import METHOD, Job, Run, casadi_c, compile_harness, peer_targets, run_rounds
+from c_loop import table as c_loop_table
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs" / "benchmarks.md"
@@ -66,6 +73,9 @@ BEGIN = "<!-- codegen-speed:begin -->"
 END = "<!-- codegen-speed:end -->"
 HARNESS = Path(__file__).resolve().with_name("codegen_speed_loop.c")
 ROBOT = "puma560"
+C_LOOP_ROBOTS = {"puma560": "PUMA 560", "panda": "Panda"}
+C_LOOP_KERNELS = ("fk", "fk_jacobian")
+C_LOOP_LABELS = {"fk": "FK", "fk_jacobian": "FK + Jacobian"}
 BATCH = 100_000  # configurations in the batch measurements
 SAMPLES = 65_536  # distinct joint vectors the per-call measurements walk through
 MIN_REPEATS = 3  # a contender that runs past its time budget still gets this many repeats
@@ -177,34 +187,24 @@ def compile_c(cc: str, flags: tuple[str, ...], sources: list[Path], output: Path
 
 
 @dataclass(frozen=True)
-class SideBySide:
-    """The C-loop harness over symkin's C and over CasADi's C, and both as shared libraries."""
+class Libraries:
+    """symkin's C and CasADi's C of the same kernels as shared libraries (for ctypes)."""
 
-    loop_ours: Path
-    loop_casadi: Path
-    lib_ours: Path
-    lib_casadi: Path
+    ours: Path
+    casadi: Path
 
 
-def side_by_side(
-    cc: str, flags: tuple[str, ...], harness: Path, directory: Path, name: str, *defines: str
-) -> SideBySide:
-    """Compile ``harness`` against ``c/<name>.c`` and ``casadi_c/casadi_<name>.c`` (``-DHEADER``
-    names each one's header; ``-DBENCH_CASADI`` for CasADi's) and both as libraries."""
-    c_dir, casadi_dir = directory / "c", directory / "casadi_c"
-    ours, theirs = c_dir / f"{name}.c", casadi_dir / f"casadi_{name}.c"
+def shared_libraries(cc: str, flags: tuple[str, ...], directory: Path, name: str) -> Libraries:
+    """``c/<name>.c`` and ``casadi_c/casadi_<name>.c`` compiled as shared libraries."""
     shared = ("-shared", "-fPIC")
-    return SideBySide(
-        loop_ours=compile_c(
-            cc, flags, [harness, ours], directory / "loop_symkin", f"-I{c_dir}",
-            f'-DHEADER="{name}.h"', *defines,
+    return Libraries(
+        ours=compile_c(
+            cc, flags, [directory / "c" / f"{name}.c"], directory / "libsymkin.so", *shared
         ),
-        loop_casadi=compile_c(
-            cc, flags, [harness, theirs], directory / "loop_casadi", f"-I{casadi_dir}",
-            f'-DHEADER="casadi_{name}.h"', "-DBENCH_CASADI", *defines,
+        casadi=compile_c(
+            cc, flags, [directory / "casadi_c" / f"casadi_{name}.c"], directory / "libcasadi.so",
+            *shared,
         ),
-        lib_ours=compile_c(cc, flags, [ours], directory / "libsymkin.so", *shared),
-        lib_casadi=compile_c(cc, flags, [theirs], directory / "libcasadi.so", *shared),
     )  # fmt: skip
 
 
@@ -230,15 +230,11 @@ class Build:
     parameters: np.ndarray  # default parameter values, file order
     flags: tuple[str, ...]
     cc: str
-    loop_ours: Path
-    loop_casadi: Path
     lib_ours: Path
     lib_casadi: Path
 
 
 def build(directory: Path) -> Build:
-    import casadi
-
     from symkin import derive, load_robot
     from symkin.generate import files_for_robot
     from symkin.kernels import kinematics_kernels
@@ -255,17 +251,11 @@ def build(directory: Path) -> Build:
     model = derive(robot)
     kernels = {k.name: k for k in kinematics_kernels(model)}
 
-    # CasADi's C code for the two kernels the C loop times.
-    casadi_dir = directory / "casadi_c"
-    casadi_dir.mkdir()
-    generator = casadi.CodeGenerator(f"casadi_{ROBOT}.c", {"with_header": True})
-    generator.add(casadi_module.fk_function())
-    generator.add(casadi_module.fk_jacobian_function())
-    generator.generate(f"{casadi_dir}/")
-
+    # CasADi's C code for the generated CasADi module's FK (ctypes from Python).
+    casadi_c([casadi_module.fk_function()], directory / "casadi_c", f"casadi_{ROBOT}")
     cc = compiler()
     flags = tuple(OPTIMISATION_FLAGS)
-    built = side_by_side(cc, flags, HARNESS, directory, ROBOT)
+    built = shared_libraries(cc, flags, directory, ROBOT)
     return Build(
         directory=directory,
         ext=ext,
@@ -277,47 +267,67 @@ def build(directory: Path) -> Build:
         parameters=np.array(list(robot.parameter_values().values()), dtype=float),
         flags=flags,
         cc=cc,
-        loop_ours=built.loop_ours,
-        loop_casadi=built.loop_casadi,
-        lib_ours=built.lib_ours,
-        lib_casadi=built.lib_casadi,
+        lib_ours=built.ours,
+        lib_casadi=built.casadi,
     )
 
 
 # --------------------------------------------------------------------------- C loop
 
 
-def c_loop(b: Build, settings: Settings) -> dict[tuple[str, str], Result]:
-    """ns per call of ``fk`` and ``fk_jacobian`` in a C loop, symkin's C and CasADi's C."""
-    executables = {"symkin": b.loop_ours, "casadi": b.loop_casadi}
-    results = {
-        (impl, kernel): Result(f"{impl} {kernel}", ours=impl == "symkin")
-        for kernel in ("fk", "fk_jacobian")
-        for impl in executables
-    }
-    checksums: dict[tuple[str, str], float] = {}
-    for round_ in range(settings.c_rounds):
-        for kernel in ("fk", "fk_jacobian"):
-            for impl, executable in executables.items():
-                command = [str(executable), kernel, str(settings.c_calls), str(settings.c_repeats)]
-                done = subprocess.run(command, capture_output=True, text=True, check=True)
-                for line in done.stdout.splitlines():
-                    key, value = line.split()
-                    if key == "ns_per_call":
-                        results[impl, kernel].values.append(float(value))
-                    else:
-                        checksums[impl, kernel] = float(value)
-        _progress(
-            f"C loop round {round_ + 1}/{settings.c_rounds}: "
-            + ", ".join(f"{r.label} {r.values[-1]:.1f} ns" for r in results.values())
-        )
-    for kernel in ("fk", "fk_jacobian"):
-        ours, theirs = checksums["symkin", kernel], checksums["casadi", kernel]
-        if not abs(ours - theirs) <= 1e-9 * max(1.0, abs(ours)):
-            raise CheckError(
-                f"C loop {kernel}: checksums differ, symkin {ours!r}, CasADi {theirs!r}"
-            )
-    return results
+def kinematics_loops(directory: Path, cc: str, flags: tuple[str, ...]) -> list[Job]:
+    """The C-loop jobs of FK and FK + Jacobian for every robot of ``C_LOOP_ROBOTS``: symkin's
+    generated C, CasADi's C of the generated CasADi module, CasADi's C of the independent model
+    (each checked against symkin's NumPy module at random joint vectors first)."""
+    import casadi_peer
+    from symkin import load_robot
+    from symkin.generate import files_for_robot
+    from symkin.output_folder import write_folder
+
+    jobs = []
+    for name in C_LOOP_ROBOTS:
+        robot, folder = load_robot(name), directory / f"loop_{name}"
+        write_folder(folder, files_for_robot(robot, ("numpy", "c", "casadi"), dynamics=False))
+        graph = load_module(folder / "casadi" / f"{name}_casadi.py")
+        graph_functions = [graph.fk_function(), graph.fk_jacobian_function()]
+        peer_functions = casadi_peer.functions(robot, C_LOOP_KERNELS)
+        check_kinematics(robot, load_module(folder / "numpy" / f"{name}_kinematics.py"),
+                         {"graph": graph_functions, "peer": peer_functions})  # fmt: skip
+        sources = {
+            "symkin": folder / "c" / f"{name}.c",
+            "graph": casadi_c(graph_functions, folder / "casadi_c", f"casadi_{name}"),
+            "peer": casadi_c(peer_functions, folder / "peer_c", f"peer_{name}"),
+        }
+        n_p = len(robot.parameters)
+        defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}")
+        parameters = [repr(float(v)) for v in robot.parameter_values().values()]
+        for impl, source in sources.items():
+            output = folder / f"loop_{impl}"
+            executable = compile_harness(cc, flags, HARNESS, source, output, *defines)
+            for kernel in C_LOOP_KERNELS:
+                jobs.append(Job(name, kernel, impl, (str(executable), kernel, "{calls}",
+                                                     "{repeats}", *parameters)))  # fmt: skip
+    return jobs
+
+
+def check_kinematics(robot, numpy_module, functions: dict[str, list]) -> None:
+    """Every CasADi function's T and J against symkin's NumPy module at 20 joint vectors."""
+    rng = np.random.default_rng(7)
+    P = np.array(list(robot.parameter_values().values()), dtype=float)
+    for q in rng.uniform(-np.pi, np.pi, (20, robot.dof)):
+        T, J = numpy_module.fk_jacobian(q, P)
+        for impl, (fk, fk_jacobian) in functions.items():
+            check_close(f"{robot.name} {impl} fk", fk(q, P).full(), T)
+            T2, J2 = fk_jacobian(q, P)
+            check_close(f"{robot.name} {impl} fk_jacobian (T)", T2.full(), T)
+            check_close(f"{robot.name} {impl} fk_jacobian (J)", J2.full(), J)
+
+
+def c_loop(jobs: list[Job], settings: Settings) -> dict[tuple[str, str, str], Run]:
+    """ns per call in a C loop of every job, alternated round by round."""
+    fill = {"{calls}": str(settings.c_calls), "{repeats}": str(settings.c_repeats)}
+    jobs = [replace(j, command=tuple(fill.get(c, c) for c in j.command)) for j in jobs]
+    return run_rounds(jobs, settings.c_rounds)
 
 
 # --------------------------------------------------------------------------- peers
@@ -623,11 +633,14 @@ def per_call_contenders() -> tuple[list[Contender], list[Contender], Contender]:
             "T = empty((4, 4)); c_fk(q.ctypes.data, P_ptr, T.ctypes.data)",
         ),
         Contender(
-            Result("ctypes on CasADi-generated C (fresh 4×4 output array)"),
+            Result("ctypes on CasADi C of symkin's graph (fresh 4×4 output array)"),
             "T = empty((4, 4), order='F'); cas_arg[0] = q.ctypes.data; "
             "cas_res[0] = T.ctypes.data; cas_fk(cas_arg, cas_res, None, None, 0)",
         ),
-        Contender(Result("CasADi `Function` call `f(q, p).full()`"), "casadi_fk(q, P).full()"),
+        Contender(
+            Result("CasADi `Function` of symkin's graph, `f(q, p).full()`"),
+            "casadi_fk(q, P).full()",
+        ),
         Contender(
             Result("Pinocchio `framesForwardKinematics` (pose left in `data.oMf`)"),
             "pin.framesForwardKinematics(model, data, q)",
@@ -785,7 +798,7 @@ def per_call_table(rows: list[Contender], unit: str) -> list[str]:
 
 def render(
     b: Build,
-    c_results: dict[tuple[str, str], Result],
+    c_results: dict[tuple[str, str, str], Run],
     fk: list[Contender],
     jacobian: list[Contender],
     empty: Contender,
@@ -811,25 +824,16 @@ def render(
         "",
         "### FK and FK + Jacobian per call inside a C loop",
         "",
-        f"Median of {settings.c_rounds * settings.c_repeats} repeats of "
-        f"{settings.c_calls:,} calls over 65,536 joint vectors (ns per call, including the "
-        "loop and a checksum of the outputs).",
+        f"Median of {settings.c_rounds * settings.c_repeats} repeats ({settings.c_rounds} "
+        f"alternated rounds of {settings.c_repeats}) of {settings.c_calls:,} calls over 65,536 "
+        "joint vectors (`bench/codegen_speed_loop.c`). The geometric parameters are the input "
+        "`p` of symkin's code and of CasADi's code of symkin's graph; the independent model has "
+        "them as numbers. " + METHOD + " Ratios are an implementation's median over symkin's "
+        "(above 1: symkin is faster).",
         "",
-        "| implementation | FK [ns/call] | ratio | FK + Jacobian [ns/call] | ratio |",
-        "| --- | ---: | ---: | ---: | ---: |",
+        *c_loop_table(c_results, C_LOOP_ROBOTS, C_LOOP_LABELS),
     ]
-    ref_fk = c_results["symkin", "fk"].median
-    ref_fkj = c_results["symkin", "fk_jacobian"].median
-    names = {
-        "symkin": "**symkin C** (`puma560_fk`, `puma560_fk_jacobian`)",
-        "casadi": "CasADi-generated C (`casadi.CodeGenerator` of the generated CasADi module)",
-    }
-    for impl, name in names.items():
-        r_fk, r_fkj = c_results[impl, "fk"], c_results[impl, "fk_jacobian"]
-        lines.append(
-            f"| {name} | {ns_text(r_fk.median)} | {ratio_text(r_fk.median, ref_fk)} "
-            f"| {ns_text(r_fkj.median)} | {ratio_text(r_fkj.median, ref_fkj)} |"
-        )
+    ref_fkj = c_results[ROBOT, "fk_jacobian", "symkin"].median
     lines += [
         "",
         "### FK per call from Python",
@@ -948,6 +952,7 @@ def render(
             ours_ops["total"] <= TARGET_OPERATIONS,
         )
     )
+    checks += peer_targets(c_results, C_LOOP_ROBOTS, C_LOOP_LABELS)
     lines += ["", "### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
     for text, measured, met in checks:
         verdict = "not measured" if met is None else ("met" if met else "**NOT met**")
@@ -956,7 +961,7 @@ def render(
         "",
         "Every peer's pose (and Jacobian) was checked against symkin's at 20 random joint "
         f"vectors before timing, to {TOLERANCE:g}; the C-loop checksums of symkin's and "
-        "CasADi's code agree. " + " ".join(peers.notes),
+        "both CasADi codes agree. " + " ".join(peers.notes),
     ]
     return "\n".join(lines)
 
@@ -987,10 +992,17 @@ def write_docs(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats (under a minute)")
+    parser.add_argument(
+        "--rounds", type=int, help="alternated C-loop rounds (default 5; 2 with --quick)"
+    )
     parser.add_argument("--docs", type=Path, default=DOCS, help=f"file to update ({DOCS})")
     parser.add_argument("--no-write", action="store_true", help="print only")
     args = parser.parse_args(argv)
     settings = QUICK if args.quick else FULL
+    if args.rounds is not None:
+        if args.rounds < 1:
+            parser.error("--rounds must be at least 1")
+        settings = dataclasses.replace(settings, c_rounds=args.rounds)
 
     load_start = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="symkin-codegen-speed-") as temporary:
@@ -1000,7 +1012,8 @@ def main(argv: list[str] | None = None) -> int:
         _progress("building the peers and checking them against symkin ...")
         peers = prepare_peers(b, rng)
 
-        c_results = c_loop(b, settings)
+        _progress("building the C loops (PUMA 560, Panda; three implementations) ...")
+        c_results = c_loop(kinematics_loops(Path(temporary), b.cc, b.flags), settings)
 
         samples = list(rng.uniform(-np.pi, np.pi, (SAMPLES, 6)))
         fk, jacobian, empty = per_call_contenders()

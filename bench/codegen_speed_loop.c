@@ -1,21 +1,27 @@
 /*
- * C-loop timing harness for bench/codegen_speed.py (PUMA 560): calls one kinematics kernel
- * many times over a table of 65,536 joint vectors and reports nanoseconds per call.
+ * C-loop timing harness for bench/codegen_speed.py: calls one robot's generated kinematics
+ * kernel many times over a table of 65,536 joint vectors and reports nanoseconds per call.
  *
- * Built twice by the script, against two implementations of the same kernels:
- *   symkin:  gcc -O2 codegen_speed_loop.c puma560.c -lm                  (generated C API)
- *   CasADi:  gcc -O2 -DBENCH_CASADI codegen_speed_loop.c casadi_puma560.c -lm
- *            (code from casadi.CodeGenerator for the generated CasADi module's functions)
+ * The robot is chosen at compile time (bench/c_loop.py builds it), against three
+ * implementations of the same kernels:
+ *   symkin:  gcc -O2 -DROBOT=puma560 -DHEADER='"puma560.h"' -DDOF=6 -DN_P=4
+ *                codegen_speed_loop.c puma560.c -lm        (generated C API)
+ *   CasADi:  the same with -DBENCH_CASADI and the header and source that casadi.CodeGenerator
+ *            writes, either for symkin's generated CasADi module (symkin's expression graph)
+ *            or for the independent CasADi model of bench/casadi_peer.py; both take (q, p).
  * The kernels are compiled in their own translation unit (no LTO), as a user links them,
  * so every call is a real call.  Each call's outputs feed a checksum that is printed at the
- * end; the compiler cannot drop the calls, and the script compares the two builds'
- * checksums (same joint vectors, so they must agree to rounding).
+ * end; the compiler cannot drop the calls, and the script compares the builds' checksums
+ * (same joint vectors, so they must agree to rounding).
  *
- * Usage: codegen_speed_loop KERNEL CALLS REPEATS
+ * Usage: codegen_speed_loop KERNEL CALLS REPEATS P_1 .. P_{N_P}
  *   KERNEL   fk | fk_jacobian
  *   CALLS    calls per timed repeat
  *   REPEATS  timed repeats (one untimed warm-up repeat runs first)
- * Prints one line "ns_per_call <value>" per repeat, then "checksum <value>".
+ *   P        the parameter values, in the generated code's order (N_P >= 1)
+ * Prints one line "ns_per_call <value>" per repeat, then "checksum <value>" and
+ * "max_rss_kib <value>" (this process's peak resident set, VmHWM of /proc/self/status:
+ * unlike getrusage's ru_maxrss, it does not carry the parent's peak across exec).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -23,35 +29,33 @@
 #include <string.h>
 #include <time.h>
 
+#include "loop_common.h"
+
 /* Distinct joint vectors, cycled through in order (3 MiB).  Many, on purpose: with only
  * about a thousand, the CPU learns the repeating arguments (most likely the branches libm's
  * sin and cos take for them), and a call takes a fifth to a third less time than on fresh
  * joint angles (measured on the 2-core development machine). */
 #define NQ 65536
-#define DOF 6
+
+#include HEADER
+
+#define CAT_(a, b) a##b
+#define CAT(a, b) CAT_(a, b)
+#define FK CAT(ROBOT, _fk)
+#define FK_JACOBIAN CAT(ROBOT, _fk_jacobian)
 
 #ifdef BENCH_CASADI
-#include "casadi_puma560.h"
 /* CasADi outputs are column-major: the translation column is entries 12, 13, 14. */
 #define TX 12
 #define TY 13
 #define TZ 14
 #else
-#include "puma560.h"
 #define TX 3
 #define TY 7
 #define TZ 11
 #endif
 
-static double qs[NQ][DOF]; /* static: 3 MiB, not on the stack */
-static const double parameters[4] = {0.4318, 0.0203, 0.15005, 0.4318}; /* a2 a3 d3 d4 */
-
-static double now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts); /* CPU time: not the other programs' */
-    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
-}
+static double qs[NQ][DOF]; /* static: 3 MiB for 6 joints, not on the stack */
 
 /* Deterministic joint vectors in [-pi, pi): a 64-bit LCG (Knuth's MMIX constants). */
 static void fill_joint_table(void)
@@ -68,8 +72,9 @@ static void fill_joint_table(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4) {
-        fprintf(stderr, "usage: %s fk|fk_jacobian CALLS REPEATS\n", argv[0]);
+    if (argc != 4 + N_P) {
+        fprintf(stderr, "usage: %s fk|fk_jacobian CALLS REPEATS and %d parameter values\n",
+                argv[0], N_P);
         return 2;
     }
     const int with_jacobian = strcmp(argv[1], "fk_jacobian") == 0;
@@ -79,7 +84,11 @@ int main(int argc, char **argv)
     }
     const long calls = atol(argv[2]);
     const int repeats = atoi(argv[3]);
-    double T[16], J[36];
+    double parameters[N_P + 1]; /* one extra element: a zero-length array is not C */
+    for (int k = 0; k < N_P; ++k) {
+        parameters[k] = parse_number(argv[4 + k]);
+    }
+    double T[16], J[6 * DOF];
     double checksum = 0.0;
     fill_joint_table();
 
@@ -88,9 +97,9 @@ int main(int argc, char **argv)
     double *res[2] = {T, J};
     casadi_int sz_arg, sz_res, sz_iw, sz_w;
     if (with_jacobian) {
-        puma560_fk_jacobian_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+        CAT(ROBOT, _fk_jacobian_work)(&sz_arg, &sz_res, &sz_iw, &sz_w);
     } else {
-        puma560_fk_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+        CAT(ROBOT, _fk_work)(&sz_arg, &sz_res, &sz_iw, &sz_w);
     }
     if (sz_arg > 2 || sz_res > 2) {
         fprintf(stderr, "unexpected CasADi work sizes\n");
@@ -107,20 +116,21 @@ int main(int argc, char **argv)
 #ifdef BENCH_CASADI
             arg[0] = q;
             if (with_jacobian) {
-                puma560_fk_jacobian(arg, res, iw, w, 0);
+                FK_JACOBIAN(arg, res, iw, w, 0);
             } else {
-                puma560_fk(arg, res, iw, w, 0);
+                FK(arg, res, iw, w, 0);
             }
 #else
             if (with_jacobian) {
-                puma560_fk_jacobian(q, parameters, T, J);
+                FK_JACOBIAN(q, parameters, T, J);
             } else {
-                puma560_fk(q, parameters, T);
+                FK(q, parameters, T);
             }
 #endif
             checksum += T[TX] + T[TY] + T[TZ];
             if (with_jacobian) {
-                checksum += J[0] + J[35]; /* diagonal: the same in either storage order */
+                /* first and last entries: the same in either storage order */
+                checksum += J[0] + J[6 * DOF - 1];
             }
         }
         const double elapsed = now_ns() - start;
@@ -129,6 +139,7 @@ int main(int argc, char **argv)
         }
     }
     printf("checksum %.17g\n", checksum);
+    print_peak_rss();
 #ifdef BENCH_CASADI
     free(iw);
     free(w);

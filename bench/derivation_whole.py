@@ -4,12 +4,13 @@ doing their natural equivalent; part of ``bench/derivation_time.py``.
 Every run is a fresh process, measured from the outside (``os.wait4`` through
 ``derivation_scaling.run_process``): CPU seconds of the process and of every process it waited
 for (the C compiler), wall seconds and peak RSS, imports included.  The contenders alternate
-round by round (symkin, symkin ``--no-build``, Robotics Toolbox, SymPyBotics; again), each
+round by round (symkin, its two variants, Robotics Toolbox, SymPyBotics; again), each
 symkin run with an empty derivation cache (``XDG_CACHE_HOME``), so that load drifting during
 the run falls on all of them alike.
 
 * **symkin**: ``symkin derive puma560 --out DIR`` as its console script runs it (NumPy, C,
-  CasADi, the CPython extension compiled), and the same with ``--no-build``.
+  CasADi, the CPython extension compiled), the same with ``--no-build``, and with
+  ``--regressor`` (the identification kernels too, as SymPyBotics' full set has a regressor).
 * **Robotics Toolbox** (``python bench/derivation_whole.py rtb DIR``): what one writes with its
   symbolic mode for the same arm: ``DH.Puma560(symbolic=True)``, ``fkine`` and ``jacob0``,
   ``rne_python`` with symbols for tau, the gravity torque (zero velocity and acceleration) and
@@ -34,6 +35,11 @@ ROBOT = "puma560"
 CONTENDERS = (
     ("symkin", "`symkin derive puma560 --out DIR`: NumPy, C, CasADi, extension compiled"),
     ("symkin-no-build", "`symkin derive puma560 --out DIR --no-build`: the same, not compiled"),
+    (
+        "symkin-regressor",
+        "`symkin derive puma560 --out DIR --regressor`: the default and the "
+        "regressor kernels (SymPyBotics' set includes a regressor)",
+    ),
     (
         "rtb",
         "RTB `DH.Puma560(symbolic=True)`: FK, J, tau, G, M by `rne_python`, `sympy.cse`, "
@@ -98,8 +104,8 @@ def _command(kind: str, out: Path, sympybotics: Path | None) -> list[str]:
 
     bench = ROOT / "bench"
     if kind.startswith("symkin"):
-        build = ["--no-build"] if kind == "symkin-no-build" else []
-        return [*symkin_command(), "derive", ROBOT, "--out", str(out), *build]
+        extra = {"symkin-no-build": ["--no-build"], "symkin-regressor": ["--regressor"]}
+        return [*symkin_command(), "derive", ROBOT, "--out", str(out), *extra.get(kind, [])]
     if kind == "rtb":
         return [sys.executable, str(bench / "derivation_whole.py"), "rtb", str(out)]
     return [sys.executable, str(bench / "scaling_children.py"), "sb-full", ROBOT, str(sympybotics)]
@@ -185,7 +191,8 @@ def render_whole(samples: dict, sympybotics: Path | None) -> list[str]:
     for kind, label in CONTENDERS:
         runs = samples.get(kind)
         if runs is None:
-            why = "not run (no `--sympybotics DIR`)" if sympybotics is None else "not run"
+            no_checkout = kind == "sympybotics" and sympybotics is None
+            why = "not run (no `--sympybotics DIR`)" if no_checkout else "not run"
             lines.append(f"| {label} | {why} | — | — | — |")
             continue
         cpu = _median(runs, "cpu")

@@ -22,10 +22,14 @@ In one run, on the same machine:
   figures in the generated files' headers), next to the issue's figures for SymPyBotics and
   Lagrange in SymPy, SymEngine and ``sympy.physics.mechanics``.  SymPyBotics itself is not on
   PyPI and cannot be installed here; its figures are quoted, not measured.
-* **Inverse dynamics per call in a C loop**: ``bench/dynamics_speed_loop.c`` calls the generated
-  ``<robot>_inverse_dynamics`` over 65,536 precomputed states, and the C that
-  ``casadi.CodeGenerator`` writes for the generated CasADi module's
-  ``inverse_dynamics_function()``; both compiled with ``gcc -O2`` (symkin's extension flags).
+* **Inverse and forward dynamics per call in a C loop**: ``bench/dynamics_speed_loop.c`` calls
+  the generated ``<robot>_inverse_dynamics`` and ``<robot>_forward_dynamics`` over 65,536
+  precomputed states, and the C that ``casadi.CodeGenerator`` writes for the generated CasADi
+  module's ``inverse_dynamics_function()`` and ``forward_dynamics_function()`` (CasADi printing
+  symkin's graph) and for the independent CasADi model of ``bench/casadi_peer.py`` (Newton–Euler
+  from the DH table, forward dynamics by ``casadi.solve``); all compiled with ``gcc -O2``
+  (symkin's extension flags) and alternated round by round (``bench/c_loop.py``), each harness
+  run's peak resident set recorded.
   Three generated codes (``BUILDS``): the PUMA 560 with its parameters as input ``p``, the PUMA
   560 with numeric parameters (``Robot.with_parameter_values()``: no ``p``, base inertial
   parameters; its torques are first checked against the code with ``p``), and the Panda with
@@ -63,7 +67,6 @@ import importlib.util
 import json
 import os
 import platform
-import subprocess
 import sys
 import tempfile
 import warnings
@@ -72,6 +75,8 @@ from pathlib import Path
 
 import numpy as np
 
+from c_loop import METHOD, Job, Run, casadi_c, compile_harness, peer_targets, run_rounds
+from c_loop import table as c_loop_rows
 from codegen_speed import (
     FULL,
     QUICK,
@@ -88,7 +93,7 @@ from codegen_speed import (
     ns_text,
     ratio_text,
     result_cells,
-    side_by_side,
+    shared_libraries,
     time_contenders,
     write_docs,
 )
@@ -143,6 +148,8 @@ BUILDS = {
     "panda": (("panda", "numeric", "symbolic"), "Panda, parameters as input `p`"),
 }
 PUMA_BUILDS = ("puma560", "puma560-numeric")
+C_LOOP_KERNELS = ("inverse_dynamics", "forward_dynamics")
+C_LOOP_LABELS = {"inverse_dynamics": "tau", "forward_dynamics": "forward dynamics"}
 
 # The issue's figures (SymPy 1.14, the same kind of 2-core machine, PUMA 560 with numeric
 # geometry and symbolic inertia); SymPyBotics is not on PyPI, so they are quoted, not measured.
@@ -295,17 +302,18 @@ class Built:
     parameters: np.ndarray  # p, file order
     numpy_module: object
     casadi_module: object
-    loop_ours: Path
-    loop_casadi: Path
+    loops: dict[tuple[str, str], Path]  # (kernel, implementation) -> C-loop executable
     lib_ours: Path
     lib_casadi: Path
     directory: Path  # the generated files
+    peer_functions: list  # the independent CasADi model's tau and FD (casadi.Function)
 
 
 def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
-    """The code of ``BUILDS[key]``, generated into ``directory`` and compiled."""
-    import casadi
-
+    """The code of ``BUILDS[key]``, generated into ``directory`` and compiled: the C loops of
+    ``C_LOOP_KERNELS`` for symkin's C, CasADi's C of symkin's graph and of the independent
+    model, and symkin's and CasADi's C as shared libraries."""
+    import casadi_peer
     from symkin.generate import files_for_robot
     from symkin.output_folder import write_folder
 
@@ -318,62 +326,51 @@ def build(directory: Path, key: str, cc: str, flags: tuple[str, ...]) -> Built:
     if any(j.link is None for j in robot.joints):
         raise SystemExit(f"{name}: no inertial data to time it with")
 
-    casadi_dir = directory / "casadi_c"
-    casadi_dir.mkdir()
-    generator = casadi.CodeGenerator(f"casadi_{name}.c", {"with_header": True})
-    generator.add(casadi_module.inverse_dynamics_function())
-    generator.generate(f"{casadi_dir}/")
-
+    graph_functions = [casadi_module.inverse_dynamics_function()]
+    graph_functions.append(casadi_module.forward_dynamics_function())
+    peer_functions = casadi_peer.functions(robot, C_LOOP_KERNELS)
+    sources = {
+        "symkin": directory / "c" / f"{name}.c",
+        "graph": casadi_c(graph_functions, directory / "casadi_c", f"casadi_{name}"),
+        "peer": casadi_c(peer_functions, directory / "peer_c", f"peer_{name}"),
+    }
     n_p = len(robot.parameters)
     defines = (f"-DROBOT={name}", f"-DDOF={robot.dof}", f"-DN_P={n_p}", "-DN_PI=0")
-    built = side_by_side(cc, flags, HARNESS, directory, name, *defines)
+    loops = {
+        (kernel, impl): compile_harness(
+            cc, flags, HARNESS, source, directory / f"loop_{kernel}_{impl}", *defines,
+            f"-DKERNEL=_{kernel}",
+        )
+        for kernel in C_LOOP_KERNELS
+        for impl, source in sources.items()
+    }  # fmt: skip
+    libraries = shared_libraries(cc, flags, directory, name)
     return Built(
         label=label,
         robot=robot,
         parameters=np.array(list(robot.parameter_values().values()), dtype=float),
         numpy_module=numpy_module,
         casadi_module=casadi_module,
-        loop_ours=built.loop_ours,
-        loop_casadi=built.loop_casadi,
-        lib_ours=built.lib_ours,
-        lib_casadi=built.lib_casadi,
+        loops=loops,
+        lib_ours=libraries.ours,
+        lib_casadi=libraries.casadi,
         directory=directory,
+        peer_functions=peer_functions,
     )
 
 
 # --------------------------------------------------------------------------- C loop
 
 
-def c_loop(builds: dict[str, Built], settings: Settings) -> dict[tuple[str, str], Result]:
-    """ns per inverse-dynamics call in a C loop, ``{(build key, "symkin" | "casadi"): result}``."""
-    results = {
-        (name, impl): Result(f"{impl} {name}", ours=impl == "symkin")
-        for name in builds
-        for impl in ("symkin", "casadi")
-    }
-    checksums: dict[tuple[str, str], float] = {}
-    for round_ in range(settings.c_rounds):
-        for name, b in builds.items():
-            arguments = [str(settings.c_calls), str(settings.c_repeats), *map(repr, b.parameters)]
-            for impl, executable in (("symkin", b.loop_ours), ("casadi", b.loop_casadi)):
-                done = subprocess.run(
-                    [str(executable), *arguments], capture_output=True, text=True, check=True
-                )
-                for line in done.stdout.splitlines():
-                    key, value = line.split()
-                    if key == "ns_per_call":
-                        results[name, impl].values.append(float(value))
-                    else:
-                        checksums[name, impl] = float(value)
-        _progress(
-            f"C loop round {round_ + 1}/{settings.c_rounds}: "
-            + ", ".join(f"{r.label} {r.values[-1]:.1f} ns" for r in results.values())
-        )
-    for name in builds:
-        ours, theirs = checksums[name, "symkin"], checksums[name, "casadi"]
-        if not abs(ours - theirs) <= 1e-9 * max(1.0, abs(ours)):
-            raise CheckError(f"C loop {name}: checksums differ, symkin {ours!r}, CasADi {theirs!r}")
-    return results
+def c_loop(builds: dict[str, Built], settings: Settings) -> dict[tuple[str, str, str], Run]:
+    """ns per call in a C loop, ``{(build key, kernel, implementation): run}``, alternated."""
+    jobs = [
+        Job(key, kernel, impl, (str(executable), str(settings.c_calls), str(settings.c_repeats),
+                                *(repr(float(v)) for v in b.parameters)))
+        for key, b in builds.items()
+        for (kernel, impl), executable in b.loops.items()
+    ]  # fmt: skip
+    return run_rounds(jobs, settings.c_rounds)
 
 
 # --------------------------------------------------------------------------- checks and peers
@@ -445,6 +442,34 @@ def check_panda(b: Built, rng: np.random.Generator, checked: Checked) -> None:
         numpy_tau = b.numpy_module.inverse_dynamics(q, dq, ddq, P)
         checked.compare("panda: symkin NumPy module", numpy_tau, tau)
         checked.compare("panda: Robotics Toolbox `DH.Panda().rne`", panda.rne(q, dq, ddq), tau)
+
+
+def check_casadi_dynamics(b: Built, rng: np.random.Generator, checked: Checked) -> None:
+    """Both CasADi codes' tau and forward dynamics (CasADi of symkin's graph, the independent
+    model) against symkin's C at random states."""
+    lib = ctypes.CDLL(str(b.lib_ours))
+    arrays = 5 if b.robot.parameters else 4
+    ours = {}
+    for kernel in C_LOOP_KERNELS:
+        ours[kernel] = lib[f"{b.robot.name}_{kernel}"]
+        ours[kernel].argtypes = [ctypes.c_void_p] * arrays
+        ours[kernel].restype = None
+    graph = {
+        "inverse_dynamics": b.casadi_module.inverse_dynamics_function(),
+        "forward_dynamics": b.casadi_module.forward_dynamics_function(),
+    }
+    peer = dict(zip(C_LOOP_KERNELS, b.peer_functions, strict=True))
+    P, dof = b.parameters, b.robot.dof
+    for state in random_states(rng, CHECK_STATES, dof):
+        for kernel, function in ours.items():
+            expected = np.empty(dof)
+            pointers = [s.ctypes.data for s in state] + (
+                [P.ctypes.data] if b.robot.parameters else []
+            )
+            function(*pointers, expected.ctypes.data)
+            for what, f in (("CasADi of symkin's graph", graph), ("independent CasADi", peer)):
+                actual = f[kernel](*state, P).full().ravel()
+                checked.compare(f"{b.robot.name} ({b.label}): {what} {kernel}", actual, expected)
 
 
 @contextlib.contextmanager
@@ -577,13 +602,13 @@ def per_call_contenders() -> tuple[list[Contender], Contender]:
             UNPACK + "np_dyn.inverse_dynamics(x, v, a)",
         ),
         Contender(
-            Result("ctypes on CasADi-generated C (fresh output)"),
+            Result("ctypes on CasADi C of symkin's graph (fresh output)"),
             UNPACK + "tau = empty(6); cas_arg[0] = x.ctypes.data; cas_arg[1] = v.ctypes.data; "
             "cas_arg[2] = a.ctypes.data; cas_res[0] = tau.ctypes.data; "
             "cas_id(cas_arg, cas_res, None, None, 0)",
         ),
         Contender(
-            Result("CasADi `Function` call `f(q, dq, ddq, p).full()`"),
+            Result("CasADi `Function` of symkin's graph, `f(q, dq, ddq, p).full()`"),
             UNPACK + "casadi_id(x, v, a, P).full()",
         ),
         Contender(Result("Pinocchio `rnea`"), UNPACK + "pin.rnea(model, data, x, v, a)"),
@@ -679,38 +704,40 @@ def derivation_tables(runs: dict[tuple[str, str], Runs], repeat: int) -> list[st
 
 
 def c_loop_table(
-    runs: dict[tuple[str, str], Runs], results: dict[tuple[str, str], Result], settings: Settings
+    runs: dict[tuple[str, str], Runs],
+    results: dict[tuple[str, str, str], Run],
+    settings: Settings,
 ) -> list[str]:
-    reference = results["puma560", "symkin"].median
-    lines = [
-        "### Inverse dynamics per call in a C loop",
+    operations = {
+        key: ops_cell(runs["full", variant_name(*variant)], "inverse_dynamics")
+        for key, (variant, _) in BUILDS.items()
+    }
+    return [
+        "### Inverse and forward dynamics per call in a C loop",
         "",
-        f"Median of {settings.c_rounds * settings.c_repeats} repeats of {settings.c_calls:,} "
-        "calls over 65,536 states (ns per call, including the loop and a checksum of the "
-        "torques). symkin C is the generated `<robot>_inverse_dynamics`; CasADi C is what "
-        "`casadi.CodeGenerator` writes for the generated CasADi module's "
-        "`inverse_dynamics_function()`. *Parameters as input `p`* is the catalogue robot: its "
-        "geometric parameters are an input array (the file's values passed at run time). "
-        "*Numeric parameters* is the catalogue robot's `with_parameter_values()` (`symkin derive "
-        "puma560 --numeric-parameters`): the numbers are folded into the code, there is no `p`, "
-        "and the recursion runs on base inertial parameters. The Panda carries the inertial data "
-        "of Gaz et al. (2019), the values of Robotics Toolbox's `models.DH.Panda`. The last column "
-        "is symkin C's median over that of the PUMA 560 with parameters as input `p`.",
+        f"Median of {settings.c_rounds * settings.c_repeats} repeats ({settings.c_rounds} "
+        f"alternated rounds of {settings.c_repeats}) of {settings.c_calls:,} calls over 65,536 "
+        "states (`bench/dynamics_speed_loop.c`: q in [−π, π), dq in [−2, 2), and ddq, or tau "
+        "for forward dynamics, in [−5, 5)). symkin C is the generated `<robot>_inverse_dynamics` "
+        "and `<robot>_forward_dynamics`. *Parameters as input `p`* is the catalogue robot: its "
+        "geometric parameters are an input array (the file's values passed at run time) of "
+        "symkin's code and of CasADi's code of symkin's graph. *Numeric parameters* is the "
+        "catalogue robot's `with_parameter_values()` (`symkin derive puma560 "
+        "--numeric-parameters`): the numbers are folded into the code, there is no `p`, and "
+        "the recursion runs on base inertial parameters. The independent CasADi model always "
+        "has the numbers folded in. The Panda carries the inertial data of Gaz et al. (2019), "
+        "the values of Robotics Toolbox's `models.DH.Panda`. " + METHOD + " Ratios are an "
+        "implementation's median over symkin's (above 1: symkin is faster). Operations of "
+        "symkin's tau kernel: "
+        + ", ".join(f"{BUILDS[key][1]} {ops}" for key, ops in operations.items())
+        + ".",
         "",
-        "| generated code | tau operations | **symkin C** [ns/call] | CasADi C [ns/call] "
-        "| CasADi / symkin | symkin C / PUMA 560 with `p` |",
-        "| --- | ---: | ---: | ---: | ---: | ---: |",
+        *c_loop_rows(
+            results,
+            {key: label for key, (_, label) in BUILDS.items()},
+            C_LOOP_LABELS,
+        ),
     ]
-    for key, (variant, label) in BUILDS.items():
-        ours = results[key, "symkin"]
-        ours_ns, _ = result_cells(ours, None)
-        casadi_ns, casadi_ratio = result_cells(results[key, "casadi"], ours.median)
-        to_puma = ratio_text(ours.median, reference) if key in PUMA_BUILDS else "—"
-        operations = ops_cell(runs["full", variant_name(*variant)], "inverse_dynamics")
-        lines.append(
-            f"| {label} | {operations} | {ours_ns} | {casadi_ns} | {casadi_ratio} | {to_puma} |"
-        )
-    return lines
 
 
 def python_tables(
@@ -754,7 +781,7 @@ def python_tables(
 
 
 def targets_table(
-    runs: dict[tuple[str, str], Runs], c_results: dict[tuple[str, str], Result]
+    runs: dict[tuple[str, str], Runs], c_results: dict[tuple[str, str, str], Run]
 ) -> list[str]:
     def ops(variant: tuple[str, str, str]) -> int | None:
         counts = runs["full", variant_name(*variant)].last("ops")
@@ -794,7 +821,7 @@ def targets_table(
             )
         )
     for key in PUMA_BUILDS:
-        c_ns = c_results[key, "symkin"].median
+        c_ns = c_results[key, "inverse_dynamics", "symkin"].median
         checks.append(
             (
                 f"{BUILDS[key][1]}: generated C inverse dynamics under {TARGET_C_NS:g} ns per "
@@ -803,6 +830,7 @@ def targets_table(
                 c_ns < TARGET_C_NS,
             )
         )
+    checks += peer_targets(c_results, {k: label for k, (_, label) in BUILDS.items()}, C_LOOP_LABELS)
     lines = ["### Targets", "", "| target | measured | |", "| --- | ---: | --- |"]
     for text, measured, met in checks:
         verdict = "not measured" if met is None else ("met" if met else "**NOT met**")
@@ -812,7 +840,7 @@ def targets_table(
 
 def render(
     runs: dict[tuple[str, str], Runs],
-    c_results: dict[tuple[str, str], Result],
+    c_results: dict[tuple[str, str, str], Run],
     per_call: tuple[list[Contender], Contender],
     batch: list[Contender],
     checked: Checked,
@@ -834,7 +862,7 @@ def render(
         ("SymPyBotics", "sympybotics"),
     ]
     versions = ", ".join(f"{label} {version(package)}" for label, package in packages)
-    c_loop_ns = c_results["puma560", "symkin"].median
+    c_loop_ns = c_results["puma560", "inverse_dynamics", "symkin"].median
     lines = [
         f"Measured on {today}: {cpu_model()}, {os.cpu_count()} cores; Python "
         f"{platform.python_version()}, symkin {version('symkin')}, {versions}; C compiled by "
@@ -857,7 +885,7 @@ def render(
         "Before timing, every implementation's torques were compared with symkin's C at "
         f"{CHECK_STATES} random states (largest difference, N·m): "
         + ", ".join(f"{what} {worst:.1e}" for what, worst in checked.differences.items())
-        + ". The C-loop checksums of symkin's and CasADi's code agree. "
+        + ". The C-loop checksums of symkin's and both CasADi codes agree. "
         + " ".join(checked.notes),
     ]
     return "\n".join(lines)
@@ -869,6 +897,9 @@ def render(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats (a few minutes)")
+    parser.add_argument(
+        "--rounds", type=int, help="alternated C-loop rounds (default 5; 2 with --quick)"
+    )
     parser.add_argument(
         "--repeat", type=int, help="fresh processes per derivation measurement (3; quick 1)"
     )
@@ -883,6 +914,10 @@ def main(argv: list[str] | None = None) -> int:
         _child(args.child)
         return 0
     settings = QUICK if args.quick else FULL
+    if args.rounds is not None:
+        if args.rounds < 1:
+            parser.error("--rounds must be at least 1")
+        settings = dataclasses.replace(settings, c_rounds=args.rounds)
     repeat = args.repeat or (1 if args.quick else 3)
     if repeat < 1:
         parser.error("--repeat must be at least 1")
@@ -904,6 +939,8 @@ def main(argv: list[str] | None = None) -> int:
         _progress("checking every implementation against symkin's C ...")
         check_numeric_parameters(builds["puma560-numeric"], builds["puma560"], rng, checked)
         check_panda(builds["panda"], rng, checked)
+        for b in builds.values():
+            check_casadi_dynamics(b, rng, checked)
         peers = prepare_puma(builds["puma560"], rng, checked)
 
         c_results = c_loop(builds, settings)

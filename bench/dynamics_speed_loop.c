@@ -1,17 +1,20 @@
 /*
  * C-loop timing harness for bench/dynamics_speed.py: calls one robot's generated inverse
- * dynamics many times over a table of 65,536 states (q, dq, ddq) and reports nanoseconds per
- * call.
+ * dynamics (or, with -DKERNEL=_forward_dynamics, its forward dynamics) many times over a table
+ * of 65,536 states (q, dq, ddq or tau) and reports nanoseconds per call.
  *
- * The robot is chosen at compile time, and the script builds it twice per generated code (the
- * PUMA 560's with p as input and with numeric parameters, the Panda's), against two
- * implementations of the same kernel:
+ * The robot and the kernel are chosen at compile time, and the script builds them for each
+ * generated code (the PUMA 560's with p as input and with numeric parameters, the Panda's)
+ * against three implementations of the same kernel (bench/c_loop.py):
  *   symkin:  gcc -O2 -DROBOT=puma560 -DHEADER='"puma560.h"' -DDOF=6 -DN_P=4 -DN_PI=0
  *                dynamics_speed_loop.c puma560.c -lm
  *            (generated C API: ROBOT_inverse_dynamics(q, dq, ddq, p, [pi,] tau))
  *   CasADi:  the same with -DBENCH_CASADI, HEADER "casadi_puma560.h" and casadi_puma560.c,
  *            the code casadi.CodeGenerator writes for the generated CasADi module's
  *            inverse_dynamics_function() (C API: ROBOT_inverse_dynamics(arg, res, iw, w, mem))
+ *   CasADi, independent model: the same, for the Newton-Euler model that bench/casadi_peer.py
+ *            writes in CasADi from the DH table (not from symkin's expressions).
+ * Forward dynamics has the same argument layout, (q, dq, tau, p) -> ddq.
  * N_P is the number of geometric parameters p, N_PI the number of inertial parameters pi
  * (0 when the robot file gives the inertial data).  Code generated for a robot without
  * parameters (Robot.with_parameter_values(), symkin derive --numeric-parameters) has no p
@@ -25,19 +28,26 @@
  *   CALLS    calls per timed repeat
  *   REPEATS  timed repeats (one untimed warm-up repeat runs first)
  *   P, PI    the parameter values, in the generated code's order
- * Prints one line "ns_per_call <value>" per repeat, then "checksum <value>".
+ * Prints one line "ns_per_call <value>" per repeat, then "checksum <value>" and
+ * "max_rss_kib <value>" (this process's peak resident set, VmHWM of /proc/self/status:
+ * unlike getrusage's ru_maxrss, it does not carry the parent's peak across exec).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
+#include "loop_common.h"
+
 #include HEADER
 
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
-#define INVERSE_DYNAMICS CAT(ROBOT, _inverse_dynamics)
-#define INVERSE_DYNAMICS_WORK CAT(ROBOT, _inverse_dynamics_work)
+#ifndef KERNEL
+#define KERNEL _inverse_dynamics
+#endif
+#define INVERSE_DYNAMICS CAT(ROBOT, KERNEL)
+#define INVERSE_DYNAMICS_WORK CAT(INVERSE_DYNAMICS, _work)
 
 /* Distinct states, cycled through in order (65,536 x 3 x DOF doubles: 9 MiB for 6 joints).
  * Many, on purpose: with only about a thousand, the CPU learns the repeating arguments of
@@ -46,13 +56,6 @@
 #define N_PARAMETERS (N_P + N_PI)
 
 static double qs[NQ][3][DOF]; /* static: not on the stack */
-
-static double now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts); /* CPU time: not the other programs' */
-    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
-}
 
 /* Deterministic states: q in [-pi, pi), dq in [-2, 2), ddq in [-5, 5) (rad, s), from a 64-bit
  * LCG (Knuth's MMIX constants). */
@@ -83,7 +86,7 @@ int main(int argc, char **argv)
     /* One extra element: a zero-length array is not C. */
     double parameters[N_PARAMETERS + 1];
     for (int k = 0; k < N_PARAMETERS; ++k) {
-        parameters[k] = atof(argv[3 + k]);
+        parameters[k] = parse_number(argv[3 + k]);
     }
     const double *p = N_P ? parameters : NULL;
     const double *pi = parameters + N_P;
@@ -135,6 +138,7 @@ int main(int argc, char **argv)
         }
     }
     printf("checksum %.17g\n", checksum);
+    print_peak_rss();
 #ifdef BENCH_CASADI
     free(iw);
     free(w);

@@ -282,8 +282,9 @@ def compiler_line(results: Results) -> list[str]:
     return [
         f"- The C compiler that `symkin derive` runs to build the Python extension took "
         f"{seconds_text(statistics.median(cpu))} s CPU per run (median; {seconds_text(min(cpu))} "
-        f"to {seconds_text(max(cpu))} s), peak RSS up to {max(rss):.0f} MB; it is in the wall "
-        "times, not in the CPU times or the RSS column."
+        f"to {seconds_text(max(cpu))} s), peak RSS at most {max(rss):.0f} MB (an upper bound: "
+        "its `ru_maxrss` includes symkin's own peak, which Linux carries through the fork and "
+        "`exec`); it is in the wall times, not in the CPU times or the RSS column."
     ]
 
 

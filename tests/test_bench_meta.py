@@ -128,6 +128,8 @@ def test_the_whole_command_table_gives_symkin_over_each_peer_and_says_not_run():
     assert "| 180 |" in rtb  # the process's own peak, not wait4's 999 MB
     (sympybotics,) = [line for line in lines if line.startswith("| SymPyBotics")]
     assert "not run (no `--sympybotics DIR`)" in sympybotics
+    (regressor,) = [line for line in lines if "--regressor" in line]
+    assert "| not run |" in regressor and "--sympybotics" not in regressor
 
 
 def test_the_sympybotics_flag_rejects_a_folder_without_the_package(tmp_path):

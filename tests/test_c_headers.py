@@ -14,10 +14,12 @@ import sympy as sp
 
 import symkin
 from codegen_helpers import CC, STRICT, write_tree
+from numeric_dh import without_inertials
 from symkin.cli import main
 from symkin.emit.c import c_literal
 from symkin.emit.printers import c_code
 from symkin.generate import files_for_robot
+from symkin.io import robot_from_toml
 from symkin.kernels import dynamics_kernels, kinematics_kernels, point_kernels, statics_kernels
 from symkin.kernels.units import determinant, unit_product
 
@@ -138,10 +140,14 @@ def test_determinant_units_by_hand():
 
 @pytest.mark.slow  # derives the PUMA 560
 def test_gravity_and_inertial_data_are_stated():
-    """planar_2r gives no inertial data (pi); puma560 gives all six links (robot files)."""
-    planar = files_for_robot(symkin.load_robot("planar_2r"), ("c",))["c/planar_2r.h"]
+    """planar_2r without its file's inertial data gets them as pi; puma560 gives all six links
+    (robot files)."""
+    bare = robot_from_toml(without_inertials("planar_2r"), "planar_2r.toml")
+    planar = files_for_robot(bare, ("c",))["c/planar_2r.h"]
     assert " * Gravity: (0, 0, -9.81) m/s^2 in the base frame, compiled in.\n" in planar
     assert "inertia): passed as pi for links 1, 2.\n" in planar
+    stated = files_for_robot(symkin.load_robot("planar_2r"), ("c",))["c/planar_2r.h"]
+    assert "inertia): compiled in for links 1, 2.\n" in stated
     puma = files_for_robot(symkin.load_robot("puma560"), ("c",))["c/puma560.h"]
     assert "inertia): compiled in for links 1, 2, 3, 4, 5, 6.\n" in puma
 

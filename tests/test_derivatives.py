@@ -14,8 +14,10 @@ import pytest
 import sympy as sp
 
 import symkin
+from numeric_dh import without_inertials
 from symkin.cli import main
 from symkin.derive.tangents import tangent_assignments
+from symkin.io import robot_from_toml
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.evaluate import dynamics_arguments
 
@@ -164,8 +166,8 @@ def test_prismatic_arm_with_friction_matches_finite_differences():
 
 @pytest.mark.slow
 def test_symbolic_inertial_data_passes_through():
-    """rpr leaves every link's inertial data to ``pi`` (``--set m1=...``)."""
-    model = symkin.derive(symkin.load_robot("rpr"))
+    """rpr without its file's inertial data: every link's is given as values (``--set m1=...``)."""
+    model = symkin.derive(robot_from_toml(without_inertials("rpr"), "rpr.toml"))
     rng = np.random.default_rng(5)
     values = {}
     for i in range(1, 4):

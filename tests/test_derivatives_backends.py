@@ -13,13 +13,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from numeric_dh import without_inertials
 from symkin.cli import main
 from symkin.runtime.extension import load_extension
 from test_derivatives import PRISMATIC_ARM
 
 pytestmark = [pytest.mark.needs_cc, pytest.mark.slow]
 
-# rpr: every link's inertial data is the input pi; the arm: friction, rotor inertia, modified DH.
+# rpr without its file's inertial data: every link's is the input pi; the arm: friction,
+# rotor inertia, modified DH.
 ROBOTS = ("rpr", "prismatic_arm")
 OUTPUTS = ("ddq", "dddq_dq", "dddq_ddq", "dddq_dtau")
 
@@ -32,10 +34,9 @@ def _import_file(path: Path):
 
 
 def _derive(name: str, out: Path, precision: str) -> None:
-    robot = name
-    if name == "prismatic_arm":
-        robot = str(out.parent / f"{name}.toml")
-        Path(robot).write_text(PRISMATIC_ARM, encoding="utf-8")
+    texts = {"prismatic_arm": PRISMATIC_ARM, "rpr": without_inertials("rpr")}
+    robot = str(out.parent / f"{name}.toml")
+    Path(robot).write_text(texts[name], encoding="utf-8")
     arguments = ["derive", robot, "--out", str(out), "--derivatives", "--precision", precision]
     assert main(arguments) == 0
 

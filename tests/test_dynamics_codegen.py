@@ -279,3 +279,30 @@ def test_dynamics_under_sanitizers(gen, tmp_path):
     assert result.returncode == 0, result.stderr
     values = np.array([float(x) for x in result.stdout.split()])
     close(values, reference(gen, "inverse_dynamics", q[0], dq[0], ddq[0]), "sanitized tau")
+
+
+def test_mass_matrix_bias_is_m_and_the_torques_at_rest(gen):
+    """``mass_matrix_bias`` (from the torque recursion at ddq = 0) against M and c + G + F of
+    the separate mass-matrix, Coriolis and gravity recursions, in NumPy, C and CasADi."""
+    n = gen.robot.dof
+    q, dq, ddq = states(gen, seed=44)
+    extra = [gen.pi] if gen.pi is not None else []
+    function = gen.lib[f"{gen.name}_mass_matrix_bias"]
+    function.restype = None
+    function.argtypes = [ctypes.c_void_p] * (5 + len(extra))
+    casadi_function = gen.casadi.mass_matrix_bias_function()
+    for state in zip(q, dq, ddq, strict=True):
+        m = reference(gen, "mass_matrix", *state)
+        bias = sum(reference(gen, k, *state) for k in ("coriolis", "gravity", "friction"))
+        numpy_m, numpy_bias = gen.numpy.mass_matrix_bias(state[0], state[1], gen.p, *extra)
+        close(numpy_m, m, f"{gen.name} numpy M")
+        close(numpy_bias, bias, f"{gen.name} numpy bias")
+        arrays = [np.ascontiguousarray(a, dtype=float) for a in (*state[:2], gen.p, *extra)]
+        out_m, out_bias = np.full(n * n + 4, np.nan), np.full(n + 4, np.nan)
+        function(*(a.ctypes.data for a in arrays), out_m.ctypes.data, out_bias.ctypes.data)
+        assert np.all(np.isnan(out_m[n * n :])) and np.all(np.isnan(out_bias[n:]))
+        close(out_m[: n * n].reshape(n, n), m, f"{gen.name} C M")
+        close(out_bias[:n], bias, f"{gen.name} C bias")
+        casadi_m, casadi_bias = casadi_function(state[0], state[1], gen.p, *extra)
+        close(np.array(casadi_m.full()), m, f"{gen.name} casadi M")
+        close(np.array(casadi_bias.full()).ravel(), bias, f"{gen.name} casadi bias")

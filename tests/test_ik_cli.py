@@ -102,6 +102,29 @@ def test_newton_method(capsys: pytest.CaptureFixture[str]) -> None:
     assert pose_errors("scara", data["q"], target_pose(0.4, 0.3, 0.1))[0] < 1e-9
 
 
+@pytest.mark.needs_cc
+@pytest.mark.parametrize("backend", ["auto", "c", "numpy", "python"])
+def test_the_backend_option_picks_the_implementation(
+    backend: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    status, out, _ = run(
+        capsys, "ik", "rpr", "--target", "0.3,0.4,0.5", "--backend", backend, "--json"
+    )
+    data = json.loads(out)
+    assert status == 0 and data["backend"] == ("c" if backend == "auto" else backend)
+    assert pose_errors("rpr", data["q"], target_pose(0.3, 0.4, 0.5))[0] < 1e-9
+
+
+def test_a_backend_that_cannot_run_the_request_is_one_message(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    status, out, err = run(
+        capsys, "ik", "rpr", "--target", "0.3,0.4,0.5", "--method", "newton", "--backend", "c"
+    )
+    assert status == 2 and out == "" and "Traceback" not in err
+    assert err.count("symkin: error:") == 1 and "--backend" in err and "use 'python'" in err
+
+
 def test_unreachable_target_exits_1_with_the_closest_pose(
     capsys: pytest.CaptureFixture[str],
 ) -> None:

@@ -18,10 +18,9 @@ from scipy.spatial.transform import Rotation
 
 from numeric_dh import Rx, Ry, Rz, reference, robot, vee
 from symkin.errors import SymkinError
+from symkin.solve.ik.joints import joint_bounds, random_configuration
 from symkin.solve.ik.numeric import (
     IKResult,
-    joint_bounds,
-    random_configuration,
     rotation_vector,
     solve_ik,
     task_errors,

@@ -35,7 +35,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.parsing.latex import parse_latex
 
-from numeric_dh import model
+from numeric_dh import model, without_inertials
 from symkin.derive import Model, derive
 from symkin.derive.numeric import numeric_function
 from symkin.emit.latex import (
@@ -47,7 +47,7 @@ from symkin.emit.latex import (
 )
 from symkin.emit.latex.printer import Abbreviation, KinematicsLatexPrinter, latex_width
 from symkin.errors import RobotError, SymkinError
-from symkin.io import load_robot
+from symkin.io import load_robot, robot_from_toml
 from symkin.runtime.latex_build import compile_pdf, log_problems
 
 pytestmark = pytest.mark.needs_latex
@@ -400,10 +400,11 @@ def test_dynamics_of_spongs_two_link_arm_read_back_as_the_textbook(tmp_path, lan
 
 
 def test_dynamics_with_symbolic_inertia_read_back_as_newton_euler(tmp_path):
-    # The planar 2R file has no inertial data: M, C, G print in m_{i}, c_{x,i}, I_{zz,i}.
+    # The planar 2R file without its inertial data: M, C, G print in m_{i}, c_{x,i}, I_{zz,i}.
     # Its gravity is along -z, normal to the plane of motion (G = 0); along -y here, so the
     # printed G has something to be compared.
-    robot = dataclasses.replace(load_robot("planar_2r"), gravity=(0, -9.81, 0))
+    bare = robot_from_toml(without_inertials("planar_2r"), "planar_2r.toml")
+    robot = dataclasses.replace(bare, gravity=(0, -9.81, 0))
     model = derive(robot)
     files = latex_files(model, sections=["dynamics"])
     write(tmp_path, files)

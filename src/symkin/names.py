@@ -122,13 +122,14 @@ KERNEL_NAMES = frozenset(
     {
         "fk", "jacobian", "fk_jacobian", "position", "position_jacobian", "det",
         "manipulability", "mass_matrix", "gravity", "coriolis", "coriolis_matrix",
-        "inverse_dynamics", "forward_dynamics", "wrench_torque", "static_torque", "energy",
+        "mass_matrix_bias", "inverse_dynamics", "forward_dynamics", "wrench_torque",
+        "static_torque", "energy",
         "elastic_constants", "elastic_inverse_dynamics", "elastic_forward_dynamics",
     }
 )  # fmt: skip
 KERNEL_INPUTS = frozenset({"q", "dq", "ddq", "tau", "p", "pi", "wrench", "d3q", "d4q"})
 KERNEL_OUTPUTS = frozenset(
-    {"T", "J", "Jp", "p_tool", "det", "mu", "M", "G", "c", "C", "tau", "ddq",
+    {"T", "J", "Jp", "p_tool", "det", "mu", "M", "G", "c", "C", "bias", "tau", "ddq",
      "p_point", "v_point", "a_point", "tau_w", "tau_s", "kinetic", "potential", "lagrangian",
      "K_spring", "B_motor", "theta_m", "tau_m", "ddtheta"}
 )  # fmt: skip

@@ -14,6 +14,7 @@
  *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+ *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
  *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
@@ -1054,6 +1055,208 @@ void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, 
     }
 }
 
+void cylindrical_rtt_wrist_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[restrict 36], double bias[restrict 6])
+{
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d6 = p[1];
+    const double t0 = cos(q4);
+    const double t1 = q3*t0;
+    const double t2 = sin(q4);
+    const double t3 = q3*t2;
+    const double t4 = cos(q5);
+    const double t5 = t2*t4;
+    const double t6 = sin(q5);
+    const double t7 = t2*t6;
+    const double t8 = t1*t4;
+    const double t9 = t1*t6;
+    const double t10 = cos(q6);
+    const double t11 = sin(q6);
+    const double t12 = t0*t11 + t10*t5;
+    const double t13 = t0*t10;
+    const double t14 = -t13 + t11*t5;
+    const double t15 = d6*t14 + t11*t3 - t10*t8;
+    const double t16 = d6*t12 + t10*t3 + t11*t8;
+    const double t17 = 0.7634*t15 - 0.03817*t14;
+    const double t18 = 0.7634*t16 - 0.03817*t12;
+    const double t19 = 0.05 - d6;
+    const double t20 = -0.0008079*t12 + t18*t19;
+    const double t21 = 0.0008079*t14 - t17*t19;
+    const double t22 = 0.0003435*t7;
+    const double t23 = 0.458*t3;
+    const double t24 = -0.458*t8 + t10*t17 - t11*t18;
+    const double t25 = 1.2214*t9;
+    const double t26 = -0.0002405*t5 + t10*t20 - t11*t21;
+    const double t27 = -0.0002405*t0 + t10*t21 + t11*t20;
+    const double t28 = t22 + 0.0002061*t7;
+    const double t29 = -0.458*t1 + t24*t4 - t25*t6;
+    const double t30 = t24*t6 + t25*t4;
+    const double t31 = 2*t23 + t10*t18 + t11*t17;
+    const double t32 = -0.0002405*t2 + t26*t4 - t28*t6;
+    const double t33 = t26*t6 + t28*t4;
+    const double t34 = t27 - 0.0002061*t0;
+    const double t35 = 2.4428 - 6.107*q3;
+    const double t36 = t35 + t0*t29 - t2*t31;
+    const double t37 = t0*t31 + t2*t29;
+    const double t38 = -0.35316000000000003 - 0.4*t35 + q3*t36 + t0*t34 + t2*t32;
+    const double t39 = 0.7634*t12;
+    const double t40 = 0.7634*t14;
+    const double t41 = t19*t40;
+    const double t42 = t19*t39;
+    const double t43 = 0.458*t0;
+    const double t44 = 0.458*t5 + t10*t39 + t11*t40;
+    const double t45 = 1.2214*t7;
+    const double t46 = t10*t41 - t11*t42;
+    const double t47 = t10*t42 + t11*t41;
+    const double t48 = 0.458*t2 + t4*t44 + t45*t6;
+    const double t49 = t4*t45 - t44*t6;
+    const double t50 = -2*t43 + t10*t40 - t11*t39;
+    const double t51 = t46*t6;
+    const double t52 = -14.25 + t0*t50 - t2*t48;
+    const double t53 = t10*t6;
+    const double t54 = t11*t6;
+    const double t55 = 0.7634*t53;
+    const double t56 = 0.7634*t54;
+    const double t57 = t19*t56;
+    const double t58 = t19*t55;
+    const double t59 = 0.458*t6 + t10*t55 + t11*t56;
+    const double t60 = 1.2214*t4;
+    const double t61 = t10*t57 - t11*t58;
+    const double t62 = t10*t58 + t11*t57;
+    const double t63 = 0.458 + t4*t60 + t59*t6;
+    const double t64 = t6*t61;
+    const double t65 = d6*t54;
+    const double t66 = d6*t53;
+    const double t67 = 0.7634*t65 - 0.03817*t54;
+    const double t68 = 0.7634*t66 - 0.03817*t53;
+    const double t69 = -0.0008079*t53 + t19*t68;
+    const double t70 = 0.0008079*t54 - t19*t67;
+    const double t71 = 0.0003435*t4;
+    const double t72 = -0.0002405*t6 + t10*t69 - t11*t70;
+    const double t73 = t10*t70 + t11*t69;
+    const double t74 = t71 + 0.0002061*t4;
+    const double t75 = -0.0002405 + t6*t72 - t4*t74;
+    const double t76 = d6*t10;
+    const double t77 = d6*t11;
+    const double t78 = 0.7634*t76 - 0.03817*t10;
+    const double t79 = 0.03817*t11 - 0.7634*t77;
+    const double t80 = 0.0008079*t11 + t19*t79;
+    const double t81 = 0.0008079*t10 - t19*t78;
+    const double t82 = dq1*dq1;
+    const double t83 = 2*dq1*dq3;
+    const double t84 = q3*t82;
+    const double t85 = dq1*t2;
+    const double t86 = dq1*t0;
+    const double t87 = dq4*t86;
+    const double t88 = dq4*t85;
+    const double t89 = t85*t86;
+    const double t90 = 9.81*t2 + t0*t83;
+    const double t91 = -9.81*t0 + t2*t83;
+    const double t92 = dq4*t6 + t4*t85;
+    const double t93 = dq5 - t86;
+    const double t94 = dq4*t4 - t6*t85;
+    const double t95 = dq5*t94 + t4*t87;
+    const double t96 = dq5*t92 + t6*t87;
+    const double t97 = t92*t94;
+    const double t98 = t93*t94;
+    const double t99 = t6*t84 - t4*t90;
+    const double t100 = t4*t84 + t6*t90;
+    const double t101 = t11*t93 - t10*t92;
+    const double t102 = t10*t93 + t11*t92;
+    const double t103 = dq6 + t94;
+    const double t104 = dq6*t102 + t11*t88 - t10*t95;
+    const double t105 = t10*t88 + t11*t95 - dq6*t101;
+    const double t106 = t101*t101;
+    const double t107 = t102*t102;
+    const double t108 = t101*t103;
+    const double t109 = t102*t103;
+    const double t110 = t105 + t108;
+    const double t111 = t109 - t104;
+    const double t112 = t106 + t107;
+    const double t113 = d6*t110 + t10*t99 + t11*t91;
+    const double t114 = d6*t111 + t10*t91 - t11*t99;
+    const double t115 = t100 + d6*t112;
+    const double t116 = 0.7634*t113 - 0.03817*t110;
+    const double t117 = 0.7634*t114 - 0.03817*t111;
+    const double t118 = 0.0008079*t104 - 0.00046439999999999996*t109 + t117*t19;
+    const double t119 = 0.0008079*t105 + 0.00046439999999999996*t108 - t116*t19;
+    const double t120 = 0.0003435*t96;
+    const double t121 = 0.458*t91;
+    const double t122 = 0.458*t99 + t10*t116 - t11*t117;
+    const double t123 = 0.03817*t112 - 0.7634*t115 - 0.458*t100;
+    const double t124 = -3.4399999999999996e-05*t98 - 0.0002405*t95 + t10*t118 - t11*t119;
+    const double t125 = 0.0002405*t88 - 3.4399999999999996e-05*t97 + t10*t119 + t11*t118;
+    const double t126 = t120 + 0.0002061*t96;
+    const double t127 = -0.458*t90 + t122*t4 + t123*t6;
+    const double t128 = 0.458*t84 + t122*t6 - t123*t4;
+    const double t129 = 2*t121 + t10*t117 + t11*t116;
+    const double t130 = -0.0002749*t87 + t124*t4 - t126*t6;
+    const double t131 = 3.4399999999999996e-05*t89 + t124*t6 + t126*t4;
+    const double t132 = t125 + 0.0002061*t88;
+    const double t133 = 6.107*t83;
+    const double t134 = -t133 + t0*t127 - t129*t2;
+    const double t135 = -t128 + 2.4428*t82 - 6.107*t84;
+    const double t136 = 0.4*t133 + q3*t134 + t0*t132 + t130*t2;
+    const double t137 = -139.79250000000002 + t0*t129 + t127*t2;
+    M[0] = 0.22748000000000002 - t38;
+    M[1] = -t37;
+    M[2] = -t30;
+    M[3] = -t33;
+    M[4] = t27;
+    M[5] = -t22;
+    M[6] = -t37;
+    M[7] = 2 - t52;
+    M[8] = -t49;
+    M[9] = -t51;
+    M[10] = t47;
+    M[11] = 0;
+    M[12] = -t30;
+    M[13] = -t49;
+    M[14] = 8.107 + t63;
+    M[15] = -t64;
+    M[16] = t62;
+    M[17] = 0;
+    M[18] = -t33;
+    M[19] = -t51;
+    M[20] = -t64;
+    M[21] = 0.05 - t75;
+    M[22] = t73;
+    M[23] = t71;
+    M[24] = t27;
+    M[25] = t47;
+    M[26] = t62;
+    M[27] = t73;
+    M[28] = 0.0502405 + t10*t81 + t11*t80;
+    M[29] = 0;
+    M[30] = -t22;
+    M[31] = 0;
+    M[32] = 0;
+    M[33] = t71;
+    M[34] = 0;
+    M[35] = 0.0503435;
+    bias[0] = -t136;
+    bias[1] = -t137;
+    bias[2] = t135;
+    bias[3] = -t131;
+    bias[4] = t125;
+    bias[5] = -t120;
+}
+
+void cylindrical_rtt_wrist_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        cylindrical_rtt_wrist_mass_matrix_bias(q + i * 6, dq + i * 6, p, M + i * 36, bias + i * 6);
+    }
+}
+
 void cylindrical_rtt_wrist_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[restrict 6])
 {
     const double q3 = q[2];
@@ -1406,16 +1609,15 @@ void cylindrical_rtt_wrist_energy_batch(size_t count, const double *q, const dou
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void cylindrical_rtt_wrist_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
-    const double zero[6] = { 0 };
     int i;
 
-    cylindrical_rtt_wrist_mass_matrix(q, p, M);
-    cylindrical_rtt_wrist_inverse_dynamics(q, dq, zero, p, bias);
+    cylindrical_rtt_wrist_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 6)) {
         for (i = 0; i < 6; ++i) {

@@ -14,6 +14,7 @@
  *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+ *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
  *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
@@ -164,6 +165,19 @@ void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const d
 void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (391 operations).
+ * M[36]: M(q) (6x6)
+ *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
+ * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
+ *   units: N m for q1, q4, q5, q6; N for q2, q3
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (d1, d6; SI units, angles in rad)
+ */
+void cylindrical_rtt_wrist_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[SYMKIN_RESTRICT 36], double bias[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void cylindrical_rtt_wrist_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (209 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)

@@ -15,6 +15,7 @@
  *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+ *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
  *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)

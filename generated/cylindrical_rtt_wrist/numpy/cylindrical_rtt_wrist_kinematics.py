@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
+  mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
@@ -946,6 +947,208 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 5, 3] = t241*t266 - t230*t232
     C[..., 5, 4] = -t234 - 1/2*t277
     return C
+
+
+def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
+    """Mass matrix and bias torques (forward dynamics): 391 operations.
+
+    q: joint positions (rad or m), 6 values per state.
+    dq: joint velocities (rad/s or m/s), 6 values per state.
+    p: parameters (d1, d6; SI units, angles in rad), 2 values.
+    Returns M: M(q) (6x6), shape (..., 6, 6).
+    Returns bias: bias = C dq + G + F, the torques at ddq = 0 (6x1), shape (..., 6).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q3 = q[..., 2]
+    q4 = q[..., 3]
+    q5 = q[..., 4]
+    q6 = q[..., 5]
+    dq1 = dq[..., 0]
+    dq3 = dq[..., 2]
+    dq4 = dq[..., 3]
+    dq5 = dq[..., 4]
+    dq6 = dq[..., 5]
+    d6 = p[..., 1]
+    t0 = numpy.cos(q4)
+    t1 = q3*t0
+    t2 = numpy.sin(q4)
+    t3 = q3*t2
+    t4 = numpy.cos(q5)
+    t5 = t2*t4
+    t6 = numpy.sin(q5)
+    t7 = t2*t6
+    t8 = t1*t4
+    t9 = t1*t6
+    t10 = numpy.cos(q6)
+    t11 = numpy.sin(q6)
+    t12 = t0*t11 + t10*t5
+    t13 = t0*t10
+    t14 = -t13 + t11*t5
+    t15 = d6*t14 + t11*t3 - t10*t8
+    t16 = d6*t12 + t10*t3 + t11*t8
+    t17 = 0.7634*t15 - 0.03817*t14
+    t18 = 0.7634*t16 - 0.03817*t12
+    t19 = 0.05 - d6
+    t20 = -0.0008079*t12 + t18*t19
+    t21 = 0.0008079*t14 - t17*t19
+    t22 = 0.0003435*t7
+    t23 = 0.458*t3
+    t24 = -0.458*t8 + t10*t17 - t11*t18
+    t25 = 1.2214*t9
+    t26 = -0.0002405*t5 + t10*t20 - t11*t21
+    t27 = -0.0002405*t0 + t10*t21 + t11*t20
+    t28 = t22 + 0.0002061*t7
+    t29 = -0.458*t1 + t24*t4 - t25*t6
+    t30 = t24*t6 + t25*t4
+    t31 = 2*t23 + t10*t18 + t11*t17
+    t32 = -0.0002405*t2 + t26*t4 - t28*t6
+    t33 = t26*t6 + t28*t4
+    t34 = t27 - 0.0002061*t0
+    t35 = 2.4428 - 6.107*q3
+    t36 = t35 + t0*t29 - t2*t31
+    t37 = t0*t31 + t2*t29
+    t38 = -0.35316 - 0.4*t35 + q3*t36 + t0*t34 + t2*t32
+    t39 = 0.7634*t12
+    t40 = 0.7634*t14
+    t41 = t19*t40
+    t42 = t19*t39
+    t43 = 0.458*t0
+    t44 = 0.458*t5 + t10*t39 + t11*t40
+    t45 = 1.2214*t7
+    t46 = t10*t41 - t11*t42
+    t47 = t10*t42 + t11*t41
+    t48 = 0.458*t2 + t4*t44 + t45*t6
+    t49 = t4*t45 - t44*t6
+    t50 = -2*t43 + t10*t40 - t11*t39
+    t51 = t46*t6
+    t52 = -14.25 + t0*t50 - t2*t48
+    t53 = t10*t6
+    t54 = t11*t6
+    t55 = 0.7634*t53
+    t56 = 0.7634*t54
+    t57 = t19*t56
+    t58 = t19*t55
+    t59 = 0.458*t6 + t10*t55 + t11*t56
+    t60 = 1.2214*t4
+    t61 = t10*t57 - t11*t58
+    t62 = t10*t58 + t11*t57
+    t63 = 0.458 + t4*t60 + t59*t6
+    t64 = t6*t61
+    t65 = d6*t54
+    t66 = d6*t53
+    t67 = 0.7634*t65 - 0.03817*t54
+    t68 = 0.7634*t66 - 0.03817*t53
+    t69 = -0.0008079*t53 + t19*t68
+    t70 = 0.0008079*t54 - t19*t67
+    t71 = 0.0003435*t4
+    t72 = -0.0002405*t6 + t10*t69 - t11*t70
+    t73 = t10*t70 + t11*t69
+    t74 = t71 + 0.0002061*t4
+    t75 = -0.0002405 + t6*t72 - t4*t74
+    t76 = d6*t10
+    t77 = d6*t11
+    t78 = 0.7634*t76 - 0.03817*t10
+    t79 = 0.03817*t11 - 0.7634*t77
+    t80 = 0.0008079*t11 + t19*t79
+    t81 = 0.0008079*t10 - t19*t78
+    t82 = dq1**2
+    t83 = 2*dq1*dq3
+    t84 = q3*t82
+    t85 = dq1*t2
+    t86 = dq1*t0
+    t87 = dq4*t86
+    t88 = dq4*t85
+    t89 = t85*t86
+    t90 = 9.81*t2 + t0*t83
+    t91 = -9.81*t0 + t2*t83
+    t92 = dq4*t6 + t4*t85
+    t93 = dq5 - t86
+    t94 = dq4*t4 - t6*t85
+    t95 = dq5*t94 + t4*t87
+    t96 = dq5*t92 + t6*t87
+    t97 = t92*t94
+    t98 = t93*t94
+    t99 = t6*t84 - t4*t90
+    t100 = t4*t84 + t6*t90
+    t101 = t11*t93 - t10*t92
+    t102 = t10*t93 + t11*t92
+    t103 = dq6 + t94
+    t104 = dq6*t102 + t11*t88 - t10*t95
+    t105 = t10*t88 + t11*t95 - dq6*t101
+    t106 = t101**2
+    t107 = t102**2
+    t108 = t101*t103
+    t109 = t102*t103
+    t110 = t105 + t108
+    t111 = t109 - t104
+    t112 = t106 + t107
+    t113 = d6*t110 + t10*t99 + t11*t91
+    t114 = d6*t111 + t10*t91 - t11*t99
+    t115 = t100 + d6*t112
+    t116 = 0.7634*t113 - 0.03817*t110
+    t117 = 0.7634*t114 - 0.03817*t111
+    t118 = 0.0008079*t104 - 0.0004644*t109 + t117*t19
+    t119 = 0.0008079*t105 + 0.0004644*t108 - t116*t19
+    t120 = 0.0003435*t96
+    t121 = 0.458*t91
+    t122 = 0.458*t99 + t10*t116 - t11*t117
+    t123 = 0.03817*t112 - 0.7634*t115 - 0.458*t100
+    t124 = -3.44e-5*t98 - 0.0002405*t95 + t10*t118 - t11*t119
+    t125 = 0.0002405*t88 - 3.44e-5*t97 + t10*t119 + t11*t118
+    t126 = t120 + 0.0002061*t96
+    t127 = -0.458*t90 + t122*t4 + t123*t6
+    t128 = 0.458*t84 + t122*t6 - t123*t4
+    t129 = 2*t121 + t10*t117 + t11*t116
+    t130 = -0.0002749*t87 + t124*t4 - t126*t6
+    t131 = 3.44e-5*t89 + t124*t6 + t126*t4
+    t132 = t125 + 0.0002061*t88
+    t133 = 6.107*t83
+    t134 = -t133 + t0*t127 - t129*t2
+    t135 = -t128 + 2.4428*t82 - 6.107*t84
+    t136 = 0.4*t133 + q3*t134 + t0*t132 + t130*t2
+    t137 = -139.7925 + t0*t129 + t127*t2
+    M = numpy.zeros(batch + (6, 6))
+    M[..., 0, 0] = 0.22748 - t38
+    M[..., 0, 1] = -t37
+    M[..., 0, 2] = -t30
+    M[..., 0, 3] = -t33
+    M[..., 0, 4] = t27
+    M[..., 0, 5] = -t22
+    M[..., 1, 0] = -t37
+    M[..., 1, 1] = 2 - t52
+    M[..., 1, 2] = -t49
+    M[..., 1, 3] = -t51
+    M[..., 1, 4] = t47
+    M[..., 2, 0] = -t30
+    M[..., 2, 1] = -t49
+    M[..., 2, 2] = 8.107 + t63
+    M[..., 2, 3] = -t64
+    M[..., 2, 4] = t62
+    M[..., 3, 0] = -t33
+    M[..., 3, 1] = -t51
+    M[..., 3, 2] = -t64
+    M[..., 3, 3] = 0.05 - t75
+    M[..., 3, 4] = t73
+    M[..., 3, 5] = t71
+    M[..., 4, 0] = t27
+    M[..., 4, 1] = t47
+    M[..., 4, 2] = t62
+    M[..., 4, 3] = t73
+    M[..., 4, 4] = 0.0502405 + t10*t81 + t11*t80
+    M[..., 5, 0] = -t22
+    M[..., 5, 3] = t71
+    M[..., 5, 5] = 0.0503435000000000
+    bias = numpy.zeros(batch + (6,))
+    bias[..., 0] = -t136
+    bias[..., 1] = -t137
+    bias[..., 2] = t135
+    bias[..., 3] = -t131
+    bias[..., 4] = t125
+    bias[..., 5] = -t120
+    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):

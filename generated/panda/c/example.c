@@ -14,6 +14,7 @@
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   mass_matrix_bias: 2039 ops (912 additions, 1096 multiplications, 12 trig, 19 powers)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
  *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)

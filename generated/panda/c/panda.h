@@ -13,6 +13,7 @@
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   mass_matrix_bias: 2039 ops (912 additions, 1096 multiplications, 12 trig, 19 powers)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
  *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
@@ -153,6 +154,19 @@ void panda_coriolis_batch(size_t count, const double *q, const double *dq, const
 void panda_coriolis_matrix(const double q[7], const double dq[7], const double *p, double C[SYMKIN_RESTRICT 49]);
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (2039 operations).
+ * M[49]: M(q) (7x7)
+ *   units: kg m^2
+ * bias[7]: bias = C dq + G + F, the torques at ddq = 0 (7x1)
+ *   units: N m
+ * q[7]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[7]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, d3, a4, a5, d5, a7; SI units, angles in rad)
+ */
+void panda_mass_matrix_bias(const double q[7], const double dq[7], const double *p, double M[SYMKIN_RESTRICT 49], double bias[SYMKIN_RESTRICT 7]);
+/* The same for count states: q is count x 7, each output count x its size. */
+void panda_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (751 operations).
  * tau[7]: tau = M ddq + C dq + G + F (7x1)

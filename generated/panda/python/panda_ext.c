@@ -13,6 +13,7 @@
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
  *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
+ *   mass_matrix_bias: 2039 ops (912 additions, 1096 multiplications, 12 trig, 19 powers)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
  *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
@@ -432,6 +433,26 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
     return run_binding(&coriolis_matrix_binding, args, nargs, kwnames);
 }
 
+static void mass_matrix_bias_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    panda_mass_matrix_bias_batch(count, states[0], states[1], p, outputs[0], outputs[1]);
+}
+
+static const binding mass_matrix_bias_binding = {
+    "mass_matrix_bias(q, dq, p=None)", 2, { 7, 7 }, 0, mass_matrix_bias_adapter, 2,
+    { 2, 1 },
+    { { 7, 7 }, { 7, 0 } },
+NULL,
+};
+
+static PyObject *py_mass_matrix_bias(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&mass_matrix_bias_binding, args, nargs, kwnames);
+}
+
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
@@ -556,6 +577,8 @@ static PyMethodDef methods[] = {
      "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
+    {"mass_matrix_bias", (PyCFunction)(void (*)(void))py_mass_matrix_bias, METH_FASTCALL | METH_KEYWORDS,
+     "mass_matrix_bias(q, dq, p=None): mass matrix and bias torques (forward dynamics); returns M, bias."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,

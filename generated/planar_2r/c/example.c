@@ -15,6 +15,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)

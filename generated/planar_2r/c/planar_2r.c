@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
@@ -420,6 +421,53 @@ void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double
     }
 }
 
+void planar_2r_mass_matrix_bias(const double q[2], const double dq[2], const double *p, double M[restrict 4], double bias[restrict 2])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = 3.393*t1;
+    const double t5 = -1.6965 + 3.393*t3;
+    const double t6 = -0.5 + L2;
+    const double t7 = 0.2831 + t5*t6;
+    const double t8 = -1.6965 + 3.393*L1;
+    const double t9 = t8 + t0*t4 + t2*t5;
+    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
+    const double t11 = -1.6965 + 3.393*L2;
+    const double t12 = 0.2831 + t11*t6;
+    const double t13 = dq1*dq1;
+    const double t14 = L1*t13;
+    const double t15 = dq1 + dq2;
+    const double t16 = t15*t15;
+    const double t17 = L2*t16 + t14*t2;
+    const double t18 = t0*t14;
+    const double t19 = 1.6965*t16 - 3.393*t17;
+    const double t20 = 3.393*t18;
+    const double t21 = t20*t6;
+    const double t22 = t0*t19 + t2*t20;
+    const double t23 = t21 + L1*t22;
+    M[0] = t10;
+    M[1] = t7;
+    M[2] = t7;
+    M[3] = t12;
+    bias[0] = t23;
+    bias[1] = t21;
+}
+
+void planar_2r_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_2r_mass_matrix_bias(q + i * 2, dq + i * 2, p, M + i * 4, bias + i * 2);
+    }
+}
+
 void planar_2r_inverse_dynamics(const double q[2], const double dq[2], const double ddq[2], const double *p, double tau[restrict 2])
 {
     const double q2 = q[1];
@@ -548,16 +596,15 @@ void planar_2r_energy_batch(size_t count, const double *q, const double *dq, con
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void planar_2r_forward_dynamics(const double q[2], const double dq[2], const double tau[2], const double *p, double ddq[restrict 2])
 {
     double M[4];
     double bias[2];
-    const double zero[2] = { 0 };
     int i;
 
-    planar_2r_mass_matrix(q, p, M);
-    planar_2r_inverse_dynamics(q, dq, zero, p, bias);
+    planar_2r_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 2)) {
         for (i = 0; i < 2; ++i) {

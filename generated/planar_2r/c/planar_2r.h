@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
@@ -164,6 +165,19 @@ void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, c
 void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const double *p, double C[SYMKIN_RESTRICT 4]);
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (44 operations).
+ * M[4]: M(q) (2x2)
+ *   units: kg m^2
+ * bias[2]: bias = C dq + G + F, the torques at ddq = 0 (2x1)
+ *   units: N m
+ * q[2]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[2]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2; SI units, angles in rad)
+ */
+void planar_2r_mass_matrix_bias(const double q[2], const double dq[2], const double *p, double M[SYMKIN_RESTRICT 4], double bias[SYMKIN_RESTRICT 2]);
+/* The same for count states: q is count x 2, each output count x its size. */
+void planar_2r_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (41 operations).
  * tau[2]: tau = M ddq + C dq + G + F (2x1)

@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 0 ops (none)
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+  mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
@@ -362,6 +363,61 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
         [C],
         ["q", "dq", "p"],
         ["C"],
+    )
+
+
+def mass_matrix_bias_function(symbol_type=casadi.SX):
+    """Mass matrix and bias torques (forward dynamics) (44 operations) as a casadi.Function.
+
+    Output M: M(q) (2x2).
+    Output bias: bias = C dq + G + F, the torques at ddq = 0 (2x1).
+    """
+    q = symbol_type.sym("q", 2)
+    dq = symbol_type.sym("dq", 2)
+    p = symbol_type.sym("p", 2)
+    q2 = q[1]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    L1 = p[0]
+    L2 = p[1]
+    t0 = casadi.sin(q2)
+    t1 = L1*t0
+    t2 = casadi.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = dq1**2
+    t14 = L1*t13
+    t15 = dq1 + dq2
+    t16 = t15**2
+    t17 = L2*t16 + t14*t2
+    t18 = t0*t14
+    t19 = 1.6965*t16 - 3.393*t17
+    t20 = 3.393*t18
+    t21 = t20*t6
+    t22 = t0*t19 + t2*t20
+    t23 = t21 + L1*t22
+    M = symbol_type.zeros(2, 2)
+    M[0, 0] = t10
+    M[0, 1] = t7
+    M[1, 0] = t7
+    M[1, 1] = t12
+    bias = symbol_type.zeros(2, 1)
+    bias[0, 0] = t23
+    bias[1, 0] = t21
+    return casadi.Function(
+        "planar_2r_mass_matrix_bias",
+        [q, dq, p],
+        [M, bias],
+        ["q", "dq", "p"],
+        ["M", "bias"],
     )
 
 

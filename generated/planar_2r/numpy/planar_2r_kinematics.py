@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 0 ops (none)
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+  mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
@@ -332,6 +333,59 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 0, 1] = t14 + dq2*t8
     C[..., 1, 0] = -t14
     return C
+
+
+def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
+    """Mass matrix and bias torques (forward dynamics): 44 operations.
+
+    q: joint positions (rad or m), 2 values per state.
+    dq: joint velocities (rad/s or m/s), 2 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns M: M(q) (2x2), shape (..., 2, 2).
+    Returns bias: bias = C dq + G + F, the torques at ddq = 0 (2x1), shape (..., 2).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = 3.393*t1
+    t5 = -1.6965 + 3.393*t3
+    t6 = -0.5 + L2
+    t7 = 0.2831 + t5*t6
+    t8 = -1.6965 + 3.393*L1
+    t9 = t8 + t0*t4 + t2*t5
+    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
+    t11 = -1.6965 + 3.393*L2
+    t12 = 0.2831 + t11*t6
+    t13 = dq1**2
+    t14 = L1*t13
+    t15 = dq1 + dq2
+    t16 = t15**2
+    t17 = L2*t16 + t14*t2
+    t18 = t0*t14
+    t19 = 1.6965*t16 - 3.393*t17
+    t20 = 3.393*t18
+    t21 = t20*t6
+    t22 = t0*t19 + t2*t20
+    t23 = t21 + L1*t22
+    M = numpy.zeros(batch + (2, 2))
+    M[..., 0, 0] = t10
+    M[..., 0, 1] = t7
+    M[..., 1, 0] = t7
+    M[..., 1, 1] = t12
+    bias = numpy.zeros(batch + (2,))
+    bias[..., 0] = t23
+    bias[..., 1] = t21
+    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):

@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
@@ -453,6 +454,26 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
     return run_binding(&coriolis_matrix_binding, args, nargs, kwnames);
 }
 
+static void mass_matrix_bias_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    planar_2r_mass_matrix_bias_batch(count, states[0], states[1], p, outputs[0], outputs[1]);
+}
+
+static const binding mass_matrix_bias_binding = {
+    "mass_matrix_bias(q, dq, p=None)", 2, { 2, 2 }, 0, mass_matrix_bias_adapter, 2,
+    { 2, 1 },
+    { { 2, 2 }, { 2, 0 } },
+NULL,
+};
+
+static PyObject *py_mass_matrix_bias(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&mass_matrix_bias_binding, args, nargs, kwnames);
+}
+
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
@@ -579,6 +600,8 @@ static PyMethodDef methods[] = {
      "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
+    {"mass_matrix_bias", (PyCFunction)(void (*)(void))py_mass_matrix_bias, METH_FASTCALL | METH_KEYWORDS,
+     "mass_matrix_bias(q, dq, p=None): mass matrix and bias torques (forward dynamics); returns M, bias."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,

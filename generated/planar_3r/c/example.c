@@ -15,6 +15,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)

@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
@@ -544,6 +545,86 @@ void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double
     }
 }
 
+void planar_3r_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[restrict 9], double bias[restrict 3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double L3 = p[2];
+    const double t0 = cos(q2);
+    const double t1 = L1*t0;
+    const double t2 = sin(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = cos(q3);
+    const double t5 = sin(q3);
+    const double t6 = t3*t5 - t1*t4;
+    const double t7 = L3 + t1*t5 + t3*t4;
+    const double t8 = 1.696*t6;
+    const double t9 = -0.424 + 1.696*t7;
+    const double t10 = -0.25 + L3;
+    const double t11 = 0.03551 + t10*t9;
+    const double t12 = -1.0856000000000001 + 2.714*t3;
+    const double t13 = -2.714*t1 + t4*t8 - t5*t9;
+    const double t14 = t12 + t4*t9 + t5*t8;
+    const double t15 = 0.145 + t11 - 0.4*t12 + L2*t14;
+    const double t16 = -1.6965 + 3.393*L1;
+    const double t17 = t16 + t14*t2 - t0*t13;
+    const double t18 = 0.2831 + t15 - 0.5*t16 + L1*t17;
+    const double t19 = L2*t5;
+    const double t20 = L3 + L2*t4;
+    const double t21 = 1.696*t19;
+    const double t22 = -0.424 + 1.696*t20;
+    const double t23 = 0.03551 + t10*t22;
+    const double t24 = -1.0856000000000001 + 2.714*L2;
+    const double t25 = t24 + t21*t5 + t22*t4;
+    const double t26 = 0.145 + t23 - 0.4*t24 + L2*t25;
+    const double t27 = -0.424 + 1.696*L3;
+    const double t28 = 0.03551 + t10*t27;
+    const double t29 = dq1*dq1;
+    const double t30 = L1*t29;
+    const double t31 = dq1 + dq2;
+    const double t32 = t31*t31;
+    const double t33 = L2*t32 + t2*t30;
+    const double t34 = t0*t30;
+    const double t35 = dq3 + t31;
+    const double t36 = t35*t35;
+    const double t37 = L3*t36 + t33*t4 + t34*t5;
+    const double t38 = t33*t5 - t34*t4;
+    const double t39 = 0.424*t36 - 1.696*t37;
+    const double t40 = 1.696*t38;
+    const double t41 = t10*t40;
+    const double t42 = 2.714*t34;
+    const double t43 = 1.0856000000000001*t32 - 2.714*t33 + t39*t4 - t40*t5;
+    const double t44 = -t42 + t39*t5 + t4*t40;
+    const double t45 = t41 + 0.4*t42 + L2*t44;
+    const double t46 = t2*t44 - t0*t43;
+    const double t47 = t45 + L1*t46;
+    M[0] = t18;
+    M[1] = t15;
+    M[2] = t11;
+    M[3] = t15;
+    M[4] = t26;
+    M[5] = t23;
+    M[6] = t11;
+    M[7] = t23;
+    M[8] = t28;
+    bias[0] = t47;
+    bias[1] = t45;
+    bias[2] = t41;
+}
+
+void planar_3r_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        planar_3r_mass_matrix_bias(q + i * 3, dq + i * 3, p, M + i * 9, bias + i * 3);
+    }
+}
+
 void planar_3r_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
@@ -723,16 +804,15 @@ void planar_3r_energy_batch(size_t count, const double *q, const double *dq, con
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void planar_3r_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
-    const double zero[3] = { 0 };
     int i;
 
-    planar_3r_mass_matrix(q, p, M);
-    planar_3r_inverse_dynamics(q, dq, zero, p, bias);
+    planar_3r_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

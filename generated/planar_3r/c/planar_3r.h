@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
  *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+ *   mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
@@ -164,6 +165,19 @@ void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, c
 void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (114 operations).
+ * M[9]: M(q) (3x3)
+ *   units: kg m^2
+ * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
+ *   units: N m
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (L1, L2, L3; SI units, angles in rad)
+ */
+void planar_3r_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[SYMKIN_RESTRICT 9], double bias[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void planar_3r_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (76 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)

@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 0 ops (none)
   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
+  mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
@@ -478,6 +479,94 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
         [C],
         ["q", "dq", "p"],
         ["C"],
+    )
+
+
+def mass_matrix_bias_function(symbol_type=casadi.SX):
+    """Mass matrix and bias torques (forward dynamics) (114 operations) as a casadi.Function.
+
+    Output M: M(q) (3x3).
+    Output bias: bias = C dq + G + F, the torques at ddq = 0 (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 3)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L1 = p[0]
+    L2 = p[1]
+    L3 = p[2]
+    t0 = casadi.cos(q2)
+    t1 = L1*t0
+    t2 = casadi.sin(q2)
+    t3 = L2 + L1*t2
+    t4 = casadi.cos(q3)
+    t5 = casadi.sin(q3)
+    t6 = t3*t5 - t1*t4
+    t7 = L3 + t1*t5 + t3*t4
+    t8 = 1.696*t6
+    t9 = -0.424 + 1.696*t7
+    t10 = -0.25 + L3
+    t11 = 0.03551 + t10*t9
+    t12 = -1.0856 + 2.714*t3
+    t13 = -2.714*t1 + t4*t8 - t5*t9
+    t14 = t12 + t4*t9 + t5*t8
+    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
+    t16 = -1.6965 + 3.393*L1
+    t17 = t16 + t14*t2 - t0*t13
+    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
+    t19 = L2*t5
+    t20 = L3 + L2*t4
+    t21 = 1.696*t19
+    t22 = -0.424 + 1.696*t20
+    t23 = 0.03551 + t10*t22
+    t24 = -1.0856 + 2.714*L2
+    t25 = t24 + t21*t5 + t22*t4
+    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
+    t27 = -0.424 + 1.696*L3
+    t28 = 0.03551 + t10*t27
+    t29 = dq1**2
+    t30 = L1*t29
+    t31 = dq1 + dq2
+    t32 = t31**2
+    t33 = L2*t32 + t2*t30
+    t34 = t0*t30
+    t35 = dq3 + t31
+    t36 = t35**2
+    t37 = L3*t36 + t33*t4 + t34*t5
+    t38 = t33*t5 - t34*t4
+    t39 = 0.424*t36 - 1.696*t37
+    t40 = 1.696*t38
+    t41 = t10*t40
+    t42 = 2.714*t34
+    t43 = 1.0856*t32 - 2.714*t33 + t39*t4 - t40*t5
+    t44 = -t42 + t39*t5 + t4*t40
+    t45 = t41 + 0.4*t42 + L2*t44
+    t46 = t2*t44 - t0*t43
+    t47 = t45 + L1*t46
+    M = symbol_type.zeros(3, 3)
+    M[0, 0] = t18
+    M[0, 1] = t15
+    M[0, 2] = t11
+    M[1, 0] = t15
+    M[1, 1] = t26
+    M[1, 2] = t23
+    M[2, 0] = t11
+    M[2, 1] = t23
+    M[2, 2] = t28
+    bias = symbol_type.zeros(3, 1)
+    bias[0, 0] = t47
+    bias[1, 0] = t45
+    bias[2, 0] = t41
+    return casadi.Function(
+        "planar_3r_mass_matrix_bias",
+        [q, dq, p],
+        [M, bias],
+        ["q", "dq", "p"],
+        ["M", "bias"],
     )
 
 

@@ -15,6 +15,7 @@
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)

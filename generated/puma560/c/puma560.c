@@ -14,6 +14,7 @@
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
@@ -1573,6 +1574,333 @@ void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *
     }
 }
 
+void puma560_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[restrict 36], double bias[restrict 6])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double a2 = p[0];
+    const double a3 = p[1];
+    const double d3 = p[2];
+    const double d4 = p[3];
+    const double t0 = sin(q2);
+    const double t1 = cos(q2);
+    const double t2 = a2*t1;
+    const double t3 = cos(q3);
+    const double t4 = sin(q3);
+    const double t5 = t0*t3 + t1*t4;
+    const double t6 = t1*t3 - t0*t4;
+    const double t7 = d3*t6;
+    const double t8 = t2 + a3*t6;
+    const double t9 = d3*t5;
+    const double t10 = cos(q4);
+    const double t11 = t10*t5;
+    const double t12 = sin(q4);
+    const double t13 = t12*t5;
+    const double t14 = t10*t7 + t12*t8 - d4*t13;
+    const double t15 = d4*t11 + t12*t7 - t10*t8;
+    const double t16 = sin(q5);
+    const double t17 = cos(q5);
+    const double t18 = t11*t17 + t16*t6;
+    const double t19 = t17*t6 - t11*t16;
+    const double t20 = t14*t17 - t16*t9;
+    const double t21 = t14*t16 + t17*t9;
+    const double t22 = sin(q6);
+    const double t23 = cos(q6);
+    const double t24 = t18*t23 - t13*t22;
+    const double t25 = t13*t23 + t18*t22;
+    const double t26 = t20*t23 - t15*t22;
+    const double t27 = t15*t23 + t20*t22;
+    const double t28 = 0.09*t26 - 0.0028799999999999997*t25;
+    const double t29 = 0.09*t27 + 0.0028799999999999997*t24;
+    const double t30 = 0.032*t29 + 0.00015*t24;
+    const double t31 = 0.032*t28 - 0.00015*t25;
+    const double t32 = 4e-05*t19;
+    const double t33 = 0.34*t20 + t22*t29 + t23*t28;
+    const double t34 = -0.34*t15 + t22*t28 - t23*t29;
+    const double t35 = 0.43000000000000005*t21;
+    const double t36 = 0.0003*t18 + t23*t30 - t22*t31;
+    const double t37 = -0.0004*t13 + t22*t30 + t23*t31;
+    const double t38 = t32 + 0.0003*t19;
+    const double t39 = 0.82*t14 - 0.015579999999999998*t13;
+    const double t40 = 0.82*t9;
+    const double t41 = 0.82*t15 + 0.015579999999999998*t11;
+    const double t42 = t39 + t16*t35 + t17*t33;
+    const double t43 = t41 - t34;
+    const double t44 = 0.0018*t11 + 0.019*t41 + d4*t43 + t17*t36 - t16*t38;
+    const double t45 = 0.0013*t6 + t16*t36 + t17*t38;
+    const double t46 = -t37 + 0.0018*t13 - 0.019*t39 - d4*t42;
+    const double t47 = 0.06767999999999999*t6 + 4.8*t7;
+    const double t48 = 4.8*t8 - 0.336*t5 - 0.09743999999999998*t6;
+    const double t49 = 0.06767999999999999*t5 + 4.8*t9;
+    const double t50 = t47 + t10*t42 + t12*t43;
+    const double t51 = t48 + t12*t42 - t10*t43;
+    const double t52 = -t40 - t49 + t16*t33 - t17*t35;
+    const double t53 = 0.066*t5 + 0.0141*t49 - 0.07*t48 + t10*t44 + t12*t46 - d3*t52;
+    const double t54 = 0.07*t47 - 0.0203*t49 + t12*t44 - a3*t52 - t10*t46;
+    const double t55 = t45 + 0.0125*t6 + 0.0141*t47 - 0.0203*t48 + a3*t51 + d3*t50;
+    const double t56 = 3.9585*t1;
+    const double t57 = 3.9585*t0;
+    const double t58 = 0.10439999999999999*t0 + 6.33012*t1 - 17.4*t2;
+    const double t59 = -t57 + t3*t52 + t4*t50;
+    const double t60 = t58 - t51;
+    const double t61 = 0.13*t0 + 0.006*t58 + 0.2275*t57 + t3*t53 - t4*t55;
+    const double t62 = 0.524*t1 + 0.3638*t58 + 0.2275*t56 + t3*t55 + t4*t53 - a2*t60;
+    const double t63 = -t54 + 0.3638*t57 - 0.006*t56 + a2*t59;
+    const double t64 = a2*t4;
+    const double t65 = a3 + a2*t3;
+    const double t66 = t64 - d4;
+    const double t67 = t10*t66;
+    const double t68 = d4*t12;
+    const double t69 = -t68 + t12*t64;
+    const double t70 = t12*t17;
+    const double t71 = t12*t16;
+    const double t72 = t16*t65 + t17*t67;
+    const double t73 = t17*t65 - t16*t67;
+    const double t74 = t10*t22 + t23*t70;
+    const double t75 = t22*t70 - t10*t23;
+    const double t76 = t23*t72 - t22*t69;
+    const double t77 = t22*t72 + t23*t69;
+    const double t78 = 0.09*t76 + 0.0028799999999999997*t75;
+    const double t79 = 0.0028799999999999997*t74 - 0.09*t77;
+    const double t80 = 0.032*t79 + 0.00015*t74;
+    const double t81 = 0.032*t78 + 0.00015*t75;
+    const double t82 = 4e-05*t71;
+    const double t83 = 0.34*t72 + t23*t78 - t22*t79;
+    const double t84 = -0.34*t69 + t22*t78 + t23*t79;
+    const double t85 = 0.43000000000000005*t73;
+    const double t86 = 0.0003*t70 + t22*t81 + t23*t80;
+    const double t87 = -0.0004*t10 + t23*t81 - t22*t80;
+    const double t88 = t82 + 0.0003*t71;
+    const double t89 = 0.82*t67 - 0.015579999999999998*t10;
+    const double t90 = 0.82*t65;
+    const double t91 = 0.015579999999999998*t12;
+    const double t92 = -t91 + 0.82*t69;
+    const double t93 = t89 + t17*t83 - t16*t85;
+    const double t94 = t92 - t84;
+    const double t95 = 0.0018*t12;
+    const double t96 = -t95 + 0.019*t92 + d4*t94 - t16*t88 - t17*t86;
+    const double t97 = t17*t88 - t16*t86;
+    const double t98 = -t87 + 0.0018*t10 - 0.019*t89 - d4*t93;
+    const double t99 = -0.336 + 4.8*t64;
+    const double t100 = -0.09743999999999998 + 4.8*t65;
+    const double t101 = t99 + t10*t93 + t12*t94;
+    const double t102 = t100 + t90 + t16*t83 + t17*t85;
+    const double t103 = -0.086 + 0.07*t99 + 0.0203*t100 + t12*t96 - a3*t102 - t10*t98;
+    const double t104 = -6.33012 + 17.4*a2;
+    const double t105 = t104 + t101*t4 + t102*t3;
+    const double t106 = d4*t10;
+    const double t107 = a3*t16 - t106*t17;
+    const double t108 = a3*t17 + t106*t16;
+    const double t109 = t107*t23 + t22*t68;
+    const double t110 = t23*t68 - t107*t22;
+    const double t111 = 0.09*t109 + 0.0028799999999999997*t75;
+    const double t112 = 0.09*t110 + 0.0028799999999999997*t74;
+    const double t113 = 0.032*t112 + 0.00015*t74;
+    const double t114 = 0.032*t111 + 0.00015*t75;
+    const double t115 = 0.34*t107 + t111*t23 - t112*t22;
+    const double t116 = 0.34*t68 + t111*t22 + t112*t23;
+    const double t117 = 0.43000000000000005*t108;
+    const double t118 = 0.0003*t70 + t113*t23 + t114*t22;
+    const double t119 = -0.0004*t10 + t114*t23 - t113*t22;
+    const double t120 = 0.82*t106 + 0.015579999999999998*t10;
+    const double t121 = 0.82*a3;
+    const double t122 = t91 + 0.82*t68;
+    const double t123 = -t120 + t115*t17 - t117*t16;
+    const double t124 = t116 + t122;
+    const double t125 = t95 + 0.019*t122 + d4*t124 + t118*t17 + t16*t88;
+    const double t126 = t17*t88 - t118*t16;
+    const double t127 = -t119 + 0.0018*t10 + 0.019*t120 - d4*t123;
+    const double t128 = -0.09743999999999998 + 4.8*a3;
+    const double t129 = t121 + t128 + t115*t16 + t117*t17;
+    const double t130 = -0.10951999999999999 + 0.0203*t128 - a3*t129 - t10*t127 - t12*t125;
+    const double t131 = t16*t23;
+    const double t132 = t16*t22;
+    const double t133 = 0.0028799999999999997*t132;
+    const double t134 = 0.0028799999999999997*t131;
+    const double t135 = 0.032*t134 + 0.00015*t131;
+    const double t136 = 0.032*t133 + 0.00015*t132;
+    const double t137 = 4e-05*t17;
+    const double t138 = 0.0003*t16 + t135*t23 + t136*t22;
+    const double t139 = t135*t22 - t136*t23;
+    const double t140 = t137 + 0.0003*t17;
+    const double t141 = 0.0028799999999999997*t23;
+    const double t142 = 0.0028799999999999997*t22;
+    const double t143 = 0.032*t142 + 0.00015*t22;
+    const double t144 = 0.032*t141 + 0.00015*t23;
+    const double t145 = 0.0004 + t143*t22 + t144*t23;
+    const double t146 = dq1*t0;
+    const double t147 = dq1*t1;
+    const double t148 = dq2*t147;
+    const double t149 = dq2*t146;
+    const double t150 = t146*t146;
+    const double t151 = t147*t147;
+    const double t152 = dq2*dq2;
+    const double t153 = t146*t147;
+    const double t154 = t151 + t152;
+    const double t155 = t150 + t152;
+    const double t156 = 2*t149;
+    const double t157 = 2*t148;
+    const double t158 = t150 + t151;
+    const double t159 = 9.81*t0 - a2*t154;
+    const double t160 = 9.81*t1 + a2*t153;
+    const double t161 = a2*t156;
+    const double t162 = t146*t3 + t147*t4;
+    const double t163 = dq2 + dq3;
+    const double t164 = t147*t3 - t146*t4;
+    const double t165 = dq3*t164 + t148*t3 - t149*t4;
+    const double t166 = dq3*t162 + t148*t4 + t149*t3;
+    const double t167 = t162*t162;
+    const double t168 = t163*t163;
+    const double t169 = t164*t164;
+    const double t170 = t162*t163;
+    const double t171 = t162*t164;
+    const double t172 = t163*t164;
+    const double t173 = t168 + t169;
+    const double t174 = t166 - t170;
+    const double t175 = t166 + t170;
+    const double t176 = t167 + t169;
+    const double t177 = t165 + t172;
+    const double t178 = t165 - t172;
+    const double t179 = t167 + t168;
+    const double t180 = t159*t3 + t160*t4 - a3*t173 - d3*t174;
+    const double t181 = -t161 + d3*t176 - a3*t175;
+    const double t182 = a3*t171 + t160*t3 - d3*t178 - t159*t4;
+    const double t183 = t10*t162 - t12*t163;
+    const double t184 = dq4 + t164;
+    const double t185 = t10*t163 + t12*t162;
+    const double t186 = t10*t165 - dq4*t185;
+    const double t187 = dq4*t183 + t12*t165;
+    const double t188 = t183*t183;
+    const double t189 = t185*t185;
+    const double t190 = t183*t184;
+    const double t191 = t184*t185;
+    const double t192 = t190 - t187;
+    const double t193 = t188 + t189;
+    const double t194 = t186 + t191;
+    const double t195 = d4*t192 + t10*t180 + t12*t181;
+    const double t196 = t182 - d4*t193;
+    const double t197 = d4*t194 + t12*t180 - t10*t181;
+    const double t198 = t16*t184 + t17*t183;
+    const double t199 = dq5 + t185;
+    const double t200 = t17*t184 - t16*t183;
+    const double t201 = dq5*t200 + t17*t186 - t16*t166;
+    const double t202 = dq5*t198 + t16*t186 + t166*t17;
+    const double t203 = t198*t199;
+    const double t204 = t199*t200;
+    const double t205 = t16*t196 + t17*t195;
+    const double t206 = t17*t196 - t16*t195;
+    const double t207 = t198*t23 - t199*t22;
+    const double t208 = t198*t22 + t199*t23;
+    const double t209 = dq6 + t200;
+    const double t210 = t201*t23 - dq6*t208 - t187*t22;
+    const double t211 = dq6*t207 + t187*t23 + t201*t22;
+    const double t212 = t207*t207;
+    const double t213 = t208*t208;
+    const double t214 = t207*t209;
+    const double t215 = t208*t209;
+    const double t216 = t214 - t211;
+    const double t217 = t210 + t215;
+    const double t218 = t212 + t213;
+    const double t219 = t205*t23 - t197*t22;
+    const double t220 = t197*t23 + t205*t22;
+    const double t221 = 0.09*t219 + 0.0028799999999999997*t216;
+    const double t222 = 0.09*t220 + 0.0028799999999999997*t217;
+    const double t223 = 0.032*t222 + 0.00010999999999999999*t215 + 0.00015*t210;
+    const double t224 = 0.032*t221 + 0.00010999999999999999*t214 - 0.00015*t211;
+    const double t225 = 4e-05*t202;
+    const double t226 = 0.34*t205 + t22*t222 + t221*t23;
+    const double t227 = -0.34*t197 + t22*t221 - t222*t23;
+    const double t228 = 0.43000000000000005*t206 - 0.0028799999999999997*t218;
+    const double t229 = 0.00010000000000000005*t204 + 0.0003*t201 + t223*t23 - t22*t224;
+    const double t230 = -0.0004*t187 + t22*t223 + t224*t23;
+    const double t231 = t225 + 0.00010000000000000005*t203 + 0.0003*t202;
+    const double t232 = 0.82*t195 + 0.015579999999999998*t192;
+    const double t233 = 0.82*t196 - 0.015579999999999998*t193;
+    const double t234 = 0.82*t197 + 0.015579999999999998*t194;
+    const double t235 = t232 + t17*t226 - t16*t228;
+    const double t236 = t234 - t227;
+    const double t237 = 0.0005*t191 + 0.0018*t186 + 0.019*t234 + d4*t236 + t16*t231 + t17*t229;
+    const double t238 = -0.0013*t166 + t16*t229 - t17*t231;
+    const double t239 = -t230 + 0.0018*t187 - 0.0005*t190 - 0.019*t232 - d4*t235;
+    const double t240 = 4.8*t180 + 0.336*t171 + 0.09743999999999998*t173 - 0.06767999999999999*t174;
+    const double t241 = 0.06767999999999999*t176 + 4.8*t181 + 0.09743999999999998*t175 - 0.336*t177;
+    const double t242 = 4.8*t182 - 0.06767999999999999*t178 - 0.336*t179 - 0.09743999999999998*t171;
+    const double t243 = t240 + t10*t235 + t12*t236;
+    const double t244 = t241 + t12*t235 - t10*t236;
+    const double t245 = t233 + t242 + t16*t226 + t17*t228;
+    const double t246 = 0.066*t165 + 0.0735*t172 - 0.07*t241 - 0.0141*t242 + t10*t237 + t12*t239 - d3*t245;
+    const double t247 = 0.07*t240 + 0.0203*t242 + 0.053500000000000006*t171 + t12*t237 - a3*t245 - t10*t239;
+    const double t248 = t238 + 0.0141*t240 - 0.01999999999999999*t170 - 0.0203*t241 - 0.0125*t166 + a3*t244 + d3*t243;
+    const double t249 = 0.10439999999999999*t153 + 17.4*t159 + 6.33012*t154;
+    const double t250 = 17.4*t160 - 0.10439999999999999*t155 - 6.33012*t153;
+    const double t251 = 0.10439999999999999*t157 + 17.4*t161 - 3.9585*t158 - 6.33012*t156;
+    const double t252 = t250 + t243*t4 + t245*t3;
+    const double t253 = t251 - t244;
+    const double t254 = 0.14500000000000002*t148 + 0.006*t251 - 0.2275*t250 + t246*t3 - t248*t4;
+    const double t255 = 0.3638*t251 + 0.2275*t249 - 0.933*t149 + t246*t4 + t248*t3 - a2*t253;
+    const double t256 = -t247 + 0.394*t153 - 0.3638*t250 - 0.006*t249 + a2*t252;
+    const double t257 = t0*t254 + t1*t255;
+    M[0] = 1.134029968642 + t0*t61 + t1*t62;
+    M[1] = t63;
+    M[2] = -t54;
+    M[3] = t45;
+    M[4] = -t37;
+    M[5] = t32;
+    M[6] = t63;
+    M[7] = 2.864441245 - t103 - 0.3638*t104 + a2*t105;
+    M[8] = -t103;
+    M[9] = t97;
+    M[10] = -t87;
+    M[11] = t82;
+    M[12] = -t54;
+    M[13] = -t103;
+    M[14] = 0.576873331938 - t130;
+    M[15] = t126;
+    M[16] = -t119;
+    M[17] = t82;
+    M[18] = t45;
+    M[19] = t97;
+    M[20] = t126;
+    M[21] = 0.19209062612368 + t138*t16 + t140*t17;
+    M[22] = -t139;
+    M[23] = t137;
+    M[24] = -t37;
+    M[25] = -t87;
+    M[26] = -t119;
+    M[27] = -t139;
+    M[28] = 0.17070629165700002 + t145;
+    M[29] = 0;
+    M[30] = t32;
+    M[31] = t82;
+    M[32] = t82;
+    M[33] = t137;
+    M[34] = 0;
+    M[35] = 0.19410450566800005;
+    bias[0] = t257;
+    bias[1] = t256;
+    bias[2] = -t247;
+    bias[3] = t238;
+    bias[4] = -t230;
+    bias[5] = -t225;
+}
+
+void puma560_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        puma560_mass_matrix_bias(q + i * 6, dq + i * 6, p, M + i * 36, bias + i * 6);
+    }
+}
+
 void puma560_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[restrict 6])
 {
     const double q2 = q[1];
@@ -2124,16 +2452,15 @@ void puma560_energy_batch(size_t count, const double *q, const double *dq, const
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void puma560_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
-    const double zero[6] = { 0 };
     int i;
 
-    puma560_mass_matrix(q, p, M);
-    puma560_inverse_dynamics(q, dq, zero, p, bias);
+    puma560_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 6)) {
         for (i = 0; i < 6; ++i) {

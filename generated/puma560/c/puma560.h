@@ -14,6 +14,7 @@
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
@@ -164,6 +165,19 @@ void puma560_coriolis_batch(size_t count, const double *q, const double *dq, con
 void puma560_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (854 operations).
+ * M[36]: M(q) (6x6)
+ *   units: kg m^2
+ * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
+ *   units: N m
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[4]: parameters (a2, a3, d3, d4; SI units, angles in rad)
+ */
+void puma560_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[SYMKIN_RESTRICT 36], double bias[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void puma560_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (414 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)

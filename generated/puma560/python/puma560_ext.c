@@ -14,6 +14,7 @@
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
  *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
+ *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
@@ -453,6 +454,26 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
     return run_binding(&coriolis_matrix_binding, args, nargs, kwnames);
 }
 
+static void mass_matrix_bias_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    puma560_mass_matrix_bias_batch(count, states[0], states[1], p, outputs[0], outputs[1]);
+}
+
+static const binding mass_matrix_bias_binding = {
+    "mass_matrix_bias(q, dq, p=None)", 2, { 6, 6 }, 0, mass_matrix_bias_adapter, 2,
+    { 2, 1 },
+    { { 6, 6 }, { 6, 0 } },
+NULL,
+};
+
+static PyObject *py_mass_matrix_bias(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&mass_matrix_bias_binding, args, nargs, kwnames);
+}
+
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
@@ -579,6 +600,8 @@ static PyMethodDef methods[] = {
      "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
+    {"mass_matrix_bias", (PyCFunction)(void (*)(void))py_mass_matrix_bias, METH_FASTCALL | METH_KEYWORDS,
+     "mass_matrix_bias(q, dq, p=None): mass matrix and bias torques (forward dynamics); returns M, bias."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,

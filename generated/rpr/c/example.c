@@ -15,6 +15,7 @@
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
  *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)

@@ -14,6 +14,7 @@
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
  *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
@@ -495,6 +496,77 @@ void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, 
     }
 }
 
+void rpr_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[restrict 9], double bias[restrict 3])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double L3 = p[0];
+    const double t0 = cos(q3);
+    const double t1 = sin(q3);
+    const double t2 = q2 + L3*t1;
+    const double t3 = 3.393*t2 - 1.6965*t1;
+    const double t4 = 0.0006786*t0;
+    const double t5 = 0.5 - L3;
+    const double t6 = -0.2831*t1 + t3*t5;
+    const double t7 = -2.6505 + 5.301*q2;
+    const double t8 = t3 + t7;
+    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
+    const double t10 = 3.393*t1;
+    const double t11 = 3.393*t0;
+    const double t12 = t11*t5;
+    const double t13 = 5.301 + t0*t11 + t1*t10;
+    const double t14 = -1.6965 + 3.393*L3;
+    const double t15 = 0.2831 - t14*t5;
+    const double t16 = dq1*dq1;
+    const double t17 = q2*t16;
+    const double t18 = 2*dq1*dq2;
+    const double t19 = dq1*t0;
+    const double t20 = dq1*t1;
+    const double t21 = dq3*t20;
+    const double t22 = dq3*t19;
+    const double t23 = t20*t20;
+    const double t24 = dq3*dq3;
+    const double t25 = t19*t20;
+    const double t26 = t23 + t24;
+    const double t27 = 2*t22;
+    const double t28 = 9.81*t0 - L3*t26 - t1*t17;
+    const double t29 = 9.81*t1 + L3*t25 + t0*t17;
+    const double t30 = t18 + L3*t27;
+    const double t31 = 1.6965*t26 + 3.393*t28;
+    const double t32 = 1.6965*t25 - 3.393*t29;
+    const double t33 = 3.393*t30 - 1.6965*t27;
+    const double t34 = 0.0006786*t21;
+    const double t35 = -0.5655214000000001*t22 + t33*t5;
+    const double t36 = 0.28242140000000004*t25 + t32*t5;
+    const double t37 = 5.301*t18;
+    const double t38 = 2.6505*t16 - 5.301*t17 + t0*t32 + t1*t31;
+    const double t39 = t33 + t37;
+    const double t40 = -0.5*t37 + q2*t39 - t0*t34 - t1*t35;
+    M[0] = t9;
+    M[1] = 0;
+    M[2] = 0;
+    M[3] = 0;
+    M[4] = t13;
+    M[5] = -t12;
+    M[6] = 0;
+    M[7] = -t12;
+    M[8] = t15;
+    bias[0] = t40;
+    bias[1] = t38;
+    bias[2] = -t36;
+}
+
+void rpr_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        rpr_mass_matrix_bias(q + i * 3, dq + i * 3, p, M + i * 9, bias + i * 3);
+    }
+}
+
 void rpr_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
@@ -668,16 +740,15 @@ void rpr_energy_batch(size_t count, const double *q, const double *dq, const dou
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void rpr_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
-    const double zero[3] = { 0 };
     int i;
 
-    rpr_mass_matrix(q, p, M);
-    rpr_inverse_dynamics(q, dq, zero, p, bias);
+    rpr_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

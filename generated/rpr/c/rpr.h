@@ -14,6 +14,7 @@
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
  *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+ *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
@@ -164,6 +165,19 @@ void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const d
 void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (94 operations).
+ * M[9]: M(q) (3x3)
+ *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
+ * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
+ *   units: N m for q1, q3; N for q2
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[1]: parameters (L3; SI units, angles in rad)
+ */
+void rpr_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[SYMKIN_RESTRICT 9], double bias[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void rpr_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (77 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)

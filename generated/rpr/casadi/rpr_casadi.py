@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
+  mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
   wrench_torque: 33 ops (9 additions, 20 multiplications, 4 trig)
   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
@@ -439,6 +440,81 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
         [C],
         ["q", "dq", "p"],
         ["C"],
+    )
+
+
+def mass_matrix_bias_function(symbol_type=casadi.SX):
+    """Mass matrix and bias torques (forward dynamics) (94 operations) as a casadi.Function.
+
+    Output M: M(q) (3x3).
+    Output bias: bias = C dq + G + F, the torques at ddq = 0 (3x1).
+    """
+    q = symbol_type.sym("q", 3)
+    dq = symbol_type.sym("dq", 3)
+    p = symbol_type.sym("p", 1)
+    q2 = q[1]
+    q3 = q[2]
+    dq1 = dq[0]
+    dq2 = dq[1]
+    dq3 = dq[2]
+    L3 = p[0]
+    t0 = casadi.cos(q3)
+    t1 = casadi.sin(q3)
+    t2 = q2 + L3*t1
+    t3 = 3.393*t2 - 1.6965*t1
+    t4 = 0.0006786*t0
+    t5 = 0.5 - L3
+    t6 = -0.2831*t1 + t3*t5
+    t7 = -2.6505 + 5.301*q2
+    t8 = t3 + t7
+    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
+    t10 = 3.393*t1
+    t11 = 3.393*t0
+    t12 = t11*t5
+    t13 = 5.301 + t0*t11 + t1*t10
+    t14 = -1.6965 + 3.393*L3
+    t15 = 0.2831 - t14*t5
+    t16 = dq1**2
+    t17 = q2*t16
+    t18 = 2*dq1*dq2
+    t19 = dq1*t0
+    t20 = dq1*t1
+    t21 = dq3*t20
+    t22 = dq3*t19
+    t23 = t20**2
+    t24 = dq3**2
+    t25 = t19*t20
+    t26 = t23 + t24
+    t27 = 2*t22
+    t28 = 9.81*t0 - L3*t26 - t1*t17
+    t29 = 9.81*t1 + L3*t25 + t0*t17
+    t30 = t18 + L3*t27
+    t31 = 1.6965*t26 + 3.393*t28
+    t32 = 1.6965*t25 - 3.393*t29
+    t33 = 3.393*t30 - 1.6965*t27
+    t34 = 0.0006786*t21
+    t35 = -0.5655214*t22 + t33*t5
+    t36 = 0.2824214*t25 + t32*t5
+    t37 = 5.301*t18
+    t38 = 2.6505*t16 - 5.301*t17 + t0*t32 + t1*t31
+    t39 = t33 + t37
+    t40 = -0.5*t37 + q2*t39 - t0*t34 - t1*t35
+    M = symbol_type.zeros(3, 3)
+    M[0, 0] = t9
+    M[1, 1] = t13
+    M[1, 2] = -t12
+    M[2, 1] = -t12
+    M[2, 2] = t15
+    bias = symbol_type.zeros(3, 1)
+    bias[0, 0] = t40
+    bias[1, 0] = t38
+    bias[2, 0] = -t36
+    return casadi.Function(
+        "rpr_mass_matrix_bias",
+        [q, dq, p],
+        [M, bias],
+        ["q", "dq", "p"],
+        ["M", "bias"],
     )
 
 

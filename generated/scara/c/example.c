@@ -15,6 +15,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)

@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
@@ -451,6 +452,61 @@ void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq
     }
 }
 
+void scara_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[restrict 9], double bias[restrict 3])
+{
+    const double q2 = q[1];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double L1 = p[0];
+    const double L2 = p[1];
+    const double t0 = sin(q2);
+    const double t1 = L1*t0;
+    const double t2 = cos(q2);
+    const double t3 = L2 + L1*t2;
+    const double t4 = -0.1342125 + 1.193*t3;
+    const double t5 = 1.6862000000000001*t1;
+    const double t6 = t4 + 0.4932*t3;
+    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
+    const double t8 = -0.4031625 + 2.481*L1;
+    const double t9 = t8 + t0*t5 + t2*t6;
+    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
+    const double t11 = -0.1342125 + 1.193*L2;
+    const double t12 = t11 + 0.4932*L2;
+    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
+    const double t14 = dq1*dq1;
+    const double t15 = L1*t14;
+    const double t16 = dq1 + dq2;
+    const double t17 = t16*t16;
+    const double t18 = L2*t17 + t15*t2;
+    const double t19 = t0*t15;
+    const double t20 = 1.193*t19;
+    const double t21 = 0.1342125*t17 - 1.6862000000000001*t18;
+    const double t22 = t20 + 0.4932*t19;
+    const double t23 = -0.1125*t20 + L2*t22;
+    const double t24 = t0*t21 + t2*t22;
+    const double t25 = t23 + L1*t24;
+    M[0] = t10;
+    M[1] = t7;
+    M[2] = 0;
+    M[3] = t7;
+    M[4] = t13;
+    M[5] = 0;
+    M[6] = 0;
+    M[7] = 0;
+    M[8] = 0.4932;
+    bias[0] = t25;
+    bias[1] = t23;
+    bias[2] = 4.838292000000001;
+}
+
+void scara_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        scara_mass_matrix_bias(q + i * 3, dq + i * 3, p, M + i * 9, bias + i * 3);
+    }
+}
+
 void scara_inverse_dynamics(const double q[3], const double dq[3], const double ddq[3], const double *p, double tau[restrict 3])
 {
     const double q2 = q[1];
@@ -592,16 +648,15 @@ void scara_energy_batch(size_t count, const double *q, const double *dq, const d
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void scara_forward_dynamics(const double q[3], const double dq[3], const double tau[3], const double *p, double ddq[restrict 3])
 {
     double M[9];
     double bias[3];
-    const double zero[3] = { 0 };
     int i;
 
-    scara_mass_matrix(q, p, M);
-    scara_inverse_dynamics(q, dq, zero, p, bias);
+    scara_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 3)) {
         for (i = 0; i < 3; ++i) {

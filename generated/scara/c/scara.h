@@ -14,6 +14,7 @@
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
  *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+ *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
@@ -164,6 +165,19 @@ void scara_coriolis_batch(size_t count, const double *q, const double *dq, const
 void scara_coriolis_matrix(const double q[3], const double dq[3], const double *p, double C[SYMKIN_RESTRICT 9]);
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (55 operations).
+ * M[9]: M(q) (3x3)
+ *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
+ * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
+ *   units: N m for q1, q2; N for q3
+ * q[3]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[3]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[2]: parameters (L1, L2; SI units, angles in rad)
+ */
+void scara_mass_matrix_bias(const double q[3], const double dq[3], const double *p, double M[SYMKIN_RESTRICT 9], double bias[SYMKIN_RESTRICT 3]);
+/* The same for count states: q is count x 3, each output count x its size. */
+void scara_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (46 operations).
  * tau[3]: tau = M ddq + C dq + G + F (3x1)

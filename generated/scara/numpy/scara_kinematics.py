@@ -14,6 +14,7 @@ Operation counts after common-subexpression elimination:
   gravity: 0 ops (none)
   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
+  mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
@@ -344,6 +345,63 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 0, 1] = t14 + dq2*t8
     C[..., 1, 0] = -t14
     return C
+
+
+def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
+    """Mass matrix and bias torques (forward dynamics): 55 operations.
+
+    q: joint positions (rad or m), 3 values per state.
+    dq: joint velocities (rad/s or m/s), 3 values per state.
+    p: parameters (L1, L2; SI units, angles in rad), 2 values.
+    Returns M: M(q) (3x3), shape (..., 3, 3).
+    Returns bias: bias = C dq + G + F, the torques at ddq = 0 (3x1), shape (..., 3).
+    """
+    q = numpy.asarray(q, dtype=float)
+    dq = numpy.asarray(dq, dtype=float)
+    p = numpy.asarray(p, dtype=float)
+    batch = q.shape[:-1]
+    q2 = q[..., 1]
+    dq1 = dq[..., 0]
+    dq2 = dq[..., 1]
+    L1 = p[..., 0]
+    L2 = p[..., 1]
+    t0 = numpy.sin(q2)
+    t1 = L1*t0
+    t2 = numpy.cos(q2)
+    t3 = L2 + L1*t2
+    t4 = -0.1342125 + 1.193*t3
+    t5 = 1.6862*t1
+    t6 = t4 + 0.4932*t3
+    t7 = 0.00524366 - 0.1125*t4 + L2*t6
+    t8 = -0.4031625 + 2.481*L1
+    t9 = t8 + t0*t5 + t2*t6
+    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
+    t11 = -0.1342125 + 1.193*L2
+    t12 = t11 + 0.4932*L2
+    t13 = 0.00524366 - 0.1125*t11 + L2*t12
+    t14 = dq1**2
+    t15 = L1*t14
+    t16 = dq1 + dq2
+    t17 = t16**2
+    t18 = L2*t17 + t15*t2
+    t19 = t0*t15
+    t20 = 1.193*t19
+    t21 = 0.1342125*t17 - 1.6862*t18
+    t22 = t20 + 0.4932*t19
+    t23 = -0.1125*t20 + L2*t22
+    t24 = t0*t21 + t2*t22
+    t25 = t23 + L1*t24
+    M = numpy.zeros(batch + (3, 3))
+    M[..., 0, 0] = t10
+    M[..., 0, 1] = t7
+    M[..., 1, 0] = t7
+    M[..., 1, 1] = t13
+    M[..., 2, 2] = 0.493200000000000
+    bias = numpy.zeros(batch + (3,))
+    bias[..., 0] = t25
+    bias[..., 1] = t23
+    bias[..., 2] = 4.83829200000000
+    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):

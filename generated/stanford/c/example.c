@@ -15,6 +15,7 @@
  *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   mass_matrix_bias: 571 ops (210 additions, 348 multiplications, 8 trig, 5 powers)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
  *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)

@@ -14,6 +14,7 @@
  *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   mass_matrix_bias: 571 ops (210 additions, 348 multiplications, 8 trig, 5 powers)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
  *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
@@ -1323,6 +1324,266 @@ void stanford_coriolis_matrix_batch(size_t count, const double *q, const double 
     }
 }
 
+void stanford_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[restrict 36], double bias[restrict 6])
+{
+    const double q2 = q[1];
+    const double q3 = q[2];
+    const double q4 = q[3];
+    const double q5 = q[4];
+    const double q6 = q[5];
+    const double dq1 = dq[0];
+    const double dq2 = dq[1];
+    const double dq3 = dq[2];
+    const double dq4 = dq[3];
+    const double dq5 = dq[4];
+    const double dq6 = dq[5];
+    const double d2 = p[1];
+    const double d6 = p[2];
+    const double t0 = cos(q2);
+    const double t1 = sin(q2);
+    const double t2 = d2*t0;
+    const double t3 = d2*t1;
+    const double t4 = q3*t1;
+    const double t5 = cos(q4);
+    const double t6 = t1*t5;
+    const double t7 = sin(q4);
+    const double t8 = t1*t7;
+    const double t9 = t4*t7 - t2*t5;
+    const double t10 = t2*t7 + t4*t5;
+    const double t11 = sin(q5);
+    const double t12 = cos(q5);
+    const double t13 = t0*t11 + t12*t6;
+    const double t14 = t0*t12 - t11*t6;
+    const double t15 = t11*t3 + t12*t9;
+    const double t16 = t11*t9 - t12*t3;
+    const double t17 = sin(q6);
+    const double t18 = cos(q6);
+    const double t19 = t17*t8 - t13*t18;
+    const double t20 = t13*t17 + t18*t8;
+    const double t21 = d6*t20 + t10*t17 + t15*t18;
+    const double t22 = t10*t18 - d6*t19 - t15*t17;
+    const double t23 = 0.8923*t21 - 0.11733745*t20;
+    const double t24 = 0.8923*t22 + 0.11733745*t19;
+    const double t25 = 0.1315 - d6;
+    const double t26 = 0.005233*t19 + t24*t25;
+    const double t27 = 0.005233*t20 - t23*t25;
+    const double t28 = 0.0001785*t14;
+    const double t29 = 0.458*t10;
+    const double t30 = 0.458*t15 + t18*t23 - t17*t24;
+    const double t31 = 1.3503*t16;
+    const double t32 = -0.0002405*t13 + t18*t26 - t17*t27;
+    const double t33 = 0.0002405*t8 + t17*t26 + t18*t27;
+    const double t34 = t28 + 0.0002061*t14;
+    const double t35 = 0.458*t9 + t11*t31 + t12*t30;
+    const double t36 = 0.458*t3 + t11*t30 - t12*t31;
+    const double t37 = 2*t29 + t17*t23 + t18*t24;
+    const double t38 = -0.0002405*t6 + t11*t34 + t12*t32;
+    const double t39 = -0.0002405*t0 + t11*t32 - t12*t34;
+    const double t40 = t33 + 0.0002061*t8;
+    const double t41 = 7.634*t2;
+    const double t42 = 7.634*t4 - 3.817*t1;
+    const double t43 = -t41 + t35*t5 - t37*t7;
+    const double t44 = t42 + t35*t7 + t37*t5;
+    const double t45 = t36 + 7.634*t3;
+    const double t46 = 0.5*t41 + q3*t43 + t38*t7 + t40*t5;
+    const double t47 = 0.251482*t0 - 3.266*t2;
+    const double t48 = 0.251482*t1 - 3.266*t3;
+    const double t49 = t43 + t47;
+    const double t50 = t48 - t45;
+    const double t51 = 0.5*t42 - 0.646395*t1 - 0.077*t48 + d2*t50 + t38*t5 - q3*t44 - t40*t7;
+    const double t52 = -t39 + 0.077*t47 + 0.011930000000000001*t0 - d2*t49;
+    const double t53 = -0.02265 + t1*t51 - t0*t52;
+    const double t54 = q3*t5;
+    const double t55 = q3*t7;
+    const double t56 = t12*t7;
+    const double t57 = t11*t7;
+    const double t58 = t12*t54;
+    const double t59 = t11*t54;
+    const double t60 = t17*t5 + t18*t56;
+    const double t61 = t18*t5 - t17*t56;
+    const double t62 = d6*t61 + t18*t58 - t17*t55;
+    const double t63 = d6*t60 + t17*t58 + t18*t55;
+    const double t64 = 0.8923*t62 - 0.11733745*t61;
+    const double t65 = 0.11733745*t60 - 0.8923*t63;
+    const double t66 = 0.005233*t60 + t25*t65;
+    const double t67 = 0.005233*t61 - t25*t64;
+    const double t68 = 0.0001785*t57;
+    const double t69 = 0.458*t55;
+    const double t70 = 0.458*t58 + t18*t64 - t17*t65;
+    const double t71 = 1.3503*t59;
+    const double t72 = 0.0002405*t56 + t18*t66 - t17*t67;
+    const double t73 = 0.0002405*t5 + t17*t66 + t18*t67;
+    const double t74 = t68 + 0.0002061*t57;
+    const double t75 = 0.458*t54 + t11*t71 + t12*t70;
+    const double t76 = t11*t70 - t12*t71;
+    const double t77 = -2*t69 + t17*t64 + t18*t65;
+    const double t78 = 0.0002405*t7 + t11*t74 + t12*t72;
+    const double t79 = t11*t72 - t12*t74;
+    const double t80 = t73 + 0.0002061*t5;
+    const double t81 = -3.817 + 7.634*q3;
+    const double t82 = t81 + t5*t75 - t7*t77;
+    const double t83 = 0.6379 - 0.5*t81 + q3*t82 + t5*t80 + t7*t78;
+    const double t84 = t11*t18;
+    const double t85 = t11*t17;
+    const double t86 = 0.8923*t84;
+    const double t87 = 0.8923*t85;
+    const double t88 = t25*t87;
+    const double t89 = t25*t86;
+    const double t90 = 0.458*t11 + t17*t87 + t18*t86;
+    const double t91 = 1.3503*t12;
+    const double t92 = t18*t88 - t17*t89;
+    const double t93 = t17*t88 + t18*t89;
+    const double t94 = 0.458 + t11*t90 + t12*t91;
+    const double t95 = t11*t92;
+    const double t96 = d6*t85;
+    const double t97 = d6*t84;
+    const double t98 = 0.8923*t96 - 0.11733745*t85;
+    const double t99 = 0.8923*t97 - 0.11733745*t84;
+    const double t100 = -0.005233*t84 + t25*t99;
+    const double t101 = 0.005233*t85 - t25*t98;
+    const double t102 = 0.0001785*t12;
+    const double t103 = -0.0002405*t11 + t100*t18 - t101*t17;
+    const double t104 = t100*t17 + t101*t18;
+    const double t105 = t102 + 0.0002061*t12;
+    const double t106 = -0.0002405 + t103*t11 - t105*t12;
+    const double t107 = d6*t18;
+    const double t108 = d6*t17;
+    const double t109 = 0.8923*t107 - 0.11733745*t18;
+    const double t110 = 0.11733745*t17 - 0.8923*t108;
+    const double t111 = 0.005233*t17 + t110*t25;
+    const double t112 = 0.005233*t18 - t109*t25;
+    const double t113 = dq1*t1;
+    const double t114 = dq1*t0;
+    const double t115 = dq2*t114;
+    const double t116 = dq2*t113;
+    const double t117 = t113*t113;
+    const double t118 = dq2*dq2;
+    const double t119 = t114*t114;
+    const double t120 = t113*t114;
+    const double t121 = t117 + t119;
+    const double t122 = 2*t115;
+    const double t123 = t117 + t118;
+    const double t124 = 9.81*t1;
+    const double t125 = 9.81*t0;
+    const double t126 = 2*dq3;
+    const double t127 = -t124 + dq2*t126 - q3*t120;
+    const double t128 = q3*t122 + t113*t126 - d2*t121;
+    const double t129 = t125 - q3*t123;
+    const double t130 = dq2*t7 - t113*t5;
+    const double t131 = dq4 + t114;
+    const double t132 = dq2*t5 + t113*t7;
+    const double t133 = dq4*t132 - t115*t5;
+    const double t134 = t115*t7 - dq4*t130;
+    const double t135 = t130*t132;
+    const double t136 = t131*t132;
+    const double t137 = t127*t5 + t128*t7;
+    const double t138 = t128*t5 - t127*t7;
+    const double t139 = t12*t130 - t11*t131;
+    const double t140 = dq5 + t132;
+    const double t141 = t11*t130 + t12*t131;
+    const double t142 = t11*t116 + t12*t133 - dq5*t141;
+    const double t143 = dq5*t139 + t11*t133 - t116*t12;
+    const double t144 = t139*t141;
+    const double t145 = t140*t141;
+    const double t146 = t12*t137 - t11*t129;
+    const double t147 = t11*t137 + t12*t129;
+    const double t148 = t139*t18 + t140*t17;
+    const double t149 = t140*t18 - t139*t17;
+    const double t150 = dq6 + t141;
+    const double t151 = dq6*t149 + t134*t17 + t142*t18;
+    const double t152 = t134*t18 - dq6*t148 - t142*t17;
+    const double t153 = t148*t148;
+    const double t154 = t149*t149;
+    const double t155 = t148*t150;
+    const double t156 = t149*t150;
+    const double t157 = t152 + t155;
+    const double t158 = t156 - t151;
+    const double t159 = t153 + t154;
+    const double t160 = d6*t157 + t138*t17 + t146*t18;
+    const double t161 = d6*t158 + t138*t18 - t146*t17;
+    const double t162 = t147 - d6*t159;
+    const double t163 = 0.8923*t160 - 0.11733745*t157;
+    const double t164 = 0.8923*t161 - 0.11733745*t158;
+    const double t165 = 0.005233*t151 - 0.0050545*t156 + t164*t25;
+    const double t166 = 0.0050545*t155 + 0.005233*t152 - t163*t25;
+    const double t167 = 0.0001785*t143;
+    const double t168 = 0.458*t138;
+    const double t169 = 0.458*t146 + t163*t18 - t164*t17;
+    const double t170 = 0.8923*t162 + 0.458*t147 + 0.11733745*t159;
+    const double t171 = 0.0002405*t142 - 3.4399999999999996e-05*t145 + t165*t18 - t166*t17;
+    const double t172 = 3.4399999999999996e-05*t144 + 0.0002405*t134 + t165*t17 + t166*t18;
+    const double t173 = t167 + 0.0002061*t143;
+    const double t174 = 0.458*t137 + t11*t170 + t12*t169;
+    const double t175 = -0.458*t129 + t11*t169 - t12*t170;
+    const double t176 = 2*t168 + t163*t17 + t164*t18;
+    const double t177 = 3.4399999999999996e-05*t136 + 0.0002405*t133 + t11*t173 + t12*t171;
+    const double t178 = 3.4399999999999996e-05*t135 + 0.0002405*t116 + t11*t171 - t12*t173;
+    const double t179 = t172 + 0.0002061*t134;
+    const double t180 = 3.817*t120 + 7.634*t127;
+    const double t181 = 7.634*t128 - 3.817*t122;
+    const double t182 = t180 + t174*t5 - t176*t7;
+    const double t183 = t181 + t174*t7 + t176*t5;
+    const double t184 = -t175 + 3.817*t123 + 7.634*t129;
+    const double t185 = -0.5*t180 - 0.6344650000000001*t120 + q3*t182 + t177*t7 + t179*t5;
+    const double t186 = 3.266*t124;
+    const double t187 = 3.266*t125;
+    const double t188 = t182 - t186;
+    const double t189 = t184 + t187;
+    const double t190 = 0.5*t181 - 1.276447*t115 - 0.077*t187 + d2*t189 + t177*t5 - q3*t183 - t179*t7;
+    const double t191 = t178 + 0.007516999999999999*t116 + 0.077*t186 + d2*t188;
+    const double t192 = t0*t191 + t1*t190;
+    M[0] = 0.2 - t53;
+    M[1] = t46;
+    M[2] = -t45;
+    M[3] = -t39;
+    M[4] = t33;
+    M[5] = t28;
+    M[6] = t46;
+    M[7] = 0.204082 + t83;
+    M[8] = -t76;
+    M[9] = -t79;
+    M[10] = t73;
+    M[11] = t68;
+    M[12] = -t45;
+    M[13] = -t76;
+    M[14] = 9.634 + t94;
+    M[15] = -t95;
+    M[16] = t93;
+    M[17] = 0;
+    M[18] = -t39;
+    M[19] = -t79;
+    M[20] = -t95;
+    M[21] = 0.05 - t106;
+    M[22] = t104;
+    M[23] = t102;
+    M[24] = t33;
+    M[25] = t73;
+    M[26] = t93;
+    M[27] = t104;
+    M[28] = 0.0502405 + t111*t17 + t112*t18;
+    M[29] = 0;
+    M[30] = t28;
+    M[31] = t68;
+    M[32] = 0;
+    M[33] = t102;
+    M[34] = 0;
+    M[35] = 0.0501785;
+    bias[0] = -t192;
+    bias[1] = t185;
+    bias[2] = t184;
+    bias[3] = -t178;
+    bias[4] = t172;
+    bias[5] = t167;
+}
+
+void stanford_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
+{
+    size_t i;
+    for (i = 0; i < count; ++i) {
+        stanford_mass_matrix_bias(q + i * 6, dq + i * 6, p, M + i * 36, bias + i * 6);
+    }
+}
+
 void stanford_inverse_dynamics(const double q[6], const double dq[6], const double ddq[6], const double *p, double tau[restrict 6])
 {
     const double q2 = q[1];
@@ -1786,16 +2047,15 @@ void stanford_energy_batch(size_t count, const double *q, const double *dq, cons
 
 /* Forward dynamics: solves M(q) ddq = tau - (c + G + F) by Cholesky (M is symmetric positive
  * definite), where c + G + F is the inverse dynamics at ddq = 0. Fixed-size arrays only.
+ * M and c + G + F come from one kernel, mass_matrix_bias (one CSE: sin and cos shared).
  * ddq is NaN where M is not numerically positive definite. */
 void stanford_forward_dynamics(const double q[6], const double dq[6], const double tau[6], const double *p, double ddq[restrict 6])
 {
     double M[36];
     double bias[6];
-    const double zero[6] = { 0 };
     int i;
 
-    stanford_mass_matrix(q, p, M);
-    stanford_inverse_dynamics(q, dq, zero, p, bias);
+    stanford_mass_matrix_bias(q, dq, p, M, bias);
     /* M = L L^T in place (lower triangle), then L y = tau - bias, L^T ddq = y. */
     if (!symkin_cholesky_factor(M, 6)) {
         for (i = 0; i < 6; ++i) {

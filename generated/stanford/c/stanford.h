@@ -14,6 +14,7 @@
  *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
  *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
+ *   mass_matrix_bias: 571 ops (210 additions, 348 multiplications, 8 trig, 5 powers)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
  *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
@@ -164,6 +165,19 @@ void stanford_coriolis_batch(size_t count, const double *q, const double *dq, co
 void stanford_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (571 operations).
+ * M[36]: M(q) (6x6)
+ *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
+ * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
+ *   units: N m for q1, q2, q4, q5, q6; N for q3
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[3]: parameters (d1, d2, d6; SI units, angles in rad)
+ */
+void stanford_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[SYMKIN_RESTRICT 36], double bias[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void stanford_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (289 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)

@@ -15,6 +15,7 @@
  *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
  *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
+ *   mass_matrix_bias: 911 ops (376 additions, 511 multiplications, 10 trig, 14 powers)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
  *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)

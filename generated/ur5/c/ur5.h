@@ -14,6 +14,7 @@
  *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
  *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
+ *   mass_matrix_bias: 911 ops (376 additions, 511 multiplications, 10 trig, 14 powers)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
  *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
@@ -164,6 +165,19 @@ void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const d
 void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p, double C[SYMKIN_RESTRICT 36]);
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
+
+/* Mass matrix and bias torques (forward dynamics) (911 operations).
+ * M[36]: M(q) (6x6)
+ *   units: kg m^2
+ * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
+ *   units: N m
+ * q[6]: joint positions (rad or m) (one row per state in the batch call)
+ * dq[6]: joint velocities (rad/s or m/s) (one row per state in the batch call)
+ * p[6]: parameters (d1, a2, a3, d4, d5, d6; SI units, angles in rad)
+ */
+void ur5_mass_matrix_bias(const double q[6], const double dq[6], const double *p, double M[SYMKIN_RESTRICT 36], double bias[SYMKIN_RESTRICT 6]);
+/* The same for count states: q is count x 6, each output count x its size. */
+void ur5_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT M, double *SYMKIN_RESTRICT bias);
 
 /* Inverse dynamics (441 operations).
  * tau[6]: tau = M ddq + C dq + G + F (6x1)

@@ -14,6 +14,7 @@
  *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
  *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
+ *   mass_matrix_bias: 911 ops (376 additions, 511 multiplications, 10 trig, 14 powers)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
  *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
@@ -453,6 +454,26 @@ static PyObject *py_coriolis_matrix(PyObject *self, PyObject *const *args, Py_ss
     return run_binding(&coriolis_matrix_binding, args, nargs, kwnames);
 }
 
+static void mass_matrix_bias_adapter(size_t count, const double *const *states, const double *p,
+                        const double *pi, double **outputs)
+{
+    (void)pi;
+    ur5_mass_matrix_bias_batch(count, states[0], states[1], p, outputs[0], outputs[1]);
+}
+
+static const binding mass_matrix_bias_binding = {
+    "mass_matrix_bias(q, dq, p=None)", 2, { 6, 6 }, 0, mass_matrix_bias_adapter, 2,
+    { 2, 1 },
+    { { 6, 6 }, { 6, 0 } },
+NULL,
+};
+
+static PyObject *py_mass_matrix_bias(PyObject *self, PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames)
+{
+    (void)self;
+    return run_binding(&mass_matrix_bias_binding, args, nargs, kwnames);
+}
+
 static void inverse_dynamics_adapter(size_t count, const double *const *states, const double *p,
                         const double *pi, double **outputs)
 {
@@ -579,6 +600,8 @@ static PyMethodDef methods[] = {
      "coriolis(q, dq, p=None): Coriolis and centrifugal torques; returns c."},
     {"coriolis_matrix", (PyCFunction)(void (*)(void))py_coriolis_matrix, METH_FASTCALL | METH_KEYWORDS,
      "coriolis_matrix(q, dq, p=None): Coriolis matrix (Christoffel symbols); returns C."},
+    {"mass_matrix_bias", (PyCFunction)(void (*)(void))py_mass_matrix_bias, METH_FASTCALL | METH_KEYWORDS,
+     "mass_matrix_bias(q, dq, p=None): mass matrix and bias torques (forward dynamics); returns M, bias."},
     {"inverse_dynamics", (PyCFunction)(void (*)(void))py_inverse_dynamics, METH_FASTCALL | METH_KEYWORDS,
      "inverse_dynamics(q, dq, ddq, p=None): inverse dynamics; returns tau."},
     {"wrench_torque", (PyCFunction)(void (*)(void))py_wrench_torque, METH_FASTCALL | METH_KEYWORDS,

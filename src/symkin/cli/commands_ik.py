@@ -263,7 +263,9 @@ def ik_one(
     """One numeric solve (with restarts); status 1 when the target is not reached."""
     robot = model.robot
     restarts = DEFAULT_RESTARTS if args.restarts is None else args.restarts
-    result = solve_ik(model, pose, q0, method=args.method, restarts=restarts, **options)
+    result = solve_ik(
+        model, pose, q0, method=args.method, restarts=restarts, backend=args.backend, **options
+    )
     if args.json:
         print(json_text({"robot": robot.name, **ik_result_json(result)}))
     else:

@@ -34,6 +34,7 @@ from symkin.derive.budget import DEFAULT_BUDGET_SECONDS
 from symkin.emit.c import PRECISIONS
 from symkin.emit.latex import DEFAULT_SECTIONS, LANGUAGES, SECTIONS, TEXT_WIDTH_CM
 from symkin.generate import BACKENDS
+from symkin.solve.ik.backends import BACKENDS as IK_BACKENDS
 from symkin.solve.ik.numeric import DEFAULT_RESTARTS, DEFAULT_TOLERANCE, METHODS
 from symkin.solve.trajopt import OBJECTIVES
 
@@ -363,9 +364,7 @@ def add_ik(commands: Commands) -> None:
     ik.add_argument(
         "--task", metavar="ROWS", help="rows to match, e.g. x,y or xy (default: the robot's)"
     )
-    ik.add_argument(
-        "--method", choices=METHODS, default="lm", help="lm (default) or newton (Newton-Raphson)"
-    )
+    add_ik_solver_options(ik)
     ik.add_argument(
         "--tolerance",
         type=float,
@@ -395,6 +394,20 @@ def add_ik(commands: Commands) -> None:
     ik.add_argument("--json", action="store_true", help="print a JSON object")
     ik.add_argument("--plot", metavar="FILE.png", help="draw the arm (and the path) to a PNG")
     ik.set_defaults(run=command_ik)
+
+
+def add_ik_solver_options(ik: argparse.ArgumentParser) -> None:
+    """``--method`` and ``--backend`` of ``symkin ik``."""
+    ik.add_argument(
+        "--method", choices=METHODS, default="lm", help="lm (default) or newton (Newton-Raphson)"
+    )
+    ik.add_argument(
+        "--backend",
+        choices=IK_BACKENDS,
+        default="auto",
+        help="auto (default): the generated C solver, compiled once, else its NumPy twin, for "
+        "lm on all six rows or x,y,z; python: the general solver (docs/ik.md)",
+    )
 
 
 def add_table_latex_options(ik: argparse.ArgumentParser) -> None:

@@ -431,8 +431,17 @@ def joint_lines(robot: Robot, q: np.ndarray) -> list[str]:
     return lines
 
 
+# How the text names the damped-least-squares backends (symkin.solve.ik.backends).
+IK_BACKEND_NAMES = {
+    "c": "damped least squares, generated C",
+    "numpy": "damped least squares, NumPy",
+}
+
+
 def ik_result_text(robot: Robot, result: IKResult, tolerance: float) -> str:
     method = {"lm": "Levenberg-Marquardt", "newton": "Newton-Raphson"}[result.method]
+    if result.backend in IK_BACKEND_NAMES:
+        method += f" ({IK_BACKEND_NAMES[result.backend]})"
     outcome = "solved" if result.success else "NOT solved, closest pose reached"
     errors = []
     if set(result.rows) & {"x", "y", "z"}:
@@ -455,6 +464,7 @@ def ik_result_json(result: IKResult) -> dict:
         "q": result.q.tolist(),
         "task_rows": list(result.rows),
         "method": result.method,
+        "backend": result.backend,
         "position_error": result.position_error,
         "rotation_error": result.rotation_error,
         "residual": result.residual,

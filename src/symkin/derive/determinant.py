@@ -29,7 +29,7 @@ import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from symkin.derive.budget import NUMERIC_FALLBACK, OVER_BUDGET, ClosedForm
-from symkin.derive.simplify import _CircleVariables, contract_trig
+from symkin.derive.simplify import _CircleVariables, contract_trig, exact_from_floats
 from symkin.errors import BudgetWarning
 
 # A polynomial (after reduction on the circle) with more terms than this is not factored in
@@ -270,8 +270,7 @@ def _rational_coefficients(expr: sp.Expr) -> sp.Expr:
     """Every numeric constant (``0.3``, ``sqrt(3)/2``) as the exact rational of its shortest
     decimal (``0.3 -> 3/10``): small denominators keep the ring arithmetic fast, where the
     exact rational of the double has a 2^54 denominator."""
-    numeric = sp.nfloat(expr, 17)
-    return numeric.xreplace({f: sp.Rational(repr(float(f))) for f in numeric.atoms(sp.Float)})
+    return exact_from_floats(sp.nfloat(expr, 17))
 
 
 def factor_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:

@@ -26,7 +26,7 @@ from symkin.derive.dynamics import (
     motor_inertia_matrix,
 )
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.simplify import reduce_trig
+from symkin.derive.simplify import exact_from_floats, floats_from_exact, reduce_trig
 from symkin.robot import Robot
 from symkin.symbols import unused_prefix
 
@@ -45,19 +45,25 @@ def lagrange_dynamics(
     ddq: Sequence[sp.Symbol],
     coriolis_matrix: bool = True,
 ) -> Dynamics:
-    """``M``, ``C``, ``c``, ``G`` from kinetic and potential energy."""
+    """``M``, ``C``, ``c``, ``G`` from kinetic and potential energy.
+
+    The readable form (up to ``READABLE_DOF`` joints) is computed in exact arithmetic, the
+    robot's floats (inertial data, gravity, lengths) as decimal rationals, and printed back as
+    floats: float algebra would leave ``1e-16`` remainders of ``sin^2 + cos^2 = 1`` in C."""
     n = robot.dof
+    readable = n <= READABLE_DOF
+    exact = exact_from_floats if readable else _same
     q = [se.sympify(s) for s in kinematics.q]
-    gravity = _to_symengine(sp.Matrix(robot.gravity))
+    gravity = _to_symengine(exact(sp.Matrix(robot.gravity)))
     mass = se.zeros(n, n)
     potential = se.Integer(0)
     free_symbols: set[sp.Symbol] = set(kinematics.q) | set(dq)
     for i in range(n):
         data = link_inertial_data(robot, i)
-        frame = kinematics.frame_transforms[i + 1]
-        com = sp.Matrix(frame[:3, :3]) * sp.Matrix(data.com) + sp.Matrix(frame[:3, 3])
+        frame = exact(kinematics.frame_transforms[i + 1])
+        com = sp.Matrix(frame[:3, :3]) * exact(sp.Matrix(data.com)) + sp.Matrix(frame[:3, 3])
         rotation = _to_symengine(sp.Matrix(frame[:3, :3]))
-        inertia = _to_symengine(sp.Matrix(data.inertia_matrix))
+        inertia = _to_symengine(exact(sp.Matrix(data.inertia_matrix)))
         free_symbols |= com.free_symbols | data.inertia_matrix.free_symbols
         free_symbols |= sp.sympify(data.mass).free_symbols
         com_se = _to_symengine(com)
@@ -66,12 +72,12 @@ def lagrange_dynamics(
         for j, joint_frame in enumerate(kinematics.joint_frames[: i + 1]):
             if robot.joints[j].type == "revolute":
                 for r in range(3):
-                    angular[r, j] = se.sympify(joint_frame[r, 2])
+                    angular[r, j] = se.sympify(exact(joint_frame[r, 2]))
         world_inertia = rotation * inertia * rotation.T
-        mass_i = se.sympify(data.mass)
+        mass_i = se.sympify(exact(sp.sympify(data.mass)))
         mass += mass_i * linear.T * linear + angular.T * world_inertia * angular
         potential -= mass_i * (gravity.T * com_se)[0, 0]
-    mass += _to_symengine(motor_inertia_matrix(robot))
+    mass += _to_symengine(exact(motor_inertia_matrix(robot)))
     free_symbols |= motor_inertia_matrix(robot).free_symbols
     # SymEngine drops SymPy's assumptions; map the plain names back to our symbols.
     restore = {sp.Symbol(s.name): s for s in free_symbols}
@@ -85,7 +91,7 @@ def lagrange_dynamics(
     }
     if coriolis_matrix:
         matrices["coriolis_matrix"] = christoffel
-    if n <= READABLE_DOF:
+    if readable:
         converted, assignments = _readable(matrices, restore, kinematics.q), ()
     else:
         converted, assignments = _shared(matrices, restore)
@@ -100,13 +106,20 @@ def lagrange_dynamics(
     )
 
 
+def _same(expr: sp.Basic) -> sp.Basic:
+    return expr
+
+
 def _readable(
     matrices: dict[str, se.DenseMatrix], restore: dict, q: Sequence[sp.Symbol]
 ) -> dict[str, sp.ImmutableMatrix]:
     """Expanded and contracted into sums of angles: for reading (small robots only)."""
 
     def convert(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
-        entries = [reduce_trig(sp.sympify(se.expand(e)).xreplace(restore), q) for e in matrix]
+        entries = [
+            floats_from_exact(reduce_trig(sp.sympify(se.expand(e)).xreplace(restore), q))
+            for e in matrix
+        ]
         return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
 
     return {name: convert(matrix) for name, matrix in matrices.items()}

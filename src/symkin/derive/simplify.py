@@ -167,3 +167,20 @@ def reduce_trig(expr: sp.Expr, angles: Sequence[sp.Symbol]) -> sp.Expr:
     """``expr`` with ``sin^2 + cos^2 = 1`` applied (as a remainder), then contracted."""
     circle = _CircleVariables.of(angles)
     return contract_trig(circle.reduce(circle.polynomial(expr)).xreplace(circle.back))
+
+
+def exact_from_floats(expr: sp.Basic) -> sp.Basic:
+    """Every float in ``expr`` as the exact rational of its shortest decimal (``3.393 ->
+    3393/1000``), so that identities such as ``sin^2 + cos^2 = 1`` cancel exactly instead of
+    leaving ``1e-16`` terms; small denominators also keep polynomial arithmetic fast (the exact
+    rational of a double has a 2^54 denominator)."""
+    return expr.xreplace({f: sp.Rational(repr(float(f))) for f in expr.atoms(sp.Float)})
+
+
+def floats_from_exact(expr: sp.Basic) -> sp.Basic:
+    """The inverse of :func:`exact_from_floats` for printing: every non-integer rational
+    coefficient back as a float (integers stay integers)."""
+    return expr.xreplace(
+        {r: sp.Float(float(r)) for r in expr.atoms(sp.Rational) if not r.is_Integer}
+    )
+

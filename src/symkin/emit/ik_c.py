@@ -17,6 +17,7 @@ from symkin.kernels import Kernel
 from symkin.kernels.ik.settings import (
     FALLBACK_SEED,
     FLOAT_SETTINGS,
+    ORTHONORMAL_TOLERANCE,
     PRISMATIC_SPAN,
     REVOLUTE_SPAN,
     STALL_FACTOR,
@@ -24,10 +25,6 @@ from symkin.kernels.ik.settings import (
     DampedLeastSquares,
 )
 from symkin.robot import Robot
-
-# A target rotation further than this from orthonormal (|R^T R - I|, entry by entry) is
-# rejected as invalid input; single precision rounds a rotation to about 1e-7.
-ORTHONORMAL_TOLERANCE = {"double": 1e-6, "float": 1e-4}
 
 
 def _settings(precision: str) -> DampedLeastSquares:

@@ -107,9 +107,19 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
 
 
 def emit_python_extension(
-    robot: Robot, kernels: tuple[Kernel, ...], precision: str = "double", flags: Sequence[str] = ()
+    robot: Robot,
+    kernels: tuple[Kernel, ...],
+    precision: str = "double",
+    flags: Sequence[str] = (),
+    ik: bool = False,
 ) -> dict[str, str]:
-    """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``."""
+    """``{"python/<robot>_ext.c": source}``; it includes ``../c/<robot>.h``.
+
+    With ``ik``, the module also binds the generated damped-least-squares IK as ``ik(...)``
+    (``templates/python/ik_binding.c.j2``); it then includes ``../c/<robot>_ik.h`` and must be
+    compiled with ``c/<robot>_ik.c`` (:func:`symkin.emit.ik_c.emit_ik_c`), which needs the
+    ``fk_jacobian`` kernel.
+    """
     module = extension_name(robot)
     functions = bindings(robot, kernels)
     # Every dynamics kernel takes the same inertial symbols pi (see kernel.dynamics_inputs).
@@ -132,5 +142,7 @@ def emit_python_extension(
         max_outputs=max(len(f.outputs) for f in functions),
         # At least 3 (q, dq, tau of forward dynamics) so rigid robots' files stay as they were.
         max_states=max(3, *(len(f.states) for f in functions)),
+        ik=ik,
+        ik_header=f"{robot.name}_ik.h",
     )
     return {f"python/{module}.c": text}

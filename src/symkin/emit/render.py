@@ -59,6 +59,8 @@ def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] |
     the forward dynamics' derivatives are composed as well (``-M^-1 dtau/dx``, ``M^-1``).
     ``elastic``: 0-based indices of the elastic joints, whose 2n-state forward dynamics also
     uses ``elastic_constants`` (empty for a rigid robot: no elastic code is printed).
+    ``bias`` is 1 when the ``mass_matrix_bias`` kernel is there: M and the torques at
+    ``ddq = 0`` then come from that one kernel (one CSE, sin and cos shared) instead of two.
     """
     names = {k.name: k for k in kernels}
     if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
@@ -71,6 +73,7 @@ def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] |
     return {
         "pi": len(inputs["pi"].symbols) if "pi" in inputs else 0,
         "derivatives": int("inverse_dynamics_derivatives" in names),
+        "bias": int("mass_matrix_bias" in names),
         "elastic": elastic,
     }
 

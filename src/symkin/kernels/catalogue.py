@@ -274,6 +274,33 @@ def dynamics_inputs(model: Model, *rates: str) -> tuple[KernelInput, ...]:
     return tuple(inputs)
 
 
+def _mass_matrix_bias(model: Model, mass_unit: str, force_unit: str) -> Kernel:
+    """``M`` and ``bias = tau(q, dq, 0) = C dq + G + F`` in one kernel, for forward dynamics:
+    one CSE over the mass-matrix recursion and the torque recursion with its ``ddq`` terms
+    dropped, so the two share sin, cos and their common products."""
+    n = model.robot.dof
+    dynamics = model.newton_euler
+    assignments, torque = model.inverse_dynamics_recursion
+    at_rest = {a: sp.Integer(0) for a in dynamics.ddq}
+    at_rest_assignments = tuple((s, e.xreplace(at_rest)) for s, e in assignments)
+    return kernel_from_assignments(
+        "mass_matrix_bias",
+        "mass matrix and bias torques (forward dynamics)",
+        dynamics_inputs(model, "dq"),
+        dynamics.assignments + at_rest_assignments,
+        [
+            ("M", dynamics.mass_matrix, f"M(q) ({n}x{n})", "matrix", mass_unit),
+            (
+                "bias",
+                torque.xreplace(at_rest),
+                f"bias = C dq + G + F, the torques at ddq = 0 ({n}x1)",
+                "vector",
+                force_unit,
+            ),
+        ],
+    )
+
+
 def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel, ...]:
     """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
     ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler;
@@ -323,6 +350,7 @@ def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel
         for name, description, rates, output, matrix, output_description in steps
         if coriolis_matrix or name != "coriolis_matrix"
     ]
+    kernels.append(_mass_matrix_bias(model, unit["M"], force))
     kernels.append(
         kernel_from_assignments(
             "inverse_dynamics",
@@ -332,5 +360,4 @@ def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel
             [("tau", torque, f"tau = M ddq + C dq + G + F ({n}x1)", "vector", force)],
         )
     )
-    kernels += elastic_kernels(model, dynamics_inputs(model, "dq", "ddq"))
-    return tuple(kernels)
+    return (*kernels, *elastic_kernels(model, dynamics_inputs(model, "dq", "ddq")))

@@ -26,8 +26,9 @@ def extension_path(source: Path) -> Path:
     return source.with_name(source.stem + sysconfig.get_config_var("EXT_SUFFIX"))
 
 
-def build_extension(source: Path, kernels_source: Path) -> Path:
-    """Compile ``python/<robot>_ext.c`` with ``c/<robot>.c`` into an importable module."""
+def build_extension(source: Path, kernels_source: Path, *more_sources: Path) -> Path:
+    """Compile ``python/<robot>_ext.c`` with ``c/<robot>.c`` (and ``more_sources``, e.g.
+    ``c/<robot>_ik.c``) into an importable module."""
     compiler = shlex.split(os.environ.get("CC", "")) or [shutil.which("cc") or "gcc"]
     if shutil.which(compiler[0]) is None:
         raise SymkinError(f"no C compiler found ({compiler[0]!r}); install gcc or set CC")
@@ -41,6 +42,7 @@ def build_extension(source: Path, kernels_source: Path) -> Path:
         f"-I{np.get_include()}",
         str(source),
         str(kernels_source),
+        *map(str, more_sources),
         "-o",
         str(target),
         "-lm",

@@ -142,7 +142,7 @@ def module_from_source(source: str, stem: str) -> ModuleType:
     """
     digest = hashlib.sha256(source.encode()).hexdigest()[:16]
     name = f"_symkin_{stem}_{digest}"
-    path = _module_directory() / f"{name}.py"
+    path = module_directory() / f"{name}.py"
     if not path.exists():
         try:
             descriptor, staging = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
@@ -165,7 +165,7 @@ def module_from_source(source: str, stem: str) -> ModuleType:
 _DIRECTORIES: dict[int, Path] = {}
 
 
-def _module_directory() -> Path:
+def module_directory() -> Path:
     """A private directory for this process's generated modules, removed when it exits.
 
     Keyed by process: a forked child makes its own and never removes its parent's.

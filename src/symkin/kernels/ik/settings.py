@@ -18,6 +18,9 @@ STALL_FACTOR = 0.5
 # Restart range of a joint without a limit: its width for revolute and prismatic joints.
 REVOLUTE_SPAN = 2 * math.pi
 PRISMATIC_SPAN = 2.0
+# A target rotation further than this from orthonormal (|R^T R - I|, entry by entry) is
+# rejected as invalid input by the C solver; single precision rounds a rotation to about 1e-7.
+ORTHONORMAL_TOLERANCE = {"double": 1e-6, "float": 1e-4}
 # xorshift64 must not start from 0 (it would stay 0); seed 0 means this state instead.
 FALLBACK_SEED = 0x9E3779B97F4A7C15
 

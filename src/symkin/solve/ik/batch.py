@@ -88,8 +88,8 @@ def limit_joints(
     """Revolute joints outside their limits moved by ``2 pi k`` toward the middle of the
     range, then every joint clamped (the C ``symkin_dls_limit``)."""
     outside = revolute & ((q < lower) | (q > upper)) & np.isfinite(lower) & np.isfinite(upper)
-    middle = (lower + upper) / 2
     with np.errstate(invalid="ignore"):  # inf - inf where a limit is missing; masked out
+        middle = (lower + upper) / 2
         shifted = q - 2 * math.pi * np.floor((q - middle) / (2 * math.pi) + 0.5)
     return np.clip(np.where(outside, shifted, q), lower, upper)
 

@@ -149,6 +149,7 @@ def solve_ik_casadi(
             pose=pose,
             rows=ALL_ROWS[:3] if position_only else ALL_ROWS,
             method="ipopt",
+            backend="casadi",
         )
         if best is None or candidate.residual < best.residual:
             best = candidate

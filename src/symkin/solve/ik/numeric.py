@@ -46,6 +46,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from types import ModuleType
 
 import numpy as np
 
@@ -53,13 +54,25 @@ from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
 from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
+from symkin.solve.ik.backends import (
+    choose_backend,
+    dls_extension,
+    dls_settings,
+    fits_dls,
+    run_dls,
+    solve_dls,
+)
 from symkin.solve.ik.joints import (
-    joint_bounds,
-    middle_configuration,
+    joint_data,
+    joint_vector,
     parameter_vector,
     random_configuration,
+    rest_configuration,
+    wrap_angles,
 )
-from symkin.spatial import axis_angle_from_rotation
+from symkin.solve.ik.result import IKResult
+from symkin.solve.ik.steps import newton_step, null_space_step, rotation_vector
+from symkin.solve.ik.target import task_rows_for
 
 METHODS = ("lm", "newton")
 DEFAULT_TOLERANCE = 1e-10
@@ -84,54 +97,8 @@ POSTURE_SCALES = (1.0, 0.5, 0.25, 0.125, 0.0625)
 # E above STALL_RATIO times its value STALL_WINDOW iterations ago: a local minimum.
 STALL_WINDOW = 10
 STALL_RATIO = 0.99
-# Newton: a square Jacobian with a larger condition number counts as singular.
-SINGULAR_CONDITION = 1e12
 # Limits are met when exceeded by no more than this (rounding of the 2 pi shifts).
 LIMIT_SLACK = 1e-12
-
-
-@dataclass(frozen=True)
-class IKResult:
-    """The outcome of :func:`solve_ik`.
-
-    ``q`` is the best configuration found (the solution when ``success``, otherwise the closest
-    pose reached), ``pose`` its forward kinematics.  ``position_error`` (m) and
-    ``rotation_error`` (rad) are the norms of the selected linear and angular error components
-    at ``q``; ``residual`` is the larger of the two.  ``iterations`` counts every iteration of
-    every attempt, ``restarts`` the attempts after the first.
-    """
-
-    q: np.ndarray
-    success: bool
-    position_error: float
-    rotation_error: float
-    iterations: int
-    restarts: int
-    pose: np.ndarray
-    rows: tuple[str, ...]
-    method: str
-
-    @property
-    def residual(self) -> float:
-        return max(self.position_error, self.rotation_error)
-
-
-def rotation_vector(R: np.ndarray) -> np.ndarray:
-    """Axis times angle of the rotation ``R`` (angle in ``[0, pi]``), never NaN.
-
-    Below 90 degrees directly from the skew part: ``w = vee(R - R^T) = 2 sin(a) k`` and
-    ``a = atan2(|w| / 2, (tr R - 1) / 2)``, so ``r = w a / (2 sin a)`` (``a / sin a -> 1`` at 0).
-    Beyond, where ``sin a`` gets small again, :func:`symkin.spatial.axis_angle_from_rotation`.
-    """
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
-    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
-    if c <= 0.0:
-        axis, angle, _ = axis_angle_from_rotation(R)
-        return np.asarray(axis, dtype=float) * angle
-    half_norm = 0.5 * math.sqrt(w @ w)
-    if half_norm == 0.0:
-        return 0.5 * w
-    return w * (0.5 * math.atan2(half_norm, c) / half_norm)
 
 
 @dataclass(frozen=True)
@@ -147,17 +114,10 @@ class _Problem:
     lower: np.ndarray
     upper: np.ndarray
     revolute: np.ndarray
+    unlimited: np.ndarray  # revolute joints without limits (angles count modulo 2 pi)
+    has_limits: bool
     target: np.ndarray
     tolerance: float
-
-    @property
-    def unlimited(self) -> np.ndarray:
-        """Revolute joints without limits (their angles count modulo 2 pi)."""
-        return self.revolute & ~np.isfinite(self.lower) & ~np.isfinite(self.upper)
-
-    @property
-    def has_limits(self) -> bool:
-        return bool(np.isfinite(self.lower).any() or np.isfinite(self.upper).any())
 
     def evaluate(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Pose, task Jacobian rows and task error at ``q``."""
@@ -242,28 +202,6 @@ def _bounded_lm_step(
         step[free] = _lm_step(problem, J[:, free], e - J[:, held] @ step[held], damping)
 
 
-def newton_step(J: np.ndarray, e: np.ndarray) -> np.ndarray:
-    """``J^-1 e`` for a square, regular ``J``; otherwise ``J^+ e``, the least-squares step of
-    least norm (by the normal equations while ``J`` has full rank, else by an SVD)."""
-    rows, columns = J.shape
-    try:
-        if rows == columns:
-            if np.linalg.cond(J) < SINGULAR_CONDITION:
-                return np.linalg.solve(J, e)
-        elif rows < columns:
-            return J.T @ np.linalg.solve(J @ J.T, e)  # J^+ = J^T (J J^T)^-1
-        else:
-            return np.linalg.solve(J.T @ J, J.T @ e)  # J^+ = (J^T J)^-1 J^T
-    except np.linalg.LinAlgError:
-        pass  # rank-deficient: the SVD below
-    return np.linalg.lstsq(J, e, rcond=None)[0]
-
-
-def _null_space_step(J: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """``(I - J^+ J) z``: the part of ``z`` that does not move the task to first order."""
-    return z - newton_step(J, J @ z)
-
-
 def _lm_attempt(
     problem: _Problem, q: np.ndarray, max_iterations: int, bounded: bool, stall: bool = True
 ) -> _Attempt:
@@ -312,15 +250,15 @@ def _toward_rest(problem: _Problem, solution: _Attempt, rest: np.ndarray) -> _At
 
     def distance(q: np.ndarray) -> float:
         difference = q - rest
-        difference[problem.unlimited] = _wrap(difference[problem.unlimited])
+        difference[problem.unlimited] = wrap_angles(difference[problem.unlimited])
         return float(np.linalg.norm(difference))
 
     q, iterations = solution.q, solution.iterations
     for _ in range(POSTURE_ROUNDS):
         _, J, _ = problem.evaluate(q)
         toward = rest - q
-        toward[problem.unlimited] = _wrap(toward[problem.unlimited])  # the short way round
-        null_step = _null_space_step(J, toward)
+        toward[problem.unlimited] = wrap_angles(toward[problem.unlimited])  # the short way round
+        null_step = null_space_step(J, toward)
         if np.linalg.norm(null_step) <= POSTURE_TOLERANCE:
             break
         for scale in POSTURE_SCALES:
@@ -372,35 +310,11 @@ def _attempt(problem: _Problem, start: np.ndarray, method: str, max_iterations: 
     return replace(bounded, iterations=free.iterations + bounded.iterations)
 
 
-def _vector(values: Sequence[float] | np.ndarray, n: int, what: str) -> np.ndarray:
-    array = np.asarray(values, dtype=float).reshape(-1)
-    if array.size != n:
-        raise SymkinError(f"{what}: expected {n} values, got {array.size}")
-    if not np.all(np.isfinite(array)):
-        raise SymkinError(f"{what}: expected finite numbers, got {array.tolist()}")
-    return array
-
-
-def task_rows_for(
-    model: Model, task: Sequence[str] | None = None, position_only: bool = False
-) -> tuple[str, ...]:
-    """The rows an IK problem matches: ``task``, else ``x y z`` for a position-only target,
-    else the robot's default task rows (``model.task_rows``: planar 2R ``x y``, 6 DOF all)."""
-    if task is not None:
-        rows = tuple(task)
-    elif position_only:
-        rows = ("x", "y", "z")
-    else:
-        rows = model.task_rows
-    rows_from_names(rows)
-    if not rows:
-        raise SymkinError("the task needs at least one row of x, y, z, wx, wy, wz")
-    return rows
-
-
-def _wrap(angles: np.ndarray) -> np.ndarray:
-    """Angles mapped to ``(-pi, pi]``."""
-    return np.pi - np.mod(np.pi - angles, 2 * np.pi)
+def _target(target: np.ndarray) -> np.ndarray:
+    target = np.asarray(target, dtype=float)
+    if target.shape != (4, 4) or not np.isfinite(target).all():
+        raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
+    return target
 
 
 def _problem(
@@ -410,33 +324,42 @@ def _problem(
     weights: Sequence[float] | None,
     tolerance: float,
     overrides: Mapping[str, float] | None,
+    fk_jacobian: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> _Problem:
-    target = np.asarray(target, dtype=float)
-    if target.shape != (4, 4) or not np.all(np.isfinite(target)):
-        raise SymkinError("the IK target must be a finite 4x4 homogeneous transform")
+    """The problem; ``fk_jacobian`` defaults to the generated NumPy kernel."""
+    target = _target(target)
     if not tolerance > 0:
         raise ParameterError(f"the {{tolerance}} must be positive, got {tolerance}")
     # Rows in ascending order (the solution does not depend on it; all six need no indexing).
-    order = np.argsort(rows_from_names(rows))
-    indices = np.array(rows_from_names(rows))[order]
+    names = np.array(rows_from_names(rows))
+    order = np.argsort(names)
+    indices = names[order]
     weight_array = None
     if weights is not None:
-        weight_array = _vector(weights, len(rows), f"weights (one per task row {','.join(rows)})")
+        weight_array = joint_vector(
+            weights, len(rows), f"weights (one per task row {','.join(rows)})"
+        )
         if np.any(weight_array <= 0):
             raise SymkinError(f"weights must be positive, got {weight_array.tolist()}")
         weight_array = weight_array[order]
-    lower, upper = joint_bounds(model)
-    revolute = np.array([j.type == "revolute" for j in model.robot.joints])
+    joints = joint_data(model)
+    parameters = joints.parameters
+    if overrides is not None or parameters is None:
+        parameters = parameter_vector(model, overrides)  # names a missing value
+    if fk_jacobian is None:
+        fk_jacobian = generated_numpy_module(model, "kinematics").fk_jacobian
     return _Problem(
-        fk_jacobian=generated_numpy_module(model, "kinematics").fk_jacobian,
-        parameters=parameter_vector(model, overrides),
+        fk_jacobian=fk_jacobian,
+        parameters=parameters,
         rows=None if indices.size == 6 else indices,
         linear=np.flatnonzero(indices < 3),
         angular=np.flatnonzero(indices >= 3),
         weights=weight_array,
-        lower=lower,
-        upper=upper,
-        revolute=revolute,
+        lower=joints.lower,
+        upper=joints.upper,
+        revolute=joints.revolute,
+        unlimited=joints.unlimited,
+        has_limits=joints.has_limits,
         target=target,
         tolerance=float(tolerance),
     )
@@ -453,24 +376,8 @@ def task_errors(
     ``rows`` (default: the robot's task rows), the metric :func:`solve_ik` reports."""
     rows = task_rows_for(model, rows)
     problem = _problem(model, target, rows, None, DEFAULT_TOLERANCE, overrides)
-    _, _, e = problem.evaluate(_vector(q, model.robot.dof, "q"))
+    _, _, e = problem.evaluate(joint_vector(q, model.robot.dof, "q"))
     return problem.errors(e)
-
-
-def _rest_configuration(
-    model: Model, rest_posture: Sequence[float] | str | None
-) -> np.ndarray | None:
-    """The null-space preference: given joint values, the middle of the ranges, or none."""
-    if rest_posture is None:
-        return None
-    if isinstance(rest_posture, str):
-        if rest_posture != "middle":
-            raise SymkinError(
-                f"rest posture: expected {model.robot.dof} joint values or 'middle', "
-                f"got {rest_posture!r}"
-            )
-        return middle_configuration(model)
-    return _vector(rest_posture, model.robot.dof, "rest posture")
 
 
 def _first_converged(
@@ -500,12 +407,14 @@ def _result(
     effort: tuple[int, int],
     rows: tuple[str, ...],
     method: str,
+    backend: str,
 ) -> IKResult:
     """The result at ``q`` with unlimited revolute joints wrapped to ``(-pi, pi]``, judged at
     the returned values themselves (wrapping changes them by multiples of 2 pi).  ``effort``:
     the iterations and restarts it took."""
-    q = q.copy()
-    q[problem.unlimited] = _wrap(q[problem.unlimited])
+    q = np.array(q, dtype=float)
+    if problem.unlimited.any():
+        q[problem.unlimited] = wrap_angles(q[problem.unlimited])
     pose, _, e = problem.evaluate(q)
     position_error, rotation_error = problem.errors(e)
     return IKResult(
@@ -518,7 +427,84 @@ def _result(
         pose=pose,
         rows=rows,
         method=method,
+        backend=backend,
     )
+
+
+def _solve_python(
+    model: Model,
+    problem: _Problem,
+    seed_q: np.ndarray,
+    method: str,
+    limits: tuple[int, int, int | None],
+) -> tuple[_Attempt, int, int]:
+    """The general solver: attempts from ``seed_q`` and random starts, then (LM) the closest
+    pose when none converged.  ``limits``: max iterations, restarts, seed."""
+    max_iterations, restarts, seed = limits
+    rng = np.random.default_rng(seed)
+    starts = (seed_q if k == 0 else random_configuration(model, rng) for k in range(restarts + 1))
+    best, iterations, attempt_count = _first_converged(problem, starts, method, max_iterations)
+    if not best.converged and method == "lm":
+        # The closest pose: go on from the best attempt without the early stop.
+        polished = _lm_attempt(problem, best.q, max_iterations, problem.has_limits, stall=False)
+        iterations += polished.iterations
+        best = polished if polished.energy < best.energy else best
+    return best, iterations, attempt_count
+
+
+def _solve_dls(
+    model: Model,
+    problem: _Problem,
+    seed_q: np.ndarray,
+    extension: ModuleType | None,
+    options: tuple[int, int, int | None, Mapping[str, float] | None],
+) -> tuple[_Attempt, int]:
+    """The damped least squares, compiled (``extension``) or in NumPy
+    (:mod:`symkin.solve.ik.backends`): the answer and the restarts it took."""
+    max_iterations, restarts, seed, overrides = options
+    run = run_dls(
+        model,
+        extension,
+        problem.target,
+        seed_q,
+        (problem.lower, problem.upper),
+        problem.parameters,
+        dls_settings(max_iterations, restarts, problem.tolerance, seed),
+        problem.linear.size + problem.angular.size == 3,
+        overrides,
+    )
+    return _Attempt(run.q, 0.0, run.converged, run.iterations), run.restarts
+
+
+def _attempts(
+    model: Model,
+    problem: _Problem,
+    seed_q: np.ndarray,
+    method: str,
+    extension: ModuleType | str | None,
+    options: tuple[int, int, int | None, Mapping[str, float] | None],
+) -> tuple[_Attempt, int, int, str]:
+    """The best attempt, all iterations, the restarts and the backend that ran: the general
+    solver when ``extension`` is ``"python"``, else the damped least squares (compiled with
+    an extension module, NumPy with ``None``)."""
+    if extension == "python":
+        best, iterations, restarts = _solve_python(model, problem, seed_q, method, options[:3])
+        return best, iterations, restarts, "python"
+    assert not isinstance(extension, str)
+    best, restarts = _solve_dls(model, problem, seed_q, extension, options)
+    return best, best.iterations, restarts, "numpy" if extension is None else "c"
+
+
+def _check_arguments(method: str, max_iterations: int, restarts: int, tolerance: float) -> None:
+    if not tolerance > 0:
+        raise ParameterError(f"the {{tolerance}} must be positive, got {tolerance}")
+    if method not in METHODS:
+        raise SymkinError(f"unknown IK method {method!r}; expected one of {', '.join(METHODS)}")
+    if max_iterations < 1 or restarts < 0:
+        raise ParameterError(
+            f"need {{max_iterations}} >= 1 and {{restarts}} >= 0, got {max_iterations} and "
+            f"{restarts}"
+        )
 
 
 def solve_ik(
@@ -536,6 +522,7 @@ def solve_ik(
     seed: int | None = 0,
     rest_posture: Sequence[float] | str | None = "middle",
     overrides: Mapping[str, float] | None = None,
+    backend: str = "auto",
 ) -> IKResult:
     """Joint values that put the tool at ``target`` (4x4 pose in the base frame).
 
@@ -546,36 +533,36 @@ def solve_ik(
     start from random configurations (``seed`` makes them reproducible).  ``rest_posture`` is
     the posture preferred in the null space when the task has fewer rows than the robot has
     joints (LM only): joint values, ``"middle"`` (the middle of the joint ranges) or ``None``
-    (no preference: the solution the iteration reaches).  Returns the best attempt; see the
+    (no preference: the solution the iteration reaches).  ``backend`` picks the
+    implementation (:mod:`symkin.solve.ik.backends`: ``"auto"``, ``"c"``, ``"numpy"``,
+    ``"python"``); the result names the one that ran.  Returns the best attempt; see the
     module docstring for the metric.
     """
-    if method not in METHODS:
-        raise SymkinError(f"unknown IK method {method!r}; expected one of {', '.join(METHODS)}")
-    if max_iterations < 1 or restarts < 0:
-        raise ParameterError(
-            f"need {{max_iterations}} >= 1 and {{restarts}} >= 0, got {max_iterations} and "
-            f"{restarts}"
-        )
+    _check_arguments(method, max_iterations, restarts, tolerance)
     n = model.robot.dof
     rows = task_rows_for(model, task, position_only)
-    problem = _problem(model, target, rows, weights, tolerance, overrides)
-    seed_q = middle_configuration(model) if q0 is None else _vector(q0, n, "q0")
-    rest = _rest_configuration(model, rest_posture)
+    target = _target(target)
+    backend = choose_backend(backend, fits_dls(method, rows, weights, target))
+    extension = dls_extension(model, backend)
+    seed_q = joint_data(model).middle if q0 is None else joint_vector(q0, n, "q0")
+    rest = rest_configuration(model, rest_posture)
     if method != "lm" or len(rows) >= n:
         rest = None  # no null space to move in (Newton: the lecture's plain iteration)
-    rng = np.random.default_rng(seed)
-    starts = (seed_q if k == 0 else random_configuration(model, rng) for k in range(restarts + 1))
-    best, iterations, attempt_count = _first_converged(problem, starts, method, max_iterations)
-    if not best.converged and method == "lm":
-        # The closest pose: go on from the best attempt without the early stop.
-        polished = _lm_attempt(problem, best.q, max_iterations, problem.has_limits, stall=False)
-        iterations += polished.iterations
-        best = polished if polished.energy < best.energy else best
+    if backend != "python" and rest is None:  # the short way: no Python-side iteration
+        settings = dls_settings(max_iterations, restarts, tolerance, seed)
+        return solve_dls(model, extension, target, seed_q, rows, settings, overrides)
+    fk_jacobian = None if extension is None else extension.fk_jacobian
+    problem = _problem(model, target, rows, weights, tolerance, overrides, fk_jacobian)
+    best, iterations, attempt_count, backend = _attempts(
+        model, problem, seed_q, method, extension if backend != "python" else "python",
+        (max_iterations, restarts, seed, overrides),
+    )  # fmt: skip
     if rest is not None and best.converged:
         moved = _toward_rest(problem, best, rest)
         iterations += moved.iterations - best.iterations
         best = moved
-    return _result(problem, best.q, tolerance, (iterations, attempt_count), rows, method)
+    effort = (iterations, attempt_count)
+    return _result(problem, best.q, tolerance, effort, rows, method, backend)
 
 
 __all__ = [

@@ -21,6 +21,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from symkin.derive import Model
+from symkin.derive.jacobians import rows_from_names
 from symkin.errors import SymkinError
 from symkin.spatial import rotation_from_euler_zyx, rotation_from_orientation
 
@@ -43,3 +45,20 @@ def pose_from_target(values: Sequence[float], orientation: str | None = None) ->
         rx, ry, rz = values[3:]
         pose[:3, :3] = rotation_from_euler_zyx(rz, ry, rx)
     return pose
+
+
+def task_rows_for(
+    model: Model, task: Sequence[str] | None = None, position_only: bool = False
+) -> tuple[str, ...]:
+    """The rows an IK problem matches: ``task``, else ``x y z`` for a position-only target,
+    else the robot's default task rows (``model.task_rows``: planar 2R ``x y``, 6 DOF all)."""
+    if task is not None:
+        rows = tuple(task)
+    elif position_only:
+        rows = ("x", "y", "z")
+    else:
+        rows = model.task_rows
+    rows_from_names(rows)
+    if not rows:
+        raise SymkinError("the task needs at least one row of x, y, z, wx, wy, wz")
+    return rows

@@ -1,0 +1,78 @@
+"""The generated C IK solver brought to Python: a CPython extension built once per robot and
+process.
+
+The extension binds ``fk_jacobian`` and the damped-least-squares solver ``<robot>_ik``
+(``emit/ik_c.py``) as ``fk_jacobian(q, p)`` and ``ik(...)`` (``templates/python/
+ik_binding.c.j2``).  It is compiled by :func:`symkin.runtime.extension.build_extension` (the
+compiler named by ``CC``, else ``cc``) in this process's private module directory and loaded
+from there.  A robot whose build fails (no compiler, a compile error) is remembered as failed,
+so the caller falls back to NumPy without trying again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+from types import ModuleType
+
+from symkin.derive import Model
+from symkin.errors import SymkinError
+from symkin.runtime.extension import build_extension, load_extension
+from symkin.runtime.modules import module_directory
+
+# Built extensions (or the error that stopped the build): by model identity first (hashing
+# a model is slow), then by the product form's content, shared by equal robots.
+_BY_ID: dict[int, tuple[Model, ModuleType | SymkinError]] = {}
+_BY_CONTENT: dict[Model, ModuleType | SymkinError] = {}
+_LOCK = threading.Lock()
+
+
+def ik_extension(model: Model) -> ModuleType:
+    """The compiled ``fk_jacobian`` and ``ik`` of ``model``'s robot (double precision).
+
+    Raises :class:`~symkin.errors.SymkinError` when the extension cannot be built; the failure
+    is remembered for the process, like the module.
+    """
+    entry = _BY_ID.get(id(model))
+    if entry is None or entry[0] is not model:
+        with _LOCK:  # one build per robot, also when threads ask at once
+            built = _BY_CONTENT.get(model.product_form)
+            if built is None:
+                built = _build(model.product_form)
+                _BY_CONTENT[model.product_form] = built
+            _BY_ID[id(model)] = entry = (model, built)
+    if isinstance(entry[1], SymkinError):
+        raise entry[1]
+    return entry[1]
+
+
+def _build(model: Model) -> ModuleType | SymkinError:
+    """Render, compile and import the extension; the error instead when that fails."""
+    # Imported here, not at the top: ``import symkin`` should not load the code generators.
+    from symkin.emit.c import emit_c
+    from symkin.emit.ik_c import emit_ik_c
+    from symkin.emit.python_ext import emit_python_extension
+    from symkin.kernels import pose_kernels
+
+    robot = model.robot
+    kernels = pose_kernels(model, ("fk_jacobian",))
+    files = {
+        **emit_c(robot, kernels),
+        **emit_ik_c(robot, kernels),
+        **emit_python_extension(robot, kernels, ik=True),
+    }
+    digest = hashlib.sha256("\0".join(f"{k}\0{v}" for k, v in sorted(files.items())).encode())
+    folder = module_directory() / f"ext_{robot.name}_{digest.hexdigest()[:16]}"
+    try:
+        for relative in ("c/", "python/"):
+            (folder / relative).mkdir(parents=True, exist_ok=True)
+        for relative in (f"c/{robot.name}.h", f"c/{robot.name}_ik.h"):
+            (folder / relative).write_text(files[relative], encoding="utf-8")
+        sources = [f"python/{robot.name}_ext.c", f"c/{robot.name}.c", f"c/{robot.name}_ik.c"]
+        for relative in sources:
+            (folder / relative).write_text(files[relative], encoding="utf-8")
+        return load_extension(build_extension(*(folder / s for s in sources)))
+    except SymkinError as error:
+        return error
+    except (OSError, ImportError) as error:
+        return SymkinError(f"cannot build the IK extension in {folder}: {error}")
