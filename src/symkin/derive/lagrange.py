@@ -14,7 +14,7 @@ come back to SymPy, contracted into sums of angles.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import symengine as se
 import sympy as sp
@@ -52,33 +52,11 @@ def lagrange_dynamics(
     floats: float algebra would leave ``1e-16`` remainders of ``sin^2 + cos^2 = 1`` in C."""
     n = robot.dof
     readable = n <= READABLE_DOF
-    exact = exact_from_floats if readable else _same
     q = [se.sympify(s) for s in kinematics.q]
-    gravity = _to_symengine(exact(sp.Matrix(robot.gravity)))
-    mass = se.zeros(n, n)
-    potential = se.Integer(0)
-    free_symbols: set[sp.Symbol] = set(kinematics.q) | set(dq)
-    for i in range(n):
-        data = link_inertial_data(robot, i)
-        frame = exact(kinematics.frame_transforms[i + 1])
-        com = sp.Matrix(frame[:3, :3]) * exact(sp.Matrix(data.com)) + sp.Matrix(frame[:3, 3])
-        rotation = _to_symengine(sp.Matrix(frame[:3, :3]))
-        inertia = _to_symengine(exact(sp.Matrix(data.inertia_matrix)))
-        free_symbols |= com.free_symbols | data.inertia_matrix.free_symbols
-        free_symbols |= sp.sympify(data.mass).free_symbols
-        com_se = _to_symengine(com)
-        linear = com_se.jacobian(se.DenseMatrix(q))
-        angular = se.zeros(3, n)
-        for j, joint_frame in enumerate(kinematics.joint_frames[: i + 1]):
-            if robot.joints[j].type == "revolute":
-                for r in range(3):
-                    angular[r, j] = se.sympify(exact(joint_frame[r, 2]))
-        world_inertia = rotation * inertia * rotation.T
-        mass_i = se.sympify(exact(sp.sympify(data.mass)))
-        mass += mass_i * linear.T * linear + angular.T * world_inertia * angular
-        potential -= mass_i * (gravity.T * com_se)[0, 0]
-    mass += _to_symengine(exact(motor_inertia_matrix(robot)))
-    free_symbols |= motor_inertia_matrix(robot).free_symbols
+    mass, potential, free_symbols = _mass_and_potential(
+        robot, kinematics, exact_from_floats if readable else _same
+    )
+    free_symbols |= set(kinematics.q) | set(dq)
     # SymEngine drops SymPy's assumptions; map the plain names back to our symbols.
     restore = {sp.Symbol(s.name): s for s in free_symbols}
 
@@ -104,6 +82,41 @@ def lagrange_dynamics(
         assignments=assignments,
         **converted,
     )
+
+
+def _mass_and_potential(
+    robot: Robot, kinematics: Kinematics, exact: Callable[[sp.Basic], sp.Basic]
+) -> tuple[se.DenseMatrix, se.Basic, set[sp.Symbol]]:
+    """``M`` and ``P`` of (7.49)-(7.53) in SymEngine, each robot quantity passed through
+    ``exact`` first; and the SymPy symbols they contain (to restore assumptions later)."""
+    n = robot.dof
+    q = [se.sympify(s) for s in kinematics.q]
+    gravity = _to_symengine(exact(sp.Matrix(robot.gravity)))
+    mass = se.zeros(n, n)
+    potential = se.Integer(0)
+    free_symbols: set[sp.Symbol] = set()
+    for i in range(n):
+        data = link_inertial_data(robot, i)
+        frame = exact(kinematics.frame_transforms[i + 1])
+        com = sp.Matrix(frame[:3, :3]) * exact(sp.Matrix(data.com)) + sp.Matrix(frame[:3, 3])
+        rotation = _to_symengine(sp.Matrix(frame[:3, :3]))
+        inertia = _to_symengine(exact(sp.Matrix(data.inertia_matrix)))
+        free_symbols |= com.free_symbols | data.inertia_matrix.free_symbols
+        free_symbols |= sp.sympify(data.mass).free_symbols
+        com_se = _to_symengine(com)
+        linear = com_se.jacobian(se.DenseMatrix(q))
+        angular = se.zeros(3, n)
+        for j, joint_frame in enumerate(kinematics.joint_frames[: i + 1]):
+            if robot.joints[j].type == "revolute":
+                for r in range(3):
+                    angular[r, j] = se.sympify(exact(joint_frame[r, 2]))
+        world_inertia = rotation * inertia * rotation.T
+        mass_i = se.sympify(exact(sp.sympify(data.mass)))
+        mass += mass_i * linear.T * linear + angular.T * world_inertia * angular
+        potential -= mass_i * (gravity.T * com_se)[0, 0]
+    mass += _to_symengine(exact(motor_inertia_matrix(robot)))
+    free_symbols |= motor_inertia_matrix(robot).free_symbols
+    return mass, potential, free_symbols
 
 
 def _same(expr: sp.Basic) -> sp.Basic:
