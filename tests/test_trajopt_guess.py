@@ -200,12 +200,17 @@ def test_solves_from_the_clear_guess_converge_in_fewer_iterations(arm, method) -
     assert closest(arm_points, nodes, BALL) >= BALL.radius + detour.problem.clearance - 1e-6
 
 
+def swing_command(obstacle: str, refinements: int) -> list[str]:
+    """``symkin trajopt`` arguments of the swing with one ``--obstacle X,Y,Z,R``."""
+    return [
+        "trajopt", str(ARM), "--from", "0,0", "--to", "90deg,0", "--time", "2",
+        "--torque-limit", "30", "--obstacle", obstacle, "--max-refinements", str(refinements),
+    ]  # fmt: skip
+
+
 @pytest.mark.slow
 def test_cli_reports_the_first_guess(capsys) -> None:
-    argv = [
-        "trajopt", str(ARM), "--from", "0,0", "--to", "90deg,0", "--time", "2",
-        "--torque-limit", "30", "--obstacle", "0.55,0.55,0,0.15", "--max-refinements", "1",
-    ]  # fmt: skip
+    argv = swing_command("0.55,0.55,0,0.15", refinements=1)
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert "first guess: clear of the obstacles (" in out and "via configurations" in out
@@ -219,10 +224,7 @@ def test_cli_reports_the_first_guess(capsys) -> None:
 def test_cli_notes_when_no_clear_guess_is_found(capsys) -> None:
     # the blocked ball of the test above; on 40 nodes and no refinement the solver still
     # returns, its links sweeping through the ball between two nodes (the re-simulation says so)
-    argv = [
-        "trajopt", str(ARM), "--from", "0,0", "--to", "90deg,0", "--time", "2",
-        "--torque-limit", "30", "--obstacle", "0.35,0.35,0,0.1", "--max-refinements", "0",
-    ]  # fmt: skip
+    argv = swing_command("0.35,0.35,0,0.1", refinements=0)
     assert main(argv) == 0
     captured = capsys.readouterr()
     assert "symkin: first guess: no path clear of the obstacles found in" in captured.err
