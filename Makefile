@@ -62,6 +62,7 @@ bench: $(TEST_STAMP)
 	$(BIN)/python bench/ik_speed.py $(QUICK)
 	$(BIN)/python bench/trajopt_time.py $(QUICK)
 	$(BIN)/python bench/trajopt_peers.py $(QUICK)
+	$(BIN)/python bench/trajopt_guess.py $(QUICK)
 	$(BIN)/python bench/derivation_scaling.py $(QUICK) $(SCALING) $(SB)
 	$(BIN)/python bench/urdf_time.py
 	$(BIN)/python bench/derivatives_speed.py $(QUICK)
