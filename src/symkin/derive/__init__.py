@@ -411,10 +411,18 @@ class Model:
         self,
     ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], sp.ImmutableMatrix]:
         """``G - J^T w``: the torques that hold the arm at rest against gravity and ``w``
-        (one Newton–Euler pass at ``dq = ddq = 0``)."""
-        tip = tip_load(self.robot, self.kinematics, self.wrench)
+        (one Newton–Euler pass at ``dq = ddq = 0``).  Without a readable form the wrench is
+        turned into frame n by the named frames of :attr:`named_pose` (the product form's
+        nested ``R_0_n`` cost a generic 12R's kernel 10 s of CSE)."""
         zeros = [sp.Integer(0)] * self.robot.dof
-        return inverse_dynamics_recursion(self.robot, self.kinematics, zeros, zeros, tip)
+        if self.kinematics.simplified:
+            tip = tip_load(self.robot, self.kinematics, self.wrench)
+            return inverse_dynamics_recursion(self.robot, self.kinematics, zeros, zeros, tip)
+        pose = self.named_pose
+        named = dataclasses.replace(self.kinematics, frame_transforms=pose.frame_transforms)
+        tip = tip_load(self.robot, named, self.wrench)
+        recursion = inverse_dynamics_recursion(self.robot, self.kinematics, zeros, zeros, tip)
+        return pose.assignments + tuple(recursion[0]), recursion[1]
 
     @cached_property
     @derivation_step("the energies")

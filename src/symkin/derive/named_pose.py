@@ -30,12 +30,14 @@ from symkin.symbols import joint_symbols
 
 @dataclass(frozen=True)
 class NamedPose:
-    """``assignments`` (symbol, expression) in evaluation order, then ``T`` (4x4) and the
-    geometric Jacobian ``J`` (6xn, base frame, linear rows first) in terms of them."""
+    """``assignments`` (symbol, expression) in evaluation order, then ``T`` (4x4), the
+    geometric Jacobian ``J`` (6xn, base frame, linear rows first) and the frames ``T_0_0 ..
+    T_0_n`` in terms of them."""
 
     assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
     forward_kinematics: sp.ImmutableMatrix
     geometric_jacobian: sp.ImmutableMatrix
+    frame_transforms: tuple[sp.ImmutableMatrix, ...]
 
 
 def named_pose(robot: Robot) -> NamedPose:
@@ -66,4 +68,4 @@ def named_pose(robot: Robot) -> NamedPose:
     # angle_sums and simplified off: Kinematics.contract keeps every product as it is.
     kinematics = Kinematics(q, links, tuple(frames), joint_frames, tool, False, simplified=False)
     jacobian = jacobians.geometric_jacobian(robot, kinematics)
-    return NamedPose(tuple(assignments), tool, jacobian)
+    return NamedPose(tuple(assignments), tool, jacobian, tuple(frames))
