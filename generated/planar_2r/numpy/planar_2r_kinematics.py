@@ -30,7 +30,7 @@ import numpy
 DOF = 2
 PARAMETER_NAMES = ("L1", "L2", )
 DEFAULT_PARAMETERS = numpy.array([1.0, 1.0], dtype=float)
-BLOCK_ROWS = 4096  # a large batch runs in blocks of this many states (see _blocks)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
 
 
 def _blocks(kernel, states, shared, outputs):
@@ -38,8 +38,11 @@ def _blocks(kernel, states, shared, outputs):
 
     A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
     not batched) runs block by block, so that the kernel's intermediates are arrays of at most
-    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays;
-    anything else runs in one call that broadcasts.
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
     """
     batch = states[0].shape[:-1]
     size = states[0].size // states[0].shape[-1]
@@ -52,9 +55,15 @@ def _blocks(kernel, states, shared, outputs):
         return
     rows = [s.reshape(size, s.shape[-1]) for s in states]
     flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
     for start in range(0, size, BLOCK_ROWS):
         part = slice(start, start + BLOCK_ROWS)
-        kernel(*(r[part] for r in rows), *shared, *(f[part] for f in flat))
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
 
 
 def _sincos(x):
