@@ -13,13 +13,15 @@ and rotor inertia included).  Two transcriptions on N intervals with piecewise-c
 direct multiple shooting (Bock and Plitt 1984) with classical RK4 substeps, and direct
 collocation at the Radau IIA points (Betts, Practical Methods for Optimal Control, 2nd ed.,
 SIAM 2010, Sec. 4.5).  Both start from the straight joint-space line between the two
-configurations.  Coulomb friction (``sign(dq)``) is not differentiable at rest; robots with it
+configurations, detoured around the obstacles where it would run a link through one.
+Coulomb friction (``sign(dq)``) is not differentiable at rest; robots with it
 may converge slowly.
 
 The modules, each importing only those before it: ``problem`` (the problem and its checks),
 ``transcription`` (the dynamics as ``Opti`` constraints), ``constraints`` (the named constraint
-groups), ``initial_guess``, ``solve`` (IPOPT and the :class:`Trajectory`), ``plot`` (the PNG)
-and ``report`` (summary text, CSV, JSON, files).
+groups), ``initial_guess``, ``detour`` (the first guess around obstacles), ``solve`` (IPOPT
+and the :class:`Trajectory`), ``plot`` (the PNG) and ``report`` (summary text, CSV, JSON,
+files).
 """
 
 from symkin.solve.trajopt.accuracy import Accuracy

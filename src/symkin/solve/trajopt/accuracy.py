@@ -109,7 +109,7 @@ def accuracy(trajectory: Any, functions: RobotFunctions, problem: TrajectoryProb
     h = np.diff(trajectory.t)
     defects = np.zeros(len(h))
     clearance = np.zeros(len(h)) if problem.obstacles else None
-    origins = _origins_function(functions) if problem.obstacles else None
+    origins = origins_function(functions) if problem.obstacles else None
     x = nodes[0]
     for k, length in enumerate(h):
         local = integrate_interval(functions, control, k, nodes[k], length, origins is not None)
@@ -117,11 +117,11 @@ def accuracy(trajectory: Any, functions: RobotFunctions, problem: TrajectoryProb
         x = integrate_interval(functions, control, k, x, length, dense=False).y[:, -1]
         if origins is not None:
             samples = local.sol(np.linspace(0.0, length, SAMPLES_PER_INTERVAL + 1))
-            clearance[k] = _clearance(origins, samples[: functions.dof], problem)
+            clearance[k] = configuration_clearance(origins, samples[: functions.dof], problem).min()
     return Accuracy(defects, float(np.abs(x - nodes[-1]).max()), clearance)
 
 
-def _origins_function(functions: RobotFunctions) -> Callable:
+def origins_function(functions: RobotFunctions) -> Callable:
     """``q (n x m) -> origins (m x links+1 x 3)``, one CasADi function for the whole set."""
     import casadi
 
@@ -131,19 +131,24 @@ def _origins_function(functions: RobotFunctions) -> Callable:
     def origins(states: np.ndarray) -> np.ndarray:
         m = states.shape[1]
         values = np.array(stacked.map(m)(states))  # 3 x (links+1) m
-        return values.reshape(3, m, -1, order="F").transpose(1, 2, 0)
+        return values.reshape(3, m, -1).transpose(1, 2, 0)  # column j (links+1) + l
 
     return origins
 
 
-def _clearance(origins: Callable, q: np.ndarray, problem: TrajectoryProblem) -> float:
-    """Smallest ``|c - segment| - r - clearance`` over obstacles, links and sample states."""
+def configuration_clearance(
+    origins: Callable, q: np.ndarray, problem: TrajectoryProblem, margin: float = 0.0
+) -> np.ndarray:
+    """For each configuration (column of ``q``, n x m) the smallest
+    ``|c - segment| - r - clearance - margin`` over the obstacles and the links (metres;
+    negative: a capsule grown by ``margin`` enters a sphere); ``origins`` from
+    :func:`origins_function`."""
     points = origins(q)  # m x (links+1) x 3
     a, b = points[:, :-1], points[:, 1:]
-    worst = math.inf
+    worst = np.full(q.shape[1], math.inf)
     for obstacle in problem.obstacles:
-        distance = segment_distance(np.array(obstacle.centre), a, b)
-        worst = min(worst, float(distance.min()) - obstacle.radius - problem.clearance)
+        distance = segment_distance(np.array(obstacle.centre), a, b).min(axis=1)
+        worst = np.minimum(worst, distance - obstacle.radius - problem.clearance - margin)
     return worst
 
 

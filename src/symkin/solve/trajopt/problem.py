@@ -101,7 +101,9 @@ class TrajectoryProblem:
     ``min_manipulability`` (a lower bound on the Yoshikawa measure at every node) add
     constraints; the nodes keep ``obstacle_margin`` metres more (refinement raises it when
     the re-simulated path touches an obstacle between the nodes);
-    :mod:`symkin.solve.trajopt.extras` adds them, and more, from Python.
+    :mod:`symkin.solve.trajopt.extras` adds them, and more, from Python.  With
+    ``clear_guess`` the first guess detours around the obstacles where the straight polyline
+    would run a link through one (:mod:`symkin.solve.trajopt.detour`).
     ``coulomb_friction`` (one value per joint, N m or N) adds smoothed Coulomb friction
     ``F_c tanh(dq / friction_velocity)`` to the model (solver and re-simulation alike).
     """
@@ -127,6 +129,7 @@ class TrajectoryProblem:
     min_manipulability: float | None = None
     clearance: float = 0.05
     obstacle_margin: float = 0.0
+    clear_guess: bool = True
     coulomb_friction: tuple[float, ...] | None = None
     friction_velocity: float = 0.01
 

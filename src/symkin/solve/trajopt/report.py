@@ -44,6 +44,7 @@ def trajectory_json(trajectory: Trajectory) -> dict:
         "max_violation": trajectory.max_violation,
         "accuracy": accuracy_json(trajectory),
         "rounds": [asdict(r) for r in trajectory.rounds],
+        "initial_guess": None if trajectory.guess is None else asdict(trajectory.guess),
         "t": trajectory.t.tolist(),
         "q": trajectory.q.tolist(),
         "dq": trajectory.dq.tolist(),
@@ -88,6 +89,18 @@ def accuracy_text(trajectory: Trajectory) -> list[str]:
     return lines
 
 
+def guess_text(trajectory: Trajectory) -> list[str]:
+    """With obstacles, one line: whether the first guess was clear of them, and how."""
+    guess = trajectory.guess
+    if guess is None or guess.clear is None:
+        return []
+    how = f"{guess.vias} via configurations" if guess.source == "detour" else "the straight line"
+    if guess.clear:
+        spare = f"{guess.min_clearance:.3g} m to spare"
+        return [f"first guess: clear of the obstacles ({how}; {spare})"]
+    return [f"first guess: not clear of the obstacles ({how}; {guess.note})"]
+
+
 def summary_text(trajectory: Trajectory) -> str:
     """A few lines: the problem, IPOPT's status and iterations, solve time, T and the cost."""
     problem, stats = trajectory.problem, trajectory.stats
@@ -105,6 +118,7 @@ def summary_text(trajectory: Trajectory) -> str:
             f"cost = {trajectory.cost:.6g} ({COST_NAMES[problem.objective]})",
             f"effort = {trajectory.effort:.6g}",
             f"max constraint violation = {trajectory.max_violation:.1e}",
+            *guess_text(trajectory),
             *accuracy_text(trajectory),
         ]
     )

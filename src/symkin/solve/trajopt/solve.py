@@ -12,9 +12,11 @@ from typing import Any
 import numpy as np
 
 from symkin.derive import Model
+from symkin.progress import note
 from symkin.robot import Robot
 from symkin.solve.trajopt.accuracy import Accuracy, accuracy, refined_mesh
 from symkin.solve.trajopt.constraints import check_group, failure_text
+from symkin.solve.trajopt.detour import GuessReport, clear_knots
 from symkin.solve.trajopt.extras import add_problem_extras
 from symkin.solve.trajopt.functions import RobotFunctions, robot_functions
 from symkin.solve.trajopt.initial_guess import polyline_knots, set_initial_guess
@@ -75,7 +77,9 @@ class Trajectory:
     N^2 m^2 s for revolute joints plus any added costs, or T in s); ``effort`` is the integral
     of ``|tau|^2`` for either objective.  ``max_violation`` is the largest constraint
     violation at the solution, in each constraint's own unit.  ``accuracy`` is the
-    re-simulation of the last round and ``rounds`` the refinement's history.
+    re-simulation of the last round and ``rounds`` the refinement's history.  ``guess`` says
+    where the first round started (the polyline, a detour around the obstacles, an earlier
+    solution) and whether that guess was clear of the obstacles.
     """
 
     robot: Robot
@@ -91,6 +95,7 @@ class Trajectory:
     ddq: np.ndarray | None = None
     accuracy: Accuracy | None = None
     rounds: tuple[Round, ...] = ()
+    guess: GuessReport | None = None
 
     @property
     def final_time(self) -> float:
@@ -134,13 +139,14 @@ def optimal_trajectory(
         )
     rounds: list[Round] = []
     times = np.zeros((3, 2))  # build, solve, check; wall and CPU
-    current, earlier = problem, initial
+    current, earlier, guess = problem, initial, None
     while True:
         trajectory, phases = solve_once(model, current, functions, customise, earlier)
         began = _clock()
         report = accuracy(trajectory, functions, current)
         times += np.vstack([phases, _clock() - began])
         rounds.append(_round(trajectory, report))
+        guess = guess or trajectory.guess
         done = problem.tolerance is None or not report.faulty(problem.tolerance).any()
         if done or len(rounds) > problem.max_refinements:
             break
@@ -155,7 +161,7 @@ def optimal_trajectory(
     stats = replace(
         trajectory.stats, solve_time=solve, build_time=build, check_time=check, cpu_times=cpu
     )
-    return replace(trajectory, stats=stats, accuracy=report, rounds=tuple(rounds))
+    return replace(trajectory, stats=stats, accuracy=report, rounds=tuple(rounds), guess=guess)
 
 
 def _round(trajectory: Trajectory, report: Accuracy) -> Round:
@@ -185,7 +191,7 @@ def solve_once(
     if customise is not None:
         customise(program)
     program.opti.minimize(_objective(program))
-    knots = polyline_knots(model, problem, waypoint_fractions(problem, program.guess_time))
+    knots, guess = _first_guess(model, problem, functions, program, earlier)
     set_initial_guess(
         program.opti,
         problem,
@@ -202,7 +208,28 @@ def solve_once(
     worst = max(c.violation for c in checks)
     if stats.status not in SOLVED or worst > FEASIBILITY_TOLERANCE:
         raise InfeasibleTrajectoryError(failure_text(stats.status, stats.iterations, checks))
-    return _trajectory(program, value, worst, stats), np.vstack([built - began, solved - built])
+    trajectory = replace(_trajectory(program, value, worst, stats), guess=guess)
+    return trajectory, np.vstack([built - began, solved - built])
+
+
+def _first_guess(
+    model: Model,
+    problem: TrajectoryProblem,
+    functions: RobotFunctions,
+    program: Program,
+    earlier: Any,
+) -> tuple[list, GuessReport]:
+    """The polyline's knots (detoured around the obstacles, with ``problem.clear_guess``)
+    and the report; with ``earlier`` the knots go unused."""
+    knots = polyline_knots(model, problem, waypoint_fractions(problem, program.guess_time))
+    if earlier is not None:
+        return knots, GuessReport("earlier")
+    if not problem.obstacles:
+        return knots, GuessReport("line")
+    knots, guess = clear_knots(functions, problem, knots, search=problem.clear_guess)
+    if guess.note and problem.clear_guess:
+        note(f"first guess: {guess.note}; starting from the straight polyline")
+    return knots, guess
 
 
 def _clock() -> np.ndarray:
