@@ -4,8 +4,9 @@ time and peak memory at 10^5 and 10^6 configurations of the PUMA 560.
 Contenders (all return the (N, 4, 4) poses of an (N, 6) array of joint values):
 
 * symkin's generated NumPy module, ``generated/puma560/numpy/puma560_kinematics.py``, ``fk(Q)``;
-* with ``--before FILE``, another version of that module (for example the one before a change:
-  ``git show REV:generated/puma560/numpy/puma560_kinematics.py > FILE``), ``fk(Q)``;
+* the module as it was before the batch path was rewritten (issue 17): that file at commit
+  ``--before-rev`` (715cbe7), read with ``git show`` into a temporary file, or any other
+  version given with ``--before FILE``; left out (and said so) outside a git checkout;
 * SymEngine ``Lambdify(q, T, backend="llvm", cse=True)`` of symkin's FK matrix with the
   parameters substituted as numbers (the same expression; SymEngine compiles it with LLVM).
 
@@ -18,12 +19,13 @@ child process per batch size, which builds the contender and the inputs, calls i
 configurations, resets its peak resident set (``/proc/self/clear_refs``), calls it on the batch
 and reports its peak (``VmHWM``) minus its resident set just before the call; this is shown in MB
 and over the size of the output (N * 16 doubles).  The load average (1 min) is recorded at the
-start and end.  The table goes into ``docs/benchmarks.md`` between
-``<!-- numpy-batch:begin -->`` and ``<!-- numpy-batch:end -->``.
+start and end.  A second table times single configurations (``fk(q)`` on 2,000 distinct
+``q`` per round, the same alternation), the path of per-call users.  The tables go into
+``docs/benchmarks.md`` between ``<!-- numpy-batch:begin -->`` and ``<!-- numpy-batch:end -->``.
 
 Usage::
 
-    .venv/bin/python bench/numpy_batch.py [--before FILE] [--rounds 9] [--no-write]
+    .venv/bin/python bench/numpy_batch.py [--quick] [--before FILE | --before-rev REV] [--no-write]
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ import platform
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -48,10 +51,12 @@ MODULE = ROOT / "generated" / "puma560" / "numpy" / "puma560_kinematics.py"
 DOCS = ROOT / "docs" / "benchmarks.md"
 BEGIN, END = "<!-- numpy-batch:begin -->", "<!-- numpy-batch:end -->"
 SIZES = (100_000, 1_000_000)
+SINGLE = 2_000  # distinct configurations per round in the per-call table
+BEFORE_REV = "715cbe7"  # the last commit before the blocked batch path
 TOLERANCE = 1e-12
 LABELS = {
     "symkin": "symkin NumPy module `fk(Q)`",
-    "before": "symkin NumPy module `fk(Q)`, before (`--before`)",
+    "before": "symkin NumPy module `fk(Q)` before the change (715cbe7)",
     "llvm": 'SymEngine `Lambdify(..., backend="llvm", cse=True)`',
 }
 
@@ -144,8 +149,39 @@ def timings(fks: dict[str, Callable], n: int, rounds: int) -> dict[str, list[flo
     return times
 
 
-def table(results: dict, loads: tuple, rounds: int) -> str:
+def single_timings(fks: dict[str, Callable], rounds: int) -> dict[str, list[float]]:
+    """CPU seconds per single-configuration call, alternated as in :func:`timings`."""
+    qs = list(configurations(SINGLE, seed=11))
+    names = list(fks)
+    times: dict[str, list[float]] = {name: [] for name in names}
+    for r in range(rounds):
+        for name in names[r % len(names) :] + names[: r % len(names)]:
+            fk = fks[name]
+            start = time.thread_time_ns()
+            for q in qs:
+                fk(q)
+            times[name].append((time.thread_time_ns() - start) * 1e-9 / SINGLE)
+    return times
+
+
+def single_table(times: dict[str, list[float]]) -> str:
+    llvm = statistics.median(times["llvm"])
     lines = [
+        "| how | time per call [µs], median | ratio to SymEngine LLVM |",
+        "| --- | ---: | ---: |",
+    ]
+    for name, values in times.items():
+        median = statistics.median(values)
+        label = LABELS[name].replace("fk(Q)", "fk(q)")
+        label = f"**{label}**" if name == "symkin" else label
+        lines.append(f"| {label} | {median * 1e6:.1f} | {median / llvm:.2f}× |")
+    return "\n".join(lines)
+
+
+def table(results: dict) -> str:
+    lines = [
+        "### Batches",
+        "",
         "| how | N | time [ms], median | configurations/s | ratio to SymEngine LLVM "
         "| peak above start [MB] | peak / output |",
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: |",
@@ -160,16 +196,18 @@ def table(results: dict, loads: tuple, rounds: int) -> str:
                 f"| {label} | {n:,} | {median * 1e3:.1f} | {n / median / 1e6:.2f} M "
                 f"| {median / llvm:.2f}× | {extra / 1e6:.0f} | {extra / output:.2f}× |"
             )
-    when = datetime.date.today().isoformat()
-    lines += [
-        "",
-        f"Measured on {when}: {_cpu()}, "
-        f"{os.cpu_count()} cores shared with other jobs; Python {platform.python_version()}, "
-        f"NumPy {np.__version__}, SymEngine {_version('symengine')}. {rounds} rounds per size; "
-        f"load average (1 min) at the start and end: {loads[0]:.1f} and {loads[1]:.1f}. "
-        "The output is N × 128 bytes (128 MB at 10^6). Generated by `bench/numpy_batch.py`.",
-    ]
     return "\n".join(lines)
+
+
+def footer(loads: tuple, rounds: int, before: str) -> str:
+    when = datetime.date.today().isoformat()
+    return (
+        f"Measured on {when}: {_cpu()}, {os.cpu_count()} cores shared with other jobs; Python "
+        f"{platform.python_version()}, NumPy {np.__version__}, SymEngine {_version('symengine')}. "
+        f"{rounds} rounds per table and size; {before}. Load average (1 min) at the start and "
+        f"end: {loads[0]:.1f} and {loads[1]:.1f}. The output is N × 128 bytes (128 MB at 10^6). "
+        "Generated by `bench/numpy_batch.py`."
+    )
 
 
 def _cpu() -> str:
@@ -191,28 +229,56 @@ def write(text: str) -> None:
     DOCS.write_text(docs[:start] + "\n" + text + "\n" + docs[end:])
 
 
+def before_file(args: argparse.Namespace) -> Path | None:
+    """``--before``, or the module at ``--before-rev`` written to a temporary file."""
+    if args.before:
+        return args.before
+    path = "generated/puma560/numpy/puma560_kinematics.py"
+    command = ["git", "-C", str(ROOT), "show", f"{args.before_rev}:{path}"]
+    try:
+        text = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    file = Path(tempfile.mkdtemp(prefix="numpy_batch_")) / "before.py"
+    file.write_text(text)
+    return file
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", type=Path)
-    parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--before", type=Path, help="another version of the module")
+    parser.add_argument("--before-rev", default=BEFORE_REV, help="git revision of 'before'")
+    parser.add_argument("--quick", action="store_true", help="5 rounds instead of 9")
+    parser.add_argument("--rounds", type=int)
     parser.add_argument("--no-write", action="store_true")
     parser.add_argument("--child", nargs=2, metavar=("NAME", "N"))
     args = parser.parse_args()
     if args.child:
         print(json.dumps(child(args.child[0], int(args.child[1]), args.before)))
         return
-    names = ["symkin", *(["before"] if args.before else []), "llvm"]
+    rounds = args.rounds or (5 if args.quick else 9)
+    before = before_file(args)
+    names = ["symkin", *(["before"] if before else []), "llvm"]
     loads = [os.getloadavg()[0]]
-    fks = {name: build(name, args.before) for name in names}
+    fks = {name: build(name, before) for name in names}
     print("largest difference to symkin:", check(fks))
     results = {}
     for n in SIZES:
-        times = timings(fks, n, args.rounds)
+        times = timings(fks, n, rounds)
         results[n] = {
-            name: {"times": times[name], "memory": memory(name, n, args.before)} for name in names
+            name: {"times": times[name], "memory": memory(name, n, before)} for name in names
         }
+    single = single_timings(fks, rounds)
     loads.append(os.getloadavg()[0])
-    text = table(results, tuple(loads), args.rounds)
+    said = f"before: {args.before or args.before_rev}" if before else "before: not run (no git)"
+    text = "\n\n".join(
+        [
+            table(results),
+            "### Single configurations",
+            single_table(single),
+            footer(tuple(loads), rounds, said),
+        ]
+    )
     print(text)
     if not args.no_write:
         write(text)

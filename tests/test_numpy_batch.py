@@ -55,6 +55,23 @@ def test_sincos_propagates_nan_and_inf(planar):
     with np.errstate(invalid="ignore"):
         sin, cos = module._sincos(angles)
     assert np.isnan(sin).all() and np.isnan(cos).all()
+    for one in (np.float64(np.inf), np.array(-np.inf), np.array(np.nan)):  # the one-angle path
+        with np.errstate(invalid="ignore"):
+            sin, cos = module._sincos(one)
+        assert np.isnan(sin) and np.isnan(cos)
+        assert isinstance(sin, np.floating) or np.ndim(sin) == 0
+
+
+def test_sincos_of_one_angle_and_of_a_few(planar):
+    _, module = planar
+    angles = np.random.default_rng(9).uniform(-4, 4, 20)
+    for x in angles:
+        sin, cos = module._sincos(np.array(x))
+        assert isinstance(sin, np.float64) and isinstance(cos, np.float64)
+        assert abs(sin - np.sin(x)) <= 2.3e-16 and abs(cos - np.cos(x)) <= 2.3e-16
+    sin, cos = module._sincos(angles)  # 20 angles: numpy.sin and numpy.cos themselves
+    np.testing.assert_array_equal(sin, np.sin(angles))
+    np.testing.assert_array_equal(cos, np.cos(angles))
 
 
 @pytest.mark.parametrize("block", [33, 40, 1000])

@@ -25,6 +25,8 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 2
@@ -67,11 +69,18 @@ def _blocks(kernel, states, shared, outputs):
 
 
 def _sincos(x):
-    """sin x and cos x.  For more than 32 angles from one tangent of the half angle,
-    t = tan(x/2): NumPy's float64 tan loop is vectorised, its sin and cos are not.  With
-    r = 2/(1 + t^2): sin x = t r, cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17
-    for every float64 x, so t^2 cannot overflow).
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
     """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
     if x.size <= 32:
         return numpy.sin(x), numpy.cos(x)
     t = numpy.tan(0.5 * x)
