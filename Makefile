@@ -67,6 +67,7 @@ bench: $(TEST_STAMP)
 	$(BIN)/python bench/urdf_time.py
 	$(BIN)/python bench/derivatives_speed.py $(QUICK)
 	$(BIN)/python bench/identification_time.py
+	$(BIN)/python bench/numpy_batch.py $(QUICK)
 
 clean:
 	rm -rf $(VENV) build dist src/*.egg-info .pytest_cache

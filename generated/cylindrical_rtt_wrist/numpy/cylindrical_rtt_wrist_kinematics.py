@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 6
 PARAMETER_NAMES = ("d1", "d6", )
 DEFAULT_PARAMETERS = numpy.array([0.5, 0.1], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,6 +98,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -50,16 +113,12 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q6 = q[..., 5]
     d1 = p[..., 0]
     d6 = p[..., 1]
-    t0 = numpy.sin(q6)
-    t1 = numpy.cos(q1)
-    t2 = numpy.sin(q4)
+    t0, t4 = _sincos(q6)
+    t5, t1 = _sincos(q1)
+    t2, t8 = _sincos(q4)
     t3 = t1*t2
-    t4 = numpy.cos(q6)
-    t5 = numpy.sin(q1)
-    t6 = numpy.sin(q5)
+    t6, t9 = _sincos(q5)
     t7 = t5*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.cos(q5)
     t10 = t1*t9
     t11 = t7 + t10*t8
     t12 = t5*t9
@@ -69,7 +128,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     t16 = t10 + t7*t8
     t17 = t2*t9
     t18 = t2*t6
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t11*t4 - t0*t3
     T[..., 0, 1] = -t0*t11 - t3*t4
     T[..., 0, 2] = t13
@@ -83,7 +141,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = -t18
     T[..., 2, 3] = d1 + q2 - d6*t18
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -96,6 +153,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -103,17 +167,14 @@ def position(q, p=DEFAULT_PARAMETERS):
     q5 = q[..., 4]
     d1 = p[..., 0]
     d6 = p[..., 1]
-    t0 = numpy.sin(q1)
-    t1 = d6*numpy.cos(q5)
-    t2 = numpy.sin(q5)
-    t3 = numpy.cos(q1)
-    t4 = numpy.cos(q4)
+    t0, t3 = _sincos(q1)
+    t2, _c1 = _sincos(q5)
+    t1 = _c1*d6
+    _s2, t4 = _sincos(q4)
     t5 = d6*t2
-    p_tool = numpy.zeros(batch + (3,))
     p_tool[..., 0] = -q3*t0 - t0*t1 + d6*t2*t3*t4
     p_tool[..., 1] = q3*t3 + t1*t3 + t0*t4*t5
-    p_tool[..., 2] = d1 + q2 - t5*numpy.sin(q4)
-    return p_tool
+    p_tool[..., 2] = d1 + q2 - _s2*t5
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -126,27 +187,30 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
     d6 = p[..., 1]
-    t0 = numpy.cos(q1)
-    t1 = numpy.cos(q5)
-    t2 = numpy.sin(q1)
-    t3 = numpy.sin(q5)
-    t4 = numpy.cos(q4)
+    t2, t0 = _sincos(q1)
+    t3, t1 = _sincos(q5)
+    t8, t4 = _sincos(q4)
     t5 = t0*t1 + t2*t3*t4
     t6 = d6*t5
     t7 = -t2
-    t8 = numpy.sin(q4)
     t9 = t0*t8
     t10 = d6*t3
     t11 = t10*t8**2
     t12 = -t1*t2 + t0*t3*t4
     t13 = d6*t12
     t14 = t2*t8
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t6 - q3*t0
     J[..., 0, 2] = t7
     J[..., 0, 3] = -t10*t9
@@ -167,7 +231,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 0] = 1
     J[..., 5, 4] = -t4
     J[..., 5, 5] = -t3*t8
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -180,23 +243,27 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 6))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
     d6 = p[..., 1]
-    t0 = numpy.cos(q1)
-    t1 = d6*numpy.cos(q5)
+    t4, t0 = _sincos(q1)
+    t5, _c1 = _sincos(q5)
+    t1 = _c1*d6
     t2 = t0*t1
-    t3 = numpy.cos(q4)
-    t4 = numpy.sin(q1)
-    t5 = numpy.sin(q5)
+    t8, t3 = _sincos(q4)
     t6 = d6*t5
     t7 = t4*t6
-    t8 = numpy.sin(q4)
     t9 = t0*t6
     t10 = t1*t4
-    Jp = numpy.zeros(batch + (3, 6))
     Jp[..., 0, 0] = -t2 - q3*t0 - t3*t7
     Jp[..., 0, 2] = -t4
     Jp[..., 0, 3] = -t8*t9
@@ -208,7 +275,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 2, 1] = 1
     Jp[..., 2, 3] = -t3*t6
     Jp[..., 2, 4] = -t1*t8
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -222,6 +288,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -230,16 +304,12 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q6 = q[..., 5]
     d1 = p[..., 0]
     d6 = p[..., 1]
-    t0 = numpy.sin(q6)
-    t1 = numpy.sin(q4)
-    t2 = numpy.cos(q1)
+    t0, t4 = _sincos(q6)
+    t1, t8 = _sincos(q4)
+    t5, t2 = _sincos(q1)
     t3 = t1*t2
-    t4 = numpy.cos(q6)
-    t5 = numpy.sin(q1)
-    t6 = numpy.sin(q5)
+    t6, t9 = _sincos(q5)
     t7 = t5*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.cos(q5)
     t10 = t2*t9
     t11 = t7 + t10*t8
     t12 = t5*t9
@@ -258,7 +328,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t25 = -t5
     t26 = d6*t1
     t27 = d6*t1**2
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t11*t4 - t0*t3
     T[..., 0, 1] = -t0*t11 - t3*t4
     T[..., 0, 2] = t13
@@ -272,7 +341,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t24
     T[..., 2, 3] = d1 + q2 - d6*t23
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t21
     J[..., 0, 2] = t25
     J[..., 0, 3] = -t17*t26
@@ -293,7 +361,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 0] = 1
     J[..., 5, 4] = -t8
     J[..., 5, 5] = t24
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -306,11 +373,17 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q5 = q[..., 4]
-    det = numpy.zeros(batch + ())
-    det[...] = -q3*numpy.sin(q5)
-    return det
+    _s0, _c0 = _sincos(q5)
+    det[...] = -_s0*q3
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -323,11 +396,17 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q5 = q[..., 4]
-    mu = numpy.zeros(batch + ())
-    mu[...] = abs(q3*numpy.sin(q5))
-    return mu
+    _s0, _c0 = _sincos(q5)
+    mu[...] = abs(_s0*q3)
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -340,23 +419,27 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
     q6 = q[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.cos(q4)
+    t2, t0 = _sincos(q4)
     t1 = q3*t0
-    t2 = numpy.sin(q4)
     t3 = q3*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t2*t4
-    t6 = numpy.sin(q5)
     t7 = t2*t6
     t8 = t1*t4
     t9 = t1*t6
-    t10 = numpy.cos(q6)
-    t11 = numpy.sin(q6)
+    t11, t10 = _sincos(q6)
     t12 = t0*t11 + t10*t5
     t13 = t0*t10
     t14 = -t13 + t11*t5
@@ -427,7 +510,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t79 = 0.03817*t11 - 0.7634*t77
     t80 = 0.0008079*t11 + t19*t79
     t81 = 0.0008079*t10 - t19*t78
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.22748 - t38
     M[..., 0, 1] = -t37
     M[..., 0, 2] = -t30
@@ -458,7 +540,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 5, 0] = -t22
     M[..., 5, 3] = t71
     M[..., 5, 5] = 0.0503435000000000
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -471,21 +552,25 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (6,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
     q6 = q[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.sin(q4)
+    t0, t2 = _sincos(q4)
     t1 = 9.81*t0
-    t2 = numpy.cos(q4)
     t3 = 9.81*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t1*t4
-    t6 = numpy.sin(q5)
     t7 = t1*t6
-    t8 = numpy.sin(q6)
-    t9 = numpy.cos(q6)
+    t8, t9 = _sincos(q6)
     t10 = t3*t8 + t5*t9
     t11 = t5*t8 - t3*t9
     t12 = 0.7634*t10
@@ -506,13 +591,11 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     t27 = t0*t24 + t2*t22
     t28 = t0*t25 + t2*t21 - q3*t27
     t29 = -139.7925 + t2*t24 - t0*t22
-    G = numpy.zeros(batch + (6,))
     G[..., 0] = -t28
     G[..., 1] = -t29
     G[..., 2] = -t23
     G[..., 3] = -t26
     G[..., 4] = t21
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -527,6 +610,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (6,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
@@ -540,17 +630,15 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t0 = dq1**2
     t1 = 2*dq1*dq3
     t2 = q3*t0
-    t3 = numpy.sin(q4)
+    t3, t5 = _sincos(q4)
     t4 = dq1*t3
-    t5 = numpy.cos(q4)
     t6 = dq1*t5
     t7 = dq4*t6
     t8 = dq4*t4
     t9 = t4*t6
     t10 = t1*t5
     t11 = t1*t3
-    t12 = numpy.sin(q5)
-    t13 = numpy.cos(q5)
+    t12, t13 = _sincos(q5)
     t14 = dq4*t12 + t13*t4
     t15 = dq5 - t6
     t16 = dq4*t13 - t12*t4
@@ -560,8 +648,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t20 = t15*t16
     t21 = t12*t2 - t10*t13
     t22 = t10*t12 + t13*t2
-    t23 = numpy.sin(q6)
-    t24 = numpy.cos(q6)
+    t23, t24 = _sincos(q6)
     t25 = t15*t23 - t14*t24
     t26 = t14*t23 + t15*t24
     t27 = dq6 + t16
@@ -600,14 +687,12 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t60 = t3*t52 + t5*t54
     t61 = -t53 + 2.4428*t0 - 6.107*t2
     t62 = 0.4*t58 + q3*t59 + t3*t55 + t5*t57
-    c = numpy.zeros(batch + (6,))
     c[..., 0] = -t62
     c[..., 1] = -t60
     c[..., 2] = t61
     c[..., 3] = -t56
     c[..., 4] = t50
     c[..., 5] = -t45
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -622,6 +707,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (6, 6))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
@@ -633,18 +725,15 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq5 = dq[..., 4]
     dq6 = dq[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.cos(q4)
+    t2, t0 = _sincos(q4)
     t1 = q3*t0
-    t2 = numpy.sin(q4)
     t3 = q3*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t2*t4
-    t6 = numpy.sin(q5)
     t7 = t2*t6
     t8 = t1*t4
     t9 = t1*t6
-    t10 = numpy.cos(q6)
-    t11 = numpy.sin(q6)
+    t11, t10 = _sincos(q6)
     t12 = t0*t11 + t10*t5
     t13 = t0*t10
     t14 = -t13 + t11*t5
@@ -911,7 +1000,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t275 = dq4*t252 + dq6*t200
     t276 = dq5*t270 - dq1*t266
     t277 = dq1*t271 + dq4*t230
-    C = numpy.zeros(batch + (6, 6))
     C[..., 0, 0] = -t124*t235 - t147*t232 - t155*t236 - t231*t98
     C[..., 0, 1] = -t237
     C[..., 0, 2] = (1/2)*t272 - t238 - t242 - dq3*t160
@@ -946,7 +1034,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 5, 2] = t264
     C[..., 5, 3] = t241*t266 - t230*t232
     C[..., 5, 4] = -t234 - 1/2*t277
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -962,6 +1049,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    bias = numpy.zeros(batch + (6,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
@@ -972,18 +1067,15 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq5 = dq[..., 4]
     dq6 = dq[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.cos(q4)
+    t2, t0 = _sincos(q4)
     t1 = q3*t0
-    t2 = numpy.sin(q4)
     t3 = q3*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t2*t4
-    t6 = numpy.sin(q5)
     t7 = t2*t6
     t8 = t1*t4
     t9 = t1*t6
-    t10 = numpy.cos(q6)
-    t11 = numpy.sin(q6)
+    t11, t10 = _sincos(q6)
     t12 = t0*t11 + t10*t5
     t13 = t0*t10
     t14 = -t13 + t11*t5
@@ -1110,7 +1202,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t135 = -t128 + 2.4428*t82 - 6.107*t84
     t136 = 0.4*t133 + q3*t134 + t0*t132 + t130*t2
     t137 = -139.7925 + t0*t129 + t127*t2
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.22748 - t38
     M[..., 0, 1] = -t37
     M[..., 0, 2] = -t30
@@ -1141,14 +1232,12 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 5, 0] = -t22
     M[..., 5, 3] = t71
     M[..., 5, 5] = 0.0503435000000000
-    bias = numpy.zeros(batch + (6,))
     bias[..., 0] = -t136
     bias[..., 1] = -t137
     bias[..., 2] = t135
     bias[..., 3] = -t131
     bias[..., 4] = t125
     bias[..., 5] = -t120
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -1165,6 +1254,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (6,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     q4 = q[..., 3]
     q5 = q[..., 4]
@@ -1185,9 +1281,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t1 = 9.81 + ddq2
     t2 = ddq1*q3 + 2*dq1*dq3
     t3 = ddq3 - q3*t0
-    t4 = numpy.sin(q4)
+    t4, t6 = _sincos(q4)
     t5 = dq1*t4
-    t6 = numpy.cos(q4)
     t7 = dq1*t6
     t8 = ddq1*t4 + dq4*t7
     t9 = -ddq1*t6 + dq1*dq4*t4
@@ -1195,8 +1290,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t11 = dq4*t7
     t12 = t1*t4 + t2*t6
     t13 = t2*t4 - t1*t6
-    t14 = numpy.sin(q5)
-    t15 = numpy.cos(q5)
+    t14, t15 = _sincos(q5)
     t16 = dq4*t14 + t15*t5
     t17 = dq5 - t7
     t18 = dq4*t15 - t14*t5
@@ -1207,8 +1301,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t23 = t17*t18
     t24 = t12*t15 + t14*t3
     t25 = t15*t3 - t12*t14
-    t26 = numpy.cos(q6)
-    t27 = numpy.sin(q6)
+    t27, t26 = _sincos(q6)
     t28 = t17*t27 - t16*t26
     t29 = t16*t27 + t17*t26
     t30 = dq6 + t18
@@ -1249,14 +1342,12 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t65 = t62 + t56*t6 - t4*t58
     t66 = -t63 - 8.143*t1 + t4*t56 + t58*t6
     t67 = -0.35316*ddq1 - 0.4*t62 + q3*t65 + t4*t59 + t6*t61
-    tau = numpy.zeros(batch + (6,))
     tau[..., 0] = -t67 + 0.22748*ddq1
     tau[..., 1] = -t66 + 2*ddq2
     tau[..., 2] = t64 - t57 + 2*ddq3
     tau[..., 3] = -t60 + 0.05*ddq4
     tau[..., 4] = t54 + 0.05*ddq5
     tau[..., 5] = t49 + 0.05*ddq6
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -1271,6 +1362,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (6,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1282,28 +1380,23 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_ny = wrench[..., 4]
     w_nz = wrench[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.cos(q1)
-    t1 = numpy.cos(q5)
+    t5, t0 = _sincos(q1)
+    t6, t1 = _sincos(q5)
     t2 = t0*t1
     t3 = d6*t2
-    t4 = numpy.cos(q4)
-    t5 = numpy.sin(q1)
-    t6 = numpy.sin(q5)
+    t12, t4 = _sincos(q4)
     t7 = d6*t6
     t8 = t5*t7
     t9 = t1*t5
     t10 = d6*t9
     t11 = t0*t7
-    t12 = numpy.sin(q4)
     t13 = t4*t6
-    tau_w = numpy.zeros(batch + (6,))
     tau_w[..., 0] = -w_nz + w_fx*(t3 + q3*t0 + t4*t8) + w_fy*(t10 + q3*t5 - t11*t4)
     tau_w[..., 1] = -w_fz
     tau_w[..., 2] = t5*w_fx - t0*w_fy
     tau_w[..., 3] = t5*w_nx - t0*w_ny + t11*t12*w_fx + t12*t8*w_fy + t4*t7*w_fz
     tau_w[..., 4] = t4*w_nz + w_fx*(-t8 - t3*t4) + w_fy*(-t10*t4 + d6*t0*t6) + t0*t12*w_nx + t12*t5*w_ny + d6*t1*t12*w_fz
     tau_w[..., 5] = w_nx*(t9 - t0*t13) + w_ny*(-t2 - t13*t5) + t12*t6*w_nz
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -1318,6 +1411,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (6,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1330,26 +1430,22 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_ny = wrench[..., 4]
     w_nz = wrench[..., 5]
     d6 = p[..., 1]
-    t0 = numpy.sin(q4)
+    t0, t2 = _sincos(q4)
     t1 = 9.81*t0
-    t2 = numpy.cos(q4)
     t3 = 9.81*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t1*t4
-    t6 = numpy.sin(q5)
     t7 = t1*t6
-    t8 = numpy.sin(q6)
-    t9 = numpy.cos(q6)
+    t8, t9 = _sincos(q6)
     t10 = t3*t8 + t5*t9
     t11 = t5*t8 - t3*t9
     t12 = 0.7634*t10
     t13 = 0.7634*t11
     t14 = 0.7634*t7
     t15 = t0*t8
-    t16 = numpy.cos(q1)
+    t19, t16 = _sincos(q1)
     t17 = t6*t9
     t18 = t2*t9
-    t19 = numpy.sin(q1)
     t20 = t19*t4
     t21 = t15*t19 + t16*t17 - t18*t20
     t22 = t16*t4
@@ -1383,14 +1479,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t50 = t2*t45 - t0*t47
     t51 = q3*t50 + t0*t48 + t2*t44
     t52 = -139.7925 + t0*t45 + t2*t47
-    tau_s = numpy.zeros(batch + (6,))
     tau_s[..., 0] = -t51
     tau_s[..., 1] = -t52
     tau_s[..., 2] = -t46
     tau_s[..., 3] = -t49
     tau_s[..., 4] = t44
     tau_s[..., 5] = t39
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -1407,6 +1501,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1420,18 +1523,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq6 = dq[..., 5]
     d1 = p[..., 0]
     d6 = p[..., 1]
-    t0 = numpy.cos(q4)
+    t2, t0 = _sincos(q4)
     t1 = q3*t0
-    t2 = numpy.sin(q4)
     t3 = q3*t2
-    t4 = numpy.cos(q5)
+    t6, t4 = _sincos(q5)
     t5 = t2*t4
-    t6 = numpy.sin(q5)
     t7 = t2*t6
     t8 = t1*t4
     t9 = t1*t6
-    t10 = numpy.cos(q6)
-    t11 = numpy.sin(q6)
+    t11, t10 = _sincos(q6)
     t12 = t0*t11 + t10*t5
     t13 = t0*t10
     t14 = -t13 + t11*t5
@@ -1514,13 +1614,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t91 = 156.267414*q2
     t92 = 0.3744477*t7
     t93 = 7.488954*d6*t7
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t89
-    potential = numpy.zeros(batch + ())
     potential[...] = -37.449675 + t90 + t91 + t92 - t93
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = 37.449675 + t89 + t93 - t90 - t91 - t92
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -24,11 +24,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 7
 PARAMETER_NAMES = ("d1", "d3", "a4", "a5", "d5", "a7", )
 DEFAULT_PARAMETERS = numpy.array([0.333, 0.316, 0.0825, -0.0825, 0.384, 0.088], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -41,6 +97,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -54,29 +117,22 @@ def fk(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q7)
-    t1 = numpy.cos(q5)
-    t2 = numpy.sin(q1)
-    t3 = numpy.cos(q3)
+    t0, t19 = _sincos(q7)
+    t10, t1 = _sincos(q5)
+    t2, t7 = _sincos(q1)
+    t6, t3 = _sincos(q3)
     t4 = t2*t3
-    t5 = numpy.cos(q2)
-    t6 = numpy.sin(q3)
-    t7 = numpy.cos(q1)
+    t12, t5 = _sincos(q2)
     t8 = t6*t7
     t9 = t4 + t5*t8
-    t10 = numpy.sin(q5)
-    t11 = numpy.sin(q4)
-    t12 = numpy.sin(q2)
+    t11, t14 = _sincos(q4)
     t13 = t12*t7
-    t14 = numpy.cos(q4)
     t15 = t2*t6
     t16 = -t15 + t3*t5*t7
     t17 = t11*t13 + t14*t16
     t18 = t1*t9 + t10*t17
-    t19 = numpy.cos(q7)
-    t20 = numpy.sin(q6)
+    t20, t22 = _sincos(q6)
     t21 = -t11*t16 + t12*t14*t7
-    t22 = numpy.cos(q6)
     t23 = t1*t17 - t10*t9
     t24 = t20*t21 + t22*t23
     t25 = t21*t22
@@ -100,7 +156,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     t43 = t20*t41 + t22*t42
     t44 = t22*t41
     t45 = t20*t42
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t18 + t19*t24
     T[..., 0, 1] = t18*t19 - t0*t24
     T[..., 0, 2] = t26 - t25
@@ -114,7 +169,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t45 - t44
     T[..., 2, 3] = d1 + 0.107*t45 - 0.107*t44 + a5*t39 + a7*t43 + d3*t5 + d5*t41 - a4*t38
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -127,6 +181,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -139,27 +200,21 @@ def position(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q2)
+    t3, t0 = _sincos(q1)
+    t1, t6 = _sincos(q2)
     t2 = t0*t1
-    t3 = numpy.sin(q1)
-    t4 = numpy.sin(q3)
+    t4, t7 = _sincos(q3)
     t5 = t3*t4
-    t6 = numpy.cos(q2)
-    t7 = numpy.cos(q3)
     t8 = -t5 + t0*t6*t7
-    t9 = numpy.sin(q4)
-    t10 = numpy.cos(q4)
+    t9, t10 = _sincos(q4)
     t11 = t10*t8 + t2*t9
     t12 = -t8*t9 + t0*t1*t10
-    t13 = numpy.cos(q6)
+    t20, t13 = _sincos(q6)
     t14 = 0.107*t13
-    t15 = numpy.sin(q5)
+    t15, t18 = _sincos(q5)
     t16 = t3*t7
     t17 = t0*t4
-    t18 = numpy.cos(q5)
     t19 = t11*t18 - t15*(t16 + t17*t6)
-    t20 = numpy.sin(q6)
     t21 = 0.107*t20
     t22 = t1*t3
     t23 = t17 + t16*t6
@@ -170,11 +225,9 @@ def position(q, p=DEFAULT_PARAMETERS):
     t28 = t10*t6 + t27*t9
     t29 = t6*t9 - t10*t27
     t30 = t18*t29 + t1*t15*t4
-    p_tool = numpy.zeros(batch + (3,))
     p_tool[..., 0] = a4*t8 + a5*t11 + a7*(t12*t20 + t13*t19) + d3*t2 + d5*t12 + t19*t21 - t12*t14
     p_tool[..., 1] = a4*t23 + a5*t24 + a7*(t13*t26 + t20*t25) + d3*t22 + d5*t25 + t21*t26 - t14*t25
     p_tool[..., 2] = d1 + a5*t29 + a7*(t13*t30 + t20*t28) + d3*t6 + d5*t28 + t21*t30 - a4*t27 - t14*t28
-    return p_tool
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -187,6 +240,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 7))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -198,26 +258,20 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q1)
-    t1 = numpy.sin(q2)
+    t0, t4 = _sincos(q1)
+    t1, t6 = _sincos(q2)
     t2 = t0*t1
-    t3 = numpy.sin(q3)
-    t4 = numpy.cos(q1)
+    t3, t7 = _sincos(q3)
     t5 = t3*t4
-    t6 = numpy.cos(q2)
-    t7 = numpy.cos(q3)
     t8 = t0*t7
     t9 = t5 + t6*t8
-    t10 = numpy.sin(q4)
-    t11 = numpy.cos(q4)
+    t10, t11 = _sincos(q4)
     t12 = t10*t2 + t11*t9
     t13 = -t10*t9 + t0*t1*t11
-    t14 = numpy.sin(q6)
-    t15 = numpy.cos(q6)
-    t16 = numpy.sin(q5)
+    t14, t15 = _sincos(q6)
+    t16, t19 = _sincos(q5)
     t17 = t0*t3
     t18 = t17*t6 - t4*t7
-    t19 = numpy.cos(q5)
     t20 = t12*t19 - t16*t18
     t21 = t13*t15
     t22 = t14*t20
@@ -257,7 +311,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t56 = t55 + d3*t44
     t57 = t16*t46 + t19*t48
     t58 = t51 - t50
-    J = numpy.zeros(batch + (6, 7))
     J[..., 0, 0] = -t27
     J[..., 0, 1] = t39*t4
     J[..., 0, 2] = -t26*t6 + t0*t1*t38
@@ -296,7 +349,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 4] = t30
     J[..., 5, 5] = t41
     J[..., 5, 6] = t42
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -309,6 +361,13 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 7))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -320,34 +379,28 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q1)
-    t1 = numpy.sin(q2)
+    t0, t4 = _sincos(q1)
+    t1, t6 = _sincos(q2)
     t2 = d3*t1
-    t3 = numpy.sin(q3)
-    t4 = numpy.cos(q1)
+    t3, t7 = _sincos(q3)
     t5 = t3*t4
-    t6 = numpy.cos(q2)
-    t7 = numpy.cos(q3)
     t8 = t0*t7
     t9 = t5 + t6*t8
     t10 = -t9
-    t11 = numpy.sin(q4)
+    t11, t14 = _sincos(q4)
     t12 = t1*t11
     t13 = t0*t12
-    t14 = numpy.cos(q4)
     t15 = -t13 + t10*t14
     t16 = t1*t14
     t17 = t0*t16
     t18 = -t17 - t10*t11
-    t19 = numpy.cos(q6)
+    t27, t19 = _sincos(q6)
     t20 = 0.107*t19
-    t21 = numpy.sin(q5)
+    t21, t25 = _sincos(q5)
     t22 = t0*t3
     t23 = t22*t6 - t4*t7
     t24 = -t23
-    t25 = numpy.cos(q5)
     t26 = t15*t25 - t21*t24
-    t27 = numpy.sin(q6)
     t28 = 0.107*t27
     t29 = d3*t6
     t30 = t4*t7
@@ -398,7 +451,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     t75 = -t73
     t76 = -t21*t75 + t1*t25*t3
     t77 = t1*t67 + t25*t75
-    Jp = numpy.zeros(batch + (3, 7))
     Jp[..., 0, 0] = a4*t10 + a5*t15 + a7*(t18*t27 + t19*t26) + d5*t18 + t26*t28 - t0*t2 - t18*t20
     Jp[..., 0, 1] = a5*t34 + a7*(t19*t36 + t27*t33) + d5*t33 + t28*t36 + t29*t4 - t20*t33 - t30*t31
     Jp[..., 0, 2] = a4*t38 + a7*(t19*t41 - t27*t39) + t20*t39 + t28*t41 - d5*t39 + a5*t14*t38
@@ -416,7 +468,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 2, 3] = a5*t72 + a7*(t27*t73 + t19*t25*t72) + d5*t73 + t25*t74 - t20*t73
     Jp[..., 2, 4] = t28*t76 + t49*t76
     Jp[..., 2, 5] = t74 + a7*(t19*t72 - t27*t77) + t20*t77
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -430,6 +481,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 7))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -443,29 +502,22 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q7)
-    t1 = numpy.cos(q5)
-    t2 = numpy.sin(q1)
-    t3 = numpy.cos(q3)
+    t0, t19 = _sincos(q7)
+    t10, t1 = _sincos(q5)
+    t2, t7 = _sincos(q1)
+    t6, t3 = _sincos(q3)
     t4 = t2*t3
-    t5 = numpy.cos(q2)
-    t6 = numpy.sin(q3)
-    t7 = numpy.cos(q1)
+    t12, t5 = _sincos(q2)
     t8 = t6*t7
     t9 = t4 + t5*t8
-    t10 = numpy.sin(q5)
-    t11 = numpy.sin(q4)
-    t12 = numpy.sin(q2)
+    t11, t14 = _sincos(q4)
     t13 = t12*t7
-    t14 = numpy.cos(q4)
     t15 = t2*t6
     t16 = -t15 + t3*t5*t7
     t17 = t11*t13 + t14*t16
     t18 = t1*t9 + t10*t17
-    t19 = numpy.cos(q7)
-    t20 = numpy.sin(q6)
+    t20, t22 = _sincos(q6)
     t21 = -t11*t16 + t12*t14*t7
-    t22 = numpy.cos(q6)
     t23 = t1*t17 - t10*t9
     t24 = t20*t21 + t22*t23
     t25 = t21*t22
@@ -507,7 +559,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t61 = t60 + a5*t51 + d5*t53
     t62 = t61 - a4*t50
     t63 = t62 + d3*t5
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t18 + t19*t24
     T[..., 0, 1] = t18*t19 - t0*t24
     T[..., 0, 2] = t27
@@ -521,7 +572,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t58
     T[..., 2, 3] = d1 + t63
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 7))
     J[..., 0, 0] = -t48
     J[..., 0, 1] = t63*t7
     J[..., 0, 2] = -t47*t5 + t12*t2*t62
@@ -560,7 +610,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 4] = t53
     J[..., 5, 5] = t52
     J[..., 5, 6] = t58
-    return T, J
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -573,6 +622,13 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -584,26 +640,20 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t_0 = numpy.sin(q1)
-    t_1 = numpy.sin(q2)
+    t_0, t_4 = _sincos(q1)
+    t_1, t_6 = _sincos(q2)
     t_2 = t_0*t_1
-    t_3 = numpy.sin(q3)
-    t_4 = numpy.cos(q1)
+    t_3, t_7 = _sincos(q3)
     t_5 = t_3*t_4
-    t_6 = numpy.cos(q2)
-    t_7 = numpy.cos(q3)
     t_8 = t_0*t_7
     t_9 = t_5 + t_6*t_8
-    t_10 = numpy.sin(q4)
-    t_11 = numpy.cos(q4)
+    t_10, t_11 = _sincos(q4)
     t_12 = t_10*t_2 + t_11*t_9
     t_13 = t_11*t_2 - t_10*t_9
-    t_14 = numpy.sin(q6)
-    t_15 = numpy.cos(q6)
-    t_16 = numpy.sin(q5)
+    t_14, t_15 = _sincos(q6)
+    t_16, t_19 = _sincos(q5)
     t_17 = t_0*t_3
     t_18 = t_17*t_6 - t_4*t_7
-    t_19 = numpy.cos(q5)
     t_20 = t_12*t_19 - t_16*t_18
     t_21 = t_13*t_15
     t_22 = t_14*t_20
@@ -744,9 +794,7 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     t_157 = t_141*t_92 + t_148*t_90 + t_152*t_73 - t_145*t_91 - t_150*t_89
     t_158 = t_142*t_92 + t_149*t_90 + t_152*t_87 - t_146*t_91 - t_151*t_89
     t_159 = t_154*t_84 + t_156*t_81 + t_158*t_66 - t_153*t_85 - t_155*t_82 - t_157*t_73
-    mu = numpy.zeros(batch + ())
     mu[...] = numpy.sqrt(abs(t_159))
-    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -759,6 +807,13 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (7, 7))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -770,38 +825,32 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
-    t2 = numpy.cos(q3)
+    t0, t1 = _sincos(q2)
+    t4, t2 = _sincos(q3)
     t3 = t0*t2
-    t4 = numpy.sin(q3)
     t5 = t0*t4
     t6 = d3*t5
     t7 = d3*t3
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t1*t9 - t3*t8
     t11 = t1*t8 + t3*t9
     t12 = a4*t5
     t13 = t6*t8 - t12*t9
     t14 = t12*t8 + t6*t9
     t15 = t7 + a4*t1
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t10*t17 + t16*t5
     t19 = t17*t5 - t10*t16
     t20 = t15 + a5*t11
     t21 = d5*t19 + t13*t17 + t16*t20
     t22 = t17*t20 - d5*t18 - t13*t16
     t23 = t14 + a5*t5
-    t24 = numpy.sin(q6)
-    t25 = numpy.cos(q6)
+    t24, t25 = _sincos(q6)
     t26 = t11*t24 + t18*t25
     t27 = t11*t25 - t18*t24
     t28 = t21*t25 - t23*t24
     t29 = t21*t24 + t23*t25
-    t30 = numpy.sin(q7)
-    t31 = numpy.cos(q7)
+    t30, t31 = _sincos(q7)
     t32 = t26*t31 - t19*t30
     t33 = t19*t31 + t26*t30
     t34 = t22 + a7*t27
@@ -1037,7 +1086,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t264 = 0.061597*t260 + 0.010027*t31 + 0.010517*t262 - 0.000428*t30
     t265 = 0.004252*t260 - 0.001196*t30 - 0.010517*t261 - 0.000741*t31
     t266 = 0.011794560230239 + a7*t262 + t263*t30 + t264*t31
-    M = numpy.zeros(batch + (7, 7))
     M[..., 0, 0] = t87
     M[..., 0, 1] = t86
     M[..., 0, 2] = t80
@@ -1087,7 +1135,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 6, 4] = t252
     M[..., 6, 5] = t265
     M[..., 6, 6] = 0.00490965196736095
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -1100,6 +1147,13 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (7,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1111,28 +1165,22 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
+    t6, t4 = _sincos(q3)
     t5 = t1*t4
-    t6 = numpy.sin(q3)
     t7 = t1*t6
-    t8 = numpy.sin(q4)
-    t9 = numpy.cos(q4)
+    t8, t9 = _sincos(q4)
     t10 = t3*t8 - t5*t9
     t11 = t3*t9 + t5*t8
-    t12 = numpy.sin(q5)
-    t13 = numpy.cos(q5)
+    t12, t13 = _sincos(q5)
     t14 = t10*t13 + t12*t7
     t15 = t13*t7 - t10*t12
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t11*t16 + t14*t17
     t19 = t11*t17 - t14*t16
-    t20 = numpy.sin(q7)
-    t21 = numpy.cos(q7)
+    t20, t21 = _sincos(q7)
     t22 = t18*t21 - t15*t20
     t23 = t15*t21 + t18*t20
     t24 = 0.735522*t22
@@ -1184,7 +1232,6 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     t70 = t66 + 0.003495*t67
     t71 = 0.003141*t68 - 0.02872*t67 + t4*t65 + t6*t64
     t72 = t2*t70 - t0*t69
-    G = numpy.zeros(batch + (7,))
     G[..., 0] = t72
     G[..., 1] = t71
     G[..., 2] = t66
@@ -1192,7 +1239,6 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     G[..., 4] = t48
     G[..., 5] = t39
     G[..., 6] = t29
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -1207,6 +1253,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (7,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1226,9 +1279,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     d5 = p[..., 4]
     a7 = p[..., 5]
     t0 = dq1**2
-    t1 = numpy.sin(q2)
+    t1, t3 = _sincos(q2)
     t2 = dq1*t1
-    t3 = numpy.cos(q2)
     t4 = dq1*t3
     t5 = dq2*t4
     t6 = dq2*t2
@@ -1241,8 +1293,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t13 = 2*t6
     t14 = 2*t5
     t15 = t7 + t8
-    t16 = numpy.sin(q3)
-    t17 = numpy.cos(q3)
+    t16, t17 = _sincos(q3)
     t18 = dq2*t16 - t17*t2
     t19 = dq2*t17 + t16*t2
     t20 = dq3 + t4
@@ -1266,8 +1317,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t38 = d3*t31
     t39 = d3*t34
     t40 = d3*t37
-    t41 = numpy.cos(q4)
-    t42 = numpy.sin(q4)
+    t42, t41 = _sincos(q4)
     t43 = t18*t41 + t20*t42
     t44 = t20*t41 - t18*t42
     t45 = dq4 - t19
@@ -1293,8 +1343,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t65 = t41*t64 + t42*t63
     t66 = t41*t63 - t42*t64
     t67 = t39 + a4*t32
-    t68 = numpy.cos(q5)
-    t69 = numpy.sin(q5)
+    t69, t68 = _sincos(q5)
     t70 = t43*t68 - t45*t69
     t71 = t43*t69 + t45*t68
     t72 = dq5 + t44
@@ -1320,8 +1369,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t92 = d5*t83 + t68*t90 - t69*t91
     t93 = d5*t86 + t68*t91 + t69*t90
     t94 = t66 + a5*t57 - d5*t89
-    t95 = numpy.cos(q6)
-    t96 = numpy.sin(q6)
+    t96, t95 = _sincos(q6)
     t97 = t70*t95 + t72*t96
     t98 = t72*t95 - t70*t96
     t99 = dq6 + t71
@@ -1344,8 +1392,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t116 = t102 + t103
     t117 = t92*t95 + t94*t96
     t118 = t94*t95 - t92*t96
-    t119 = numpy.cos(q7)
-    t120 = numpy.sin(q7)
+    t120, t119 = _sincos(q7)
     t121 = t119*t97 + t120*t99
     t122 = t119*t99 - t120*t97
     t123 = dq7 - t98
@@ -1441,7 +1488,6 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t213 = 0.0192614005*t0
     t214 = 0.010343993404*t0
     t215 = 0.002081*t213 - 0.003875*t214 - t1*t208 - t210*t3
-    c = numpy.zeros(batch + (7,))
     c[..., 0] = t215
     c[..., 1] = t212
     c[..., 2] = t203
@@ -1449,7 +1495,6 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     c[..., 4] = t179
     c[..., 5] = t167
     c[..., 6] = t154
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -1464,6 +1509,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (7, 7))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1482,24 +1534,20 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
-    t2 = numpy.cos(q3)
+    t0, t1 = _sincos(q2)
+    t4, t2 = _sincos(q3)
     t3 = t0*t2
-    t4 = numpy.sin(q3)
     t5 = t0*t4
     t6 = d3*t5
     t7 = d3*t3
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t1*t9 - t3*t8
     t11 = t1*t8 + t3*t9
     t12 = a4*t5
     t13 = t12*t9 - t6*t8
     t14 = t12*t8 + t6*t9
     t15 = t7 + a4*t1
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t10*t17 + t16*t5
     t19 = t17*t5 - t10*t16
     t20 = t15 + a5*t11
@@ -1507,14 +1555,12 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t22 = t13*t16 + t17*t20
     t23 = t22 - d5*t18
     t24 = t14 + a5*t5
-    t25 = numpy.sin(q6)
-    t26 = numpy.cos(q6)
+    t25, t26 = _sincos(q6)
     t27 = t11*t25 + t18*t26
     t28 = t11*t26 - t18*t25
     t29 = t21*t26 - t24*t25
     t30 = t21*t25 + t24*t26
-    t31 = numpy.sin(q7)
-    t32 = numpy.cos(q7)
+    t31, t32 = _sincos(q7)
     t33 = t19*t31 - t27*t32
     t34 = t19*t32 + t27*t31
     t35 = t23 + a7*t28
@@ -2691,7 +2737,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t1206 = t1043 - t1066
     t1207 = t1085 - t1102
     t1208 = t1108*t1114
-    C = numpy.zeros(batch + (7, 7))
     C[..., 0, 0] = dq2*t1110 + t1111*t438 + t1112*t494 + t1113*t540 + t1114*t578 + t1115*t605
     C[..., 0, 1] = t1116 + dq2*t606 + t1111*t1117 + t1112*t1118 + t1113*t1119 + t1114*t1120 + t1115*t1121
     C[..., 0, 2] = t1123 + dq3*t437 + t1112*t1125 + t1113*t1126 + t1114*t1127 + t1115*t1128 + t1117*t1124
@@ -2740,7 +2785,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 6, 3] = -t1191 + t1111*t1185 + t1113*t1199 + t1114*t1206 + t1122*t1179 + t1124*t1182
     C[..., 6, 4] = -t1202 + t1111*t1197 + t1112*t1199 + t1114*t1207 + t1122*t1193 + t1124*t1195
     C[..., 6, 5] = -t1208 + t1111*t1205 + t1112*t1206 + t1113*t1207 + t1122*t1203 + t1124*t1204
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -2756,6 +2800,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (7, 7))
+    bias = numpy.zeros(batch + (7,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -2774,38 +2826,32 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
-    t2 = numpy.cos(q3)
+    t0, t1 = _sincos(q2)
+    t4, t2 = _sincos(q3)
     t3 = t0*t2
-    t4 = numpy.sin(q3)
     t5 = t0*t4
     t6 = d3*t5
     t7 = d3*t3
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t1*t9 - t3*t8
     t11 = t1*t8 + t3*t9
     t12 = a4*t5
     t13 = t6*t8 - t12*t9
     t14 = t12*t8 + t6*t9
     t15 = t7 + a4*t1
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t10*t17 + t16*t5
     t19 = t17*t5 - t10*t16
     t20 = t15 + a5*t11
     t21 = d5*t19 + t13*t17 + t16*t20
     t22 = t17*t20 - d5*t18 - t13*t16
     t23 = t14 + a5*t5
-    t24 = numpy.sin(q6)
-    t25 = numpy.cos(q6)
+    t24, t25 = _sincos(q6)
     t26 = t11*t24 + t18*t25
     t27 = t11*t25 - t18*t24
     t28 = t21*t25 - t23*t24
     t29 = t21*t24 + t23*t25
-    t30 = numpy.sin(q7)
-    t31 = numpy.cos(q7)
+    t30, t31 = _sincos(q7)
     t32 = t26*t31 - t19*t30
     t33 = t19*t31 + t26*t30
     t34 = t22 + a7*t27
@@ -3247,7 +3293,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t470 = 0.0192614005*t267
     t471 = 0.010343993404*t267
     t472 = 0.002081*t470 - 0.003875*t471 - t0*t465 - t1*t467
-    M = numpy.zeros(batch + (7, 7))
     M[..., 0, 0] = t87
     M[..., 0, 1] = t86
     M[..., 0, 2] = t80
@@ -3297,7 +3342,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 6, 4] = t252
     M[..., 6, 5] = t265
     M[..., 6, 6] = 0.00490965196736095
-    bias = numpy.zeros(batch + (7,))
     bias[..., 0] = t472
     bias[..., 1] = t469
     bias[..., 2] = t460
@@ -3305,7 +3349,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     bias[..., 4] = t436
     bias[..., 5] = t424
     bias[..., 6] = t411
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -3322,6 +3365,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (7,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -3348,9 +3398,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     d5 = p[..., 4]
     a7 = p[..., 5]
     t0 = dq1**2
-    t1 = numpy.sin(q2)
+    t1, t3 = _sincos(q2)
     t2 = dq1*t1
-    t3 = numpy.cos(q2)
     t4 = dq1*t3
     t5 = ddq1*t1 + dq2*t4
     t6 = -ddq1*t3 + dq1*dq2*t1
@@ -3371,8 +3420,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t21 = t7 + t8
     t22 = 9.81*t1
     t23 = 9.81*t3
-    t24 = numpy.sin(q3)
-    t25 = numpy.cos(q3)
+    t24, t25 = _sincos(q3)
     t26 = dq2*t24 - t2*t25
     t27 = dq2*t25 + t2*t24
     t28 = dq3 + t4
@@ -3397,8 +3445,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t47 = d3*t40 - t22*t25
     t48 = d3*t43 + t22*t24
     t49 = t23 - d3*t46
-    t50 = numpy.cos(q4)
-    t51 = numpy.sin(q4)
+    t51, t50 = _sincos(q4)
     t52 = t26*t50 + t28*t51
     t53 = t28*t50 - t26*t51
     t54 = dq4 - t27
@@ -3425,8 +3472,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t75 = t50*t73 + t51*t74
     t76 = t50*t74 - t51*t73
     t77 = t48 + a4*t41
-    t78 = numpy.cos(q5)
-    t79 = numpy.sin(q5)
+    t79, t78 = _sincos(q5)
     t80 = t52*t78 - t54*t79
     t81 = t52*t79 + t54*t78
     t82 = dq5 + t53
@@ -3453,8 +3499,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t103 = d5*t94 + t101*t78 - t102*t79
     t104 = d5*t97 + t101*t79 + t102*t78
     t105 = t76 + a5*t67 - d5*t100
-    t106 = numpy.cos(q6)
-    t107 = numpy.sin(q6)
+    t107, t106 = _sincos(q6)
     t108 = t106*t80 + t107*t82
     t109 = t106*t82 - t107*t80
     t110 = dq6 + t81
@@ -3478,8 +3523,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t128 = t114 + t115
     t129 = t103*t106 + t105*t107
     t130 = t105*t106 - t103*t107
-    t131 = numpy.cos(q7)
-    t132 = numpy.sin(q7)
+    t132, t131 = _sincos(q7)
     t133 = t108*t131 + t110*t132
     t134 = t110*t131 - t108*t132
     t135 = dq7 - t109
@@ -3576,7 +3620,6 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t226 = 0.0192614005*t0 + 0.010343993404*ddq1
     t227 = 0.0192614005*ddq1 - 0.010343993404*t0
     t228 = 0.009117*ddq1 + 0.003875*t227 + 0.002081*t226 - t1*t221 - t223*t3
-    tau = numpy.zeros(batch + (7,))
     tau[..., 0] = t228
     tau[..., 1] = t225
     tau[..., 2] = t216
@@ -3584,7 +3627,6 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     tau[..., 4] = t192
     tau[..., 5] = t180
     tau[..., 6] = t167
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -3599,6 +3641,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (7,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -3616,27 +3665,21 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q1)
-    t1 = numpy.sin(q2)
+    t0, t4 = _sincos(q1)
+    t1, t6 = _sincos(q2)
     t2 = t0*t1
-    t3 = numpy.sin(q3)
-    t4 = numpy.cos(q1)
+    t3, t7 = _sincos(q3)
     t5 = t3*t4
-    t6 = numpy.cos(q2)
-    t7 = numpy.cos(q3)
     t8 = t0*t7
     t9 = t5 + t6*t8
-    t10 = numpy.sin(q4)
-    t11 = numpy.cos(q4)
+    t10, t11 = _sincos(q4)
     t12 = t10*t2 + t11*t9
     t13 = t10*t9 - t0*t1*t11
     t14 = -t13
-    t15 = numpy.sin(q6)
-    t16 = numpy.cos(q6)
-    t17 = numpy.sin(q5)
+    t15, t16 = _sincos(q6)
+    t17, t20 = _sincos(q5)
     t18 = t0*t3
     t19 = t18*t6 - t4*t7
-    t20 = numpy.cos(q5)
     t21 = t12*t20 - t17*t19
     t22 = t14*t16
     t23 = t15*t21
@@ -3677,7 +3720,6 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t58 = t49 - t48
     t59 = t23 - t22
     t60 = t37 - t36
-    tau_w = numpy.zeros(batch + (7,))
     tau_w[..., 0] = -w_nz + t28*w_fx - t42*w_fy
     tau_w[..., 1] = t0*w_nx + w_fz*(t0*t28 + t4*t42) - t4*w_ny - t0*t54*w_fy - t4*t54*w_fx
     tau_w[..., 2] = w_fx*(t27*t6 - t2*t53) + w_fy*(-t41*t6 + t1*t4*t53) + w_fz*(t2*t41 - t27*t29) - t2*w_ny - t29*w_nx - t6*w_nz
@@ -3685,7 +3727,6 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     tau_w[..., 4] = t13*w_ny + t32*w_nx + w_fx*(t25*t45 - t14*t51) + w_fy*(t33*t51 - t39*t45) + w_fz*(t14*t39 - t25*t33) - t45*w_nz
     tau_w[..., 5] = w_fx*(t25*t55 - t51*t57) + w_fy*(t51*t56 - t39*t55) + w_fz*(t39*t57 - t25*t56) - t55*w_nz - t56*w_nx - t57*w_ny
     tau_w[..., 6] = w_fx*(t24*t58 - t50*t59) + w_fy*(t50*t60 - t38*t58) + w_fz*(t38*t59 - t24*t60) - t58*w_nz - t59*w_ny - t60*w_nx
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -3700,6 +3741,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (7,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -3718,28 +3766,22 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
+    t6, t4 = _sincos(q3)
     t5 = t1*t4
-    t6 = numpy.sin(q3)
     t7 = t1*t6
-    t8 = numpy.sin(q4)
-    t9 = numpy.cos(q4)
+    t8, t9 = _sincos(q4)
     t10 = t3*t8 - t5*t9
     t11 = t3*t9 + t5*t8
-    t12 = numpy.sin(q5)
-    t13 = numpy.cos(q5)
+    t12, t13 = _sincos(q5)
     t14 = t10*t13 + t12*t7
     t15 = t13*t7 - t10*t12
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t11*t16 + t14*t17
     t19 = t11*t17 - t14*t16
-    t20 = numpy.sin(q7)
-    t21 = numpy.cos(q7)
+    t20, t21 = _sincos(q7)
     t22 = t18*t21 - t15*t20
     t23 = t15*t21 + t18*t20
     t24 = 0.735522*t22
@@ -3762,11 +3804,10 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t41 = t0*t40 - t21*t30 - t27*t28 - t31*t33 - t34*t36 - t37*t38
     t42 = t41*w_fz
     t43 = t13*t20
-    t44 = numpy.sin(q1)
+    t44, t48 = _sincos(q1)
     t45 = t4*t44
     t46 = t6*t8
     t47 = t34*t44
-    t48 = numpy.cos(q1)
     t49 = t28*t35
     t50 = t0*t9
     t51 = t48*t6
@@ -3886,7 +3927,6 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t165 = t161 + 0.003495*t162
     t166 = 0.003141*t163 - 0.02872*t162 + t159*t6 + t160*t4
     t167 = t165*t2 - t0*t164
-    tau_s = numpy.zeros(batch + (7,))
     tau_s[..., 0] = t167
     tau_s[..., 1] = t166
     tau_s[..., 2] = t161
@@ -3894,7 +3934,6 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     tau_s[..., 4] = t143
     tau_s[..., 5] = t134
     tau_s[..., 6] = t124
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -3911,6 +3950,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -3930,38 +3978,32 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     a5 = p[..., 3]
     d5 = p[..., 4]
     a7 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
-    t2 = numpy.cos(q3)
+    t0, t1 = _sincos(q2)
+    t4, t2 = _sincos(q3)
     t3 = t0*t2
-    t4 = numpy.sin(q3)
     t5 = t0*t4
     t6 = d3*t5
     t7 = d3*t3
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t1*t9 - t3*t8
     t11 = t1*t8 + t3*t9
     t12 = a4*t5
     t13 = t6*t8 - t12*t9
     t14 = t12*t8 + t6*t9
     t15 = t7 + a4*t1
-    t16 = numpy.cos(q5)
-    t17 = numpy.sin(q5)
+    t17, t16 = _sincos(q5)
     t18 = t10*t16 + t17*t5
     t19 = t16*t5 - t10*t17
     t20 = t15 + a5*t11
     t21 = d5*t19 + t13*t16 + t17*t20
     t22 = t16*t20 - d5*t18 - t13*t17
     t23 = t14 + a5*t5
-    t24 = numpy.sin(q6)
-    t25 = numpy.cos(q6)
+    t24, t25 = _sincos(q6)
     t26 = t11*t24 + t18*t25
     t27 = t11*t25 - t18*t24
     t28 = t21*t25 - t23*t24
     t29 = t21*t24 + t23*t25
-    t30 = numpy.sin(q7)
-    t31 = numpy.cos(q7)
+    t30, t31 = _sincos(q7)
     t32 = t26*t31 - t19*t30
     t33 = t19*t31 + t26*t30
     t34 = t22 + a7*t27
@@ -4280,13 +4322,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t347 = t290*t327
     t348 = t288*t331
     t349 = t290*t331
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t273
-    potential = numpy.zeros(batch + ())
     potential[...] = t279 + t289 + t291 + t296 + t297 + t299 + t300 + t304 + t307 + t309 + t312 + t314 + t315 + t320 + t324 + t325 + t326 + t328 + t330 + t332 + t334 + t335 + t337 + t339 + t340 + t341 + t342 + t343 + t344 + t345 + t346 + t347 + t348 + t349 - t277 - t282 - t284 - t293 - t294 - t295 - t298 - t301 - t302 - t305 - t310 - t317 - t318 - t322 - t323 - t329 - t333 - t338
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = t273 + t277 + t282 + t284 + t293 + t294 + t295 + t298 + t301 + t302 + t305 + t310 + t317 + t318 + t322 + t323 + t329 + t333 + t338 - t279 - t289 - t291 - t296 - t297 - t299 - t300 - t304 - t307 - t309 - t312 - t314 - t315 - t320 - t324 - t325 - t326 - t328 - t330 - t332 - t334 - t335 - t337 - t339 - t340 - t341 - t342 - t343 - t344 - t345 - t346 - t347 - t348 - t349
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 3
 PARAMETER_NAMES = ("L1", "L2", "L3", )
 DEFAULT_PARAMETERS = numpy.array([1.0, 0.8, 0.5], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,6 +98,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -50,18 +113,17 @@ def fk(q, p=DEFAULT_PARAMETERS):
     L3 = p[..., 2]
     t0 = q1 + q2
     t1 = q3 + t0
-    t2 = numpy.cos(t1)
-    t3 = numpy.sin(t1)
-    T = numpy.zeros(batch + (4, 4))
+    t3, t2 = _sincos(t1)
+    _s1, _c1 = _sincos(q1)
+    _s2, _c2 = _sincos(t0)
     T[..., 0, 0] = t2
     T[..., 0, 1] = -t3
-    T[..., 0, 3] = L2*numpy.cos(t0) + L3*t2 - L1*numpy.sin(q1)
+    T[..., 0, 3] = _c2*L2 + L3*t2 - _s1*L1
     T[..., 1, 0] = t3
     T[..., 1, 1] = t2
-    T[..., 1, 3] = L1*numpy.cos(q1) + L2*numpy.sin(t0) + L3*t3
+    T[..., 1, 3] = _c1*L1 + _s2*L2 + L3*t3
     T[..., 2, 2] = 1
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -74,6 +136,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -82,10 +151,11 @@ def position(q, p=DEFAULT_PARAMETERS):
     L3 = p[..., 2]
     t0 = q1 + q2
     t1 = q3 + t0
-    p_tool = numpy.zeros(batch + (3,))
-    p_tool[..., 0] = L2*numpy.cos(t0) + L3*numpy.cos(t1) - L1*numpy.sin(q1)
-    p_tool[..., 1] = L1*numpy.cos(q1) + L2*numpy.sin(t0) + L3*numpy.sin(t1)
-    return p_tool
+    _s0, _c0 = _sincos(q1)
+    _s1, _c1 = _sincos(t0)
+    _s2, _c2 = _sincos(t1)
+    p_tool[..., 0] = _c1*L2 + _c2*L3 - _s0*L1
+    p_tool[..., 1] = _c0*L1 + _s1*L2 + _s2*L3
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -98,6 +168,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -106,21 +183,22 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     L3 = p[..., 2]
     t0 = q1 + q2
     t1 = q3 + t0
-    t2 = L3*numpy.sin(t1)
-    t3 = t2 + L2*numpy.sin(t0)
-    t4 = L3*numpy.cos(t1)
-    t5 = t4 + L2*numpy.cos(t0)
-    J = numpy.zeros(batch + (6, 3))
-    J[..., 0, 0] = -t3 - L1*numpy.cos(q1)
+    _s0, _c0 = _sincos(t1)
+    t2 = _s0*L3
+    _s1, _c1 = _sincos(t0)
+    t3 = t2 + _s1*L2
+    t4 = _c0*L3
+    t5 = t4 + _c1*L2
+    _s2, _c2 = _sincos(q1)
+    J[..., 0, 0] = -t3 - _c2*L1
     J[..., 0, 1] = -t3
     J[..., 0, 2] = -t2
-    J[..., 1, 0] = t5 - L1*numpy.sin(q1)
+    J[..., 1, 0] = t5 - _s2*L1
     J[..., 1, 1] = t5
     J[..., 1, 2] = t4
     J[..., 5, 0] = 1
     J[..., 5, 1] = 1
     J[..., 5, 2] = 1
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -133,6 +211,13 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 3))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -141,18 +226,19 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     L3 = p[..., 2]
     t0 = q1 + q2
     t1 = q3 + t0
-    t2 = L3*numpy.sin(t1)
-    t3 = t2 + L2*numpy.sin(t0)
-    t4 = L3*numpy.cos(t1)
-    t5 = t4 + L2*numpy.cos(t0)
-    Jp = numpy.zeros(batch + (3, 3))
-    Jp[..., 0, 0] = -t3 - L1*numpy.cos(q1)
+    _s0, _c0 = _sincos(t1)
+    t2 = _s0*L3
+    _s1, _c1 = _sincos(t0)
+    t3 = t2 + _s1*L2
+    t4 = _c0*L3
+    t5 = t4 + _c1*L2
+    _s2, _c2 = _sincos(q1)
+    Jp[..., 0, 0] = -t3 - _c2*L1
     Jp[..., 0, 1] = -t3
     Jp[..., 0, 2] = -t2
-    Jp[..., 1, 0] = t5 - L1*numpy.sin(q1)
+    Jp[..., 1, 0] = t5 - _s2*L1
     Jp[..., 1, 1] = t5
     Jp[..., 1, 2] = t4
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -166,6 +252,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -174,15 +268,15 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     L3 = p[..., 2]
     t0 = q1 + q2
     t1 = q3 + t0
-    t2 = numpy.cos(t1)
-    t3 = numpy.sin(t1)
+    t3, t2 = _sincos(t1)
     t4 = L3*t2
-    t5 = t4 + L2*numpy.cos(t0)
-    t6 = t5 - L1*numpy.sin(q1)
+    _s1, _c1 = _sincos(t0)
+    t5 = t4 + _c1*L2
+    _s2, _c2 = _sincos(q1)
+    t6 = t5 - _s2*L1
     t7 = L3*t3
-    t8 = t7 + L2*numpy.sin(t0)
-    t9 = t8 + L1*numpy.cos(q1)
-    T = numpy.zeros(batch + (4, 4))
+    t8 = t7 + _s1*L2
+    t9 = t8 + _c2*L1
     T[..., 0, 0] = t2
     T[..., 0, 1] = -t3
     T[..., 0, 3] = t6
@@ -191,7 +285,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 1, 3] = t9
     T[..., 2, 2] = 1
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 3))
     J[..., 0, 0] = -t9
     J[..., 0, 1] = -t8
     J[..., 0, 2] = -t7
@@ -201,7 +294,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 0] = 1
     J[..., 5, 1] = 1
     J[..., 5, 2] = 1
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -214,12 +306,18 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    det = numpy.zeros(batch + ())
-    det[...] = -L1*L2*numpy.cos(q2)
-    return det
+    _s0, _c0 = _sincos(q2)
+    det[...] = -_c0*L1*L2
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -232,12 +330,18 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    mu = numpy.zeros(batch + ())
-    mu[...] = abs(L1*L2*numpy.cos(q2))
-    return mu
+    _s0, _c0 = _sincos(q2)
+    mu[...] = abs(_c0*L1*L2)
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -250,17 +354,22 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t0 = numpy.cos(q2)
+    t2, t0 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.sin(q2)
     t3 = L2 + L1*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t3*t5 - t1*t4
     t7 = L3 + t1*t5 + t3*t4
     t8 = 1.696*t6
@@ -284,7 +393,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t26 = 0.145 + t23 - 0.4*t24 + L2*t25
     t27 = -0.424 + 1.696*L3
     t28 = 0.03551 + t10*t27
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t18
     M[..., 0, 1] = t15
     M[..., 0, 2] = t11
@@ -294,7 +402,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 2, 0] = t11
     M[..., 2, 1] = t23
     M[..., 2, 2] = t28
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -308,7 +415,12 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     G = numpy.zeros(batch + (3,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
     return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -323,6 +435,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (3,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -335,14 +454,12 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t1 = L1*t0
     t2 = dq1 + dq2
     t3 = t2**2
-    t4 = numpy.sin(q2)
+    t4, t6 = _sincos(q2)
     t5 = L2*t3 + t1*t4
-    t6 = numpy.cos(q2)
     t7 = t1*t6
     t8 = dq3 + t2
     t9 = t8**2
-    t10 = numpy.sin(q3)
-    t11 = numpy.cos(q3)
+    t10, t11 = _sincos(q3)
     t12 = L3*t9 + t10*t7 + t11*t5
     t13 = t10*t5 - t11*t7
     t14 = 0.424*t9 - 1.696*t12
@@ -355,11 +472,9 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t21 = t17 + 0.4*t18 + L2*t20
     t22 = t20*t4 - t19*t6
     t23 = t21 + L1*t22
-    c = numpy.zeros(batch + (3,))
     c[..., 0] = t23
     c[..., 1] = t21
     c[..., 2] = t17
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -374,6 +489,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (3, 3))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -382,13 +504,11 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t0 = numpy.cos(q2)
+    t2, t0 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.sin(q2)
     t3 = L1*t2
     t4 = L2 + t3
-    t5 = numpy.cos(q3)
-    t6 = numpy.sin(q3)
+    t6, t5 = _sincos(q3)
     t7 = t4*t6 - t1*t5
     t8 = t1*t6
     t9 = L3 + t8 + t4*t5
@@ -439,7 +559,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t54 = (1/2)*dq2
     t55 = t25 - t39
     t56 = t47*t54
-    C = numpy.zeros(batch + (3, 3))
     C[..., 0, 0] = dq2*t48 + t42*t49
     C[..., 0, 1] = t50 + dq2*t29 + t49*t51
     C[..., 0, 2] = t53 + t51*t54 - dq3*t35
@@ -448,7 +567,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 1, 2] = t56 - dq3*t43 - t52*t55
     C[..., 2, 0] = -t53 + (1/2)*dq2*t55
     C[..., 2, 1] = -t56 + t52*t55
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -464,6 +582,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    bias = numpy.zeros(batch + (3,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -472,12 +598,10 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t0 = numpy.cos(q2)
+    t2, t0 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.sin(q2)
     t3 = L2 + L1*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t3*t5 - t1*t4
     t7 = L3 + t1*t5 + t3*t4
     t8 = 1.696*t6
@@ -520,7 +644,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t45 = t41 + 0.4*t42 + L2*t44
     t46 = t2*t44 - t0*t43
     t47 = t45 + L1*t46
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t18
     M[..., 0, 1] = t15
     M[..., 0, 2] = t11
@@ -530,11 +653,9 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 2, 0] = t11
     M[..., 2, 1] = t23
     M[..., 2, 2] = t28
-    bias = numpy.zeros(batch + (3,))
     bias[..., 0] = t47
     bias[..., 1] = t45
     bias[..., 2] = t41
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -551,6 +672,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (3,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -568,15 +696,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
-    t6 = numpy.cos(q2)
-    t7 = numpy.sin(q2)
+    t7, t6 = _sincos(q2)
     t8 = L2*t5 + t1*t7 + t2*t6
     t9 = L2*t4 + t2*t7 - t1*t6
     t10 = dq3 + t3
     t11 = ddq3 + t4
     t12 = t10**2
-    t13 = numpy.cos(q3)
-    t14 = numpy.sin(q3)
+    t14, t13 = _sincos(q3)
     t15 = t14*t9 - L3*t12 - t13*t8
     t16 = L3*t11 + t13*t9 + t14*t8
     t17 = 0.424*t12 + 1.696*t15
@@ -590,11 +716,9 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t25 = 3.393*t2 - 1.6965*ddq1
     t26 = t25 + t23*t7 - t22*t6
     t27 = t24 + 0.2831*ddq1 - 0.5*t25 + L1*t26
-    tau = numpy.zeros(batch + (3,))
     tau[..., 0] = t27
     tau[..., 1] = t24
     tau[..., 2] = t20
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -609,6 +733,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (3,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -621,15 +752,15 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t0 = -w_nz
     t1 = q1 + q2
     t2 = q3 + t1
-    t3 = numpy.sin(t2)
-    t4 = L2*numpy.sin(t1) + L3*t3
-    t5 = L3*numpy.cos(t2)
-    t6 = t5 + L2*numpy.cos(t1)
-    tau_w = numpy.zeros(batch + (3,))
-    tau_w[..., 0] = t0 + w_fx*(t4 + L1*numpy.cos(q1)) + w_fy*(-t6 + L1*numpy.sin(q1))
+    t3, _c0 = _sincos(t2)
+    _s1, _c1 = _sincos(t1)
+    t4 = _s1*L2 + L3*t3
+    t5 = _c0*L3
+    t6 = t5 + _c1*L2
+    _s2, _c2 = _sincos(q1)
+    tau_w[..., 0] = t0 + w_fx*(t4 + _c2*L1) + w_fy*(-t6 + _s2*L1)
     tau_w[..., 1] = t0 + t4*w_fx - t6*w_fy
     tau_w[..., 2] = -w_nz - t5*w_fy + L3*t3*w_fx
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -644,6 +775,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (3,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -654,23 +792,20 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     L2 = p[..., 1]
     L3 = p[..., 2]
     t0 = q1 + q2 + q3
-    t1 = numpy.cos(t0)
-    t2 = numpy.sin(t0)
+    t2, t1 = _sincos(t0)
     t3 = t1*w_fx + t2*w_fy
     t4 = t2*w_fx - t1*w_fy
     t5 = -w_nz + L3*t4
-    t6 = numpy.cos(q3)
-    t7 = numpy.sin(q3)
+    t7, t6 = _sincos(q3)
     t8 = t3*t6 + t4*t7
     t9 = t4*t6 - t3*t7
     t10 = t5 + L2*t9
-    t11 = t8*numpy.cos(q2) + t9*numpy.sin(q2)
+    _s2, _c2 = _sincos(q2)
+    t11 = _c2*t8 + _s2*t9
     t12 = t10 + L1*t11
-    tau_s = numpy.zeros(batch + (3,))
     tau_s[..., 0] = t12
     tau_s[..., 1] = t10
     tau_s[..., 2] = t5
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -687,6 +822,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -695,12 +839,10 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t0 = numpy.cos(q2)
+    t2, t0 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.sin(q2)
     t3 = L2 + L1*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t3*t5 - t1*t4
     t7 = L3 + t1*t5 + t3*t4
     t8 = 1.696*t6
@@ -727,12 +869,8 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t29 = t18*dq1**2 + t26*dq2**2 + t28*dq3**2
     t30 = dq1*t11 + dq2*t23
     t31 = (1/2)*t29 + dq3*t30 + dq1*dq2*t15
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t31
-    potential = numpy.zeros(batch + ())
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = t31
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

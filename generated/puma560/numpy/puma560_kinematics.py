@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters a2, a
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 6
 PARAMETER_NAMES = ("a2", "a3", "d3", "d4", )
 DEFAULT_PARAMETERS = numpy.array([0.4318, 0.0203, 0.15005, 0.4318], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,6 +98,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -52,25 +115,19 @@ def fk(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.cos(q4)
-    t3 = numpy.sin(q4)
-    t4 = numpy.cos(q1)
-    t5 = numpy.sin(q2)
-    t6 = numpy.sin(q3)
+    t0, t13 = _sincos(q6)
+    t1, t4 = _sincos(q1)
+    t3, t2 = _sincos(q4)
+    t5, t9 = _sincos(q2)
+    t6, t10 = _sincos(q3)
     t7 = t5*t6
     t8 = t4*t7
-    t9 = numpy.cos(q2)
-    t10 = numpy.cos(q3)
     t11 = -t8 + t10*t4*t9
     t12 = -t1*t2 - t11*t3
-    t13 = numpy.cos(q6)
-    t14 = numpy.sin(q5)
+    t14, t18 = _sincos(q5)
     t15 = t10*t5
     t16 = t6*t9
     t17 = -t15*t4 - t16*t4
-    t18 = numpy.cos(q5)
     t19 = t11*t2 - t1*t3
     t20 = t14*t17 + t18*t19
     t21 = a2*t9
@@ -86,7 +143,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     t31 = -t7 + t10*t9
     t32 = t2*t29
     t33 = t14*t31 + t18*t32
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t12 + t13*t20
     T[..., 0, 1] = t12*t13 - t0*t20
     T[..., 0, 2] = t17*t18 - t14*t19
@@ -100,7 +156,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t18*t31 - t14*t32
     T[..., 2, 3] = a2*t5 + a3*t15 + a3*t16 + d4*t31
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -113,6 +168,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -120,19 +182,16 @@ def position(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q1)
-    t1 = numpy.cos(q1)
-    t2 = a2*numpy.cos(q2)
+    t0, t1 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
     t3 = q2 + q3
-    t4 = numpy.cos(t3)
+    t6, t4 = _sincos(t3)
     t5 = a3*t4
-    t6 = numpy.sin(t3)
     t7 = d4*t6
-    p_tool = numpy.zeros(batch + (3,))
     p_tool[..., 0] = d3*t0 + t1*t2 + t1*t5 - t1*t7
     p_tool[..., 1] = t0*t2 + t0*t5 - d3*t1 - t0*t7
-    p_tool[..., 2] = a2*numpy.sin(q2) + a3*t6 + d4*t4
-    return p_tool
+    p_tool[..., 2] = _s1*a2 + a3*t6 + d4*t4
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -145,6 +204,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -154,14 +220,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
     t3 = q2 + q3
-    t4 = numpy.cos(t3)
+    t6, t4 = _sincos(t3)
     t5 = a3*t4
-    t6 = numpy.sin(t3)
-    t7 = a2*numpy.sin(q2)
+    t7 = _s1*a2
     t8 = t0*t6
     t9 = d4*t4
     t10 = a3*t8 + t0*t9
@@ -169,16 +234,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t12 = t1*t6
     t13 = a3*t12 + t1*t9
     t14 = t5 - t11
-    t15 = numpy.cos(q4)
+    t17, t15 = _sincos(q4)
     t16 = t1*t15
-    t17 = numpy.sin(q4)
     t18 = t17*t4
-    t19 = numpy.sin(q5)
-    t20 = numpy.cos(q5)
+    t19, t20 = _sincos(q5)
     t21 = t0*t15
     t22 = t19*t4
     t23 = -t0
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = d3*t0 - t1*t2 - t1*t5 + d4*t1*t6
     J[..., 0, 1] = -t10 - t0*t7
     J[..., 0, 2] = -t10
@@ -201,7 +263,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 3] = t4
     J[..., 5, 4] = t17*t6
     J[..., 5, 5] = t20*t4 - t15*t19*t6
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -214,6 +275,13 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 6))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -221,21 +289,19 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
     t3 = q2 + q3
-    t4 = numpy.cos(t3)
+    t6, t4 = _sincos(t3)
     t5 = a3*t4
-    t6 = numpy.sin(t3)
-    t7 = a2*numpy.sin(q2)
+    t7 = _s1*a2
     t8 = a3*t6
     t9 = d4*t4
     t10 = t0*t8 + t0*t9
     t11 = d4*t6
     t12 = t1*t8 + t1*t9
     t13 = t5 - t11
-    Jp = numpy.zeros(batch + (3, 6))
     Jp[..., 0, 0] = d3*t0 - t1*t2 - t1*t5 + d4*t1*t6
     Jp[..., 0, 1] = -t10 - t0*t7
     Jp[..., 0, 2] = -t10
@@ -244,7 +310,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 1, 2] = -t12
     Jp[..., 2, 1] = t13 + t2
     Jp[..., 2, 2] = t13
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -258,6 +323,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -268,26 +341,20 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.cos(q4)
-    t3 = numpy.sin(q4)
-    t4 = numpy.cos(q1)
-    t5 = numpy.sin(q2)
-    t6 = numpy.sin(q3)
+    t0, t14 = _sincos(q6)
+    t1, t4 = _sincos(q1)
+    t3, t2 = _sincos(q4)
+    t5, t9 = _sincos(q2)
+    t6, t10 = _sincos(q3)
     t7 = t5*t6
     t8 = t4*t7
-    t9 = numpy.cos(q2)
-    t10 = numpy.cos(q3)
     t11 = -t8 + t10*t4*t9
     t12 = t1*t2 + t11*t3
     t13 = -t12
-    t14 = numpy.cos(q6)
-    t15 = numpy.sin(q5)
+    t15, t19 = _sincos(q5)
     t16 = t10*t5
     t17 = t6*t9
     t18 = -t16*t4 - t17*t4
-    t19 = numpy.cos(q5)
     t20 = t11*t2 - t1*t3
     t21 = t15*t18 + t19*t20
     t22 = t18*t19 - t15*t20
@@ -317,7 +384,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t46 = a3*t16 + a3*t17 + d4*t42
     t47 = t46 + a2*t5
     t48 = -t4
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t13 + t14*t21
     T[..., 0, 1] = t13*t14 - t0*t21
     T[..., 0, 2] = t22
@@ -331,7 +397,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t45
     T[..., 2, 3] = t47
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t39
     J[..., 0, 1] = -t4*t47
     J[..., 0, 2] = -t4*t46
@@ -354,7 +419,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 3] = t42
     J[..., 5, 4] = t41
     J[..., 5, 5] = t45
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -367,6 +431,13 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q5 = q[..., 4]
@@ -374,9 +445,11 @@ def det(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d4 = p[..., 3]
     t0 = q2 + q3
-    det = numpy.zeros(batch + ())
-    det[...] = a2*(a3*numpy.sin(q3) + d4*numpy.cos(q3))*(a2*numpy.cos(q2) + a3*numpy.cos(t0) - d4*numpy.sin(t0))*numpy.sin(q5)
-    return det
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q3)
+    _s2, _c2 = _sincos(q5)
+    _s3, _c3 = _sincos(t0)
+    det[...] = _s2*a2*(_c1*d4 + _s1*a3)*(_c0*a2 + _c3*a3 - _s3*d4)
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -389,6 +462,13 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q5 = q[..., 4]
@@ -396,9 +476,11 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d4 = p[..., 3]
     t0 = q2 + q3
-    mu = numpy.zeros(batch + ())
-    mu[...] = abs(a2*(a3*numpy.sin(q3) + d4*numpy.cos(q3))*(a2*numpy.cos(q2) + a3*numpy.cos(t0) - d4*numpy.sin(t0))*numpy.sin(q5))
-    return mu
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q3)
+    _s2, _c2 = _sincos(q5)
+    _s3, _c3 = _sincos(t0)
+    mu[...] = abs(_s2*a2*(_c1*d4 + _s1*a3)*(_c0*a2 + _c3*a3 - _s3*d4))
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -411,6 +493,13 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -420,30 +509,25 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = d3*t6
     t8 = t2 + a3*t6
     t9 = d3*t5
-    t10 = numpy.cos(q4)
+    t12, t10 = _sincos(q4)
     t11 = t10*t5
-    t12 = numpy.sin(q4)
     t13 = t12*t5
     t14 = t10*t7 + t12*t8 - d4*t13
     t15 = d4*t11 + t12*t7 - t10*t8
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t11*t17 + t16*t6
     t19 = t17*t6 - t11*t16
     t20 = t14*t17 - t16*t9
     t21 = t14*t16 + t17*t9
-    t22 = numpy.sin(q6)
-    t23 = numpy.cos(q6)
+    t22, t23 = _sincos(q6)
     t24 = t18*t23 - t13*t22
     t25 = t13*t23 + t18*t22
     t26 = t20*t23 - t15*t22
@@ -566,7 +650,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t143 = 0.032*t142 + 0.00015*t22
     t144 = 0.032*t141 + 0.00015*t23
     t145 = 0.0004 + t143*t22 + t144*t23
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 1.134029968642 + t0*t61 + t1*t62
     M[..., 0, 1] = t63
     M[..., 0, 2] = -t54
@@ -601,7 +684,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 5, 2] = t82
     M[..., 5, 3] = t137
     M[..., 5, 5] = 0.194104505668000
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -614,6 +696,13 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (6,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -623,24 +712,19 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t1*t4 + t3*t5
     t7 = t3*t4 - t1*t5
-    t8 = numpy.cos(q4)
+    t10, t8 = _sincos(q4)
     t9 = t6*t8
-    t10 = numpy.sin(q4)
     t11 = t10*t6
-    t12 = numpy.sin(q5)
-    t13 = numpy.cos(q5)
+    t12, t13 = _sincos(q5)
     t14 = t12*t7 + t13*t9
     t15 = t13*t7 - t12*t9
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t14*t17 - t11*t16
     t19 = t11*t17 + t14*t16
     t20 = 0.09*t18
@@ -675,13 +759,11 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     t49 = 0.2275*t45 + a2*t40 + t4*t44 + t42*t5
     t50 = -t43 - 0.3638*t46 - 0.006*t45 + a2*t47
     t51 = t0*t48 + t2*t49
-    G = numpy.zeros(batch + (6,))
     G[..., 0] = t51
     G[..., 1] = t50
     G[..., 2] = -t43
     G[..., 3] = t35
     G[..., 4] = -t28
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -696,6 +778,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (6,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -711,9 +800,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = dq2*t3
     t5 = dq2*t1
@@ -729,8 +817,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t15 = a2*t10
     t16 = a2*t9
     t17 = a2*t12
-    t18 = numpy.cos(q3)
-    t19 = numpy.sin(q3)
+    t19, t18 = _sincos(q3)
     t20 = t1*t18 + t19*t3
     t21 = dq2 + dq3
     t22 = t18*t3 - t1*t19
@@ -752,8 +839,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t38 = t16*t19 - a3*t31 - d3*t32 - t15*t18
     t39 = -t17 + d3*t34 - a3*t33
     t40 = a3*t29 + t15*t19 + t16*t18 - d3*t36
-    t41 = numpy.cos(q4)
-    t42 = numpy.sin(q4)
+    t42, t41 = _sincos(q4)
     t43 = t20*t41 - t21*t42
     t44 = dq4 + t22
     t45 = t20*t42 + t21*t41
@@ -769,8 +855,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t55 = d4*t52 + t38*t41 + t39*t42
     t56 = t40 - d4*t53
     t57 = d4*t54 + t38*t42 - t39*t41
-    t58 = numpy.cos(q5)
-    t59 = numpy.sin(q5)
+    t59, t58 = _sincos(q5)
     t60 = t43*t58 + t44*t59
     t61 = dq5 + t45
     t62 = t44*t58 - t43*t59
@@ -780,8 +865,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t66 = t61*t62
     t67 = t55*t58 + t56*t59
     t68 = t56*t58 - t55*t59
-    t69 = numpy.cos(q6)
-    t70 = numpy.sin(q6)
+    t70, t69 = _sincos(q6)
     t71 = t60*t69 - t61*t70
     t72 = t60*t70 + t61*t69
     t73 = dq6 + t62
@@ -833,14 +917,12 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t119 = 0.3638*t115 + 0.2275*t113 - 0.933*t5 + t110*t19 + t112*t18 - a2*t117
     t120 = -t111 + 0.394*t9 - 0.3638*t114 - 0.006*t113 + a2*t116
     t121 = t0*t118 + t119*t2
-    c = numpy.zeros(batch + (6,))
     c[..., 0] = t121
     c[..., 1] = t120
     c[..., 2] = -t111
     c[..., 3] = t102
     c[..., 4] = -t94
     c[..., 5] = -t89
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -855,6 +937,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (6, 6))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -870,30 +959,25 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = d3*t6
     t8 = t2 + a3*t6
     t9 = d3*t5
-    t10 = numpy.cos(q4)
+    t12, t10 = _sincos(q4)
     t11 = t10*t5
-    t12 = numpy.sin(q4)
     t13 = t12*t5
     t14 = t10*t7 + t12*t8 - d4*t13
     t15 = d4*t11 + t12*t7 - t10*t8
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t11*t17 + t16*t6
     t19 = t17*t6 - t11*t16
     t20 = t14*t17 - t16*t9
     t21 = t14*t16 + t17*t9
-    t22 = numpy.sin(q6)
-    t23 = numpy.cos(q6)
+    t22, t23 = _sincos(q6)
     t24 = t13*t22 - t18*t23
     t25 = t13*t23 + t18*t22
     t26 = t15*t22 - t20*t23
@@ -1437,7 +1521,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t564 = t192 + t321
     t565 = t327 - t179
     t566 = t318 - t311
-    C = numpy.zeros(batch + (6, 6))
     C[..., 0, 0] = dq2*t562 + t233*t534 + t267*t554 + t294*t561 + t310*t524
     C[..., 0, 1] = t563 + dq2*t313 + t506*t561 + t524*t565 + t534*t566 + t554*t564
     C[..., 0, 2] = t508 + t509*t566 + t510*t554 - dq3*t314 - t511*t524 - t512*t561
@@ -1472,7 +1555,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 5, 2] = t546 + t547 + t507*t538 + t553*t554 + t559*t561
     C[..., 5, 3] = t507*t549 + t509*t551 + t534*t553 + t560*t561
     C[..., 5, 4] = t507*t557 + t509*t558 + t534*t559 + t554*t560
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -1488,6 +1570,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    bias = numpy.zeros(batch + (6,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1503,30 +1593,25 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = d3*t6
     t8 = t2 + a3*t6
     t9 = d3*t5
-    t10 = numpy.cos(q4)
+    t12, t10 = _sincos(q4)
     t11 = t10*t5
-    t12 = numpy.sin(q4)
     t13 = t12*t5
     t14 = t10*t7 + t12*t8 - d4*t13
     t15 = d4*t11 + t12*t7 - t10*t8
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t11*t17 + t16*t6
     t19 = t17*t6 - t11*t16
     t20 = t14*t17 - t16*t9
     t21 = t14*t16 + t17*t9
-    t22 = numpy.sin(q6)
-    t23 = numpy.cos(q6)
+    t22, t23 = _sincos(q6)
     t24 = t18*t23 - t13*t22
     t25 = t13*t23 + t18*t22
     t26 = t20*t23 - t15*t22
@@ -1761,7 +1846,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t255 = 0.3638*t251 + 0.2275*t249 - 0.933*t149 + t246*t4 + t248*t3 - a2*t253
     t256 = -t247 + 0.394*t153 - 0.3638*t250 - 0.006*t249 + a2*t252
     t257 = t0*t254 + t1*t255
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 1.134029968642 + t0*t61 + t1*t62
     M[..., 0, 1] = t63
     M[..., 0, 2] = -t54
@@ -1796,14 +1880,12 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 5, 2] = t82
     M[..., 5, 3] = t137
     M[..., 5, 5] = 0.194104505668000
-    bias = numpy.zeros(batch + (6,))
     bias[..., 0] = t257
     bias[..., 1] = t256
     bias[..., 2] = -t247
     bias[..., 3] = t238
     bias[..., 4] = -t230
     bias[..., 5] = -t225
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -1820,6 +1902,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (6,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1841,9 +1930,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = ddq1*t0 + dq2*t3
     t5 = ddq1*t2 - dq2*t1
@@ -1865,8 +1953,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t21 = 9.81*t0 - a2*t12
     t22 = 9.81*t2 + a2*t15
     t23 = a2*t18
-    t24 = numpy.cos(q3)
-    t25 = numpy.sin(q3)
+    t25, t24 = _sincos(q3)
     t26 = t1*t24 + t25*t3
     t27 = dq2 + dq3
     t28 = t24*t3 - t1*t25
@@ -1891,8 +1978,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t47 = d3*t39 + t21*t24 + t22*t25 - a3*t38
     t48 = -t23 + a3*t41 + d3*t42
     t49 = a3*t44 + t22*t24 - d3*t45 - t21*t25
-    t50 = numpy.cos(q4)
-    t51 = numpy.sin(q4)
+    t51, t50 = _sincos(q4)
     t52 = t26*t50 - t27*t51
     t53 = dq4 + t28
     t54 = t26*t51 + t27*t50
@@ -1909,8 +1995,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t65 = d4*t62 + t47*t50 + t48*t51
     t66 = t49 - d4*t63
     t67 = d4*t64 + t47*t51 - t48*t50
-    t68 = numpy.cos(q5)
-    t69 = numpy.sin(q5)
+    t69, t68 = _sincos(q5)
     t70 = t52*t68 + t53*t69
     t71 = dq5 + t54
     t72 = t53*t68 - t52*t69
@@ -1921,8 +2006,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t77 = t71*t72
     t78 = t65*t68 + t66*t69
     t79 = t66*t68 - t65*t69
-    t80 = numpy.cos(q6)
-    t81 = numpy.sin(q6)
+    t81, t80 = _sincos(q6)
     t82 = t70*t80 - t71*t81
     t83 = t70*t81 + t71*t80
     t84 = dq6 + t72
@@ -1973,14 +2057,12 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t129 = t127 - t120
     t130 = 0.015*t11 + 0.13*t4 + 0.006*t127 - 0.2275*t126 + t122*t24 - t124*t25
     t131 = 0.524*t5 + 0.3638*t127 + 0.2275*t125 - 0.409*t10 + t122*t25 + t124*t24 - a2*t129
-    tau = numpy.zeros(batch + (6,))
     tau[..., 0] = 1.134029968642*ddq1 + t0*t130 + t131*t2
     tau[..., 1] = -t123 + 2.863814845*ddq2 + 0.394*t9 - 0.3638*t126 - 0.006*t125 + a2*t128
     tau[..., 2] = -t123 + 0.576873331938*ddq3
     tau[..., 3] = t114 + 0.19079062612368*ddq4
     tau[..., 4] = -t106 + 0.170706291657*ddq5
     tau[..., 5] = t101 + 0.194064505668*ddq6
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -1995,6 +2077,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (6,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -2010,14 +2099,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
     t3 = q2 + q3
-    t4 = numpy.cos(t3)
+    t6, t4 = _sincos(t3)
     t5 = a3*t4
-    t6 = numpy.sin(t3)
-    t7 = a2*numpy.sin(q2)
+    t7 = _s1*a2
     t8 = a3*t6
     t9 = d4*t4
     t10 = t0*t8 + t0*t9
@@ -2026,22 +2114,18 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t13 = t0*w_ny - t1*w_nx
     t14 = t0*t6
     t15 = t1*t6
-    t16 = numpy.sin(q4)
-    t17 = numpy.cos(q4)
+    t16, t17 = _sincos(q4)
     t18 = t16*t4
     t19 = t1*t17
-    t20 = numpy.cos(q5)
-    t21 = numpy.sin(q5)
+    t21, t20 = _sincos(q5)
     t22 = t16*t21
     t23 = t21*t4
-    tau_w = numpy.zeros(batch + (6,))
     tau_w[..., 0] = -w_nz + w_fx*(t1*t2 + t1*t5 - d3*t0 - d4*t1*t6) + w_fy*(-d3*t1 - t0*t2 - t0*t5 + d4*t0*t6)
     tau_w[..., 1] = t13 + w_fx*(t10 + t0*t7) + w_fy*(t11 + t1*t7) + w_fz*(-t12 - t2)
     tau_w[..., 2] = t13 + t10*w_fx + t11*w_fy - t12*w_fz
     tau_w[..., 3] = t14*w_nx + t15*w_ny - t4*w_nz
     tau_w[..., 4] = w_nx*(-t19 - t0*t18) + w_ny*(t0*t17 - t1*t18) - t16*t6*w_nz
     tau_w[..., 5] = w_nx*(t14*t20 - t1*t22 + t0*t17*t23) + w_ny*(t0*t22 + t15*t20 + t19*t23) + w_nz*(-t20*t4 + t17*t21*t6)
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -2056,6 +2140,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (6,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -2072,42 +2163,35 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t1*t4 + t3*t5
     t7 = t3*t4 - t1*t5
-    t8 = numpy.cos(q4)
+    t10, t8 = _sincos(q4)
     t9 = t6*t8
-    t10 = numpy.sin(q4)
     t11 = t10*t6
-    t12 = numpy.sin(q5)
-    t13 = numpy.cos(q5)
+    t12, t13 = _sincos(q5)
     t14 = t12*t7 + t13*t9
     t15 = t13*t7 - t12*t9
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t14*t17 - t11*t16
     t19 = t11*t17 + t14*t16
     t20 = 0.09*t18
     t21 = 0.09*t19
     t22 = 0.09*t15
     t23 = q2 + q3
-    t24 = numpy.cos(t23)
+    t26, t24 = _sincos(t23)
     t25 = t12*t24
-    t26 = numpy.sin(t23)
     t27 = t17*t8
     t28 = t13*t26
     t29 = -t17*t25 - t27*t28 + t10*t16*t26
-    t30 = numpy.sin(q1)
+    t30, t35 = _sincos(q1)
     t31 = t16*t8
     t32 = t30*t31
     t33 = t10*t30
     t34 = t13*t17
-    t35 = numpy.cos(q1)
     t36 = t10*t35
     t37 = t12*t26
     t38 = t13*t24
@@ -2162,14 +2246,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t87 = 0.2275*t83 + a2*t78 + t4*t82 + t5*t80
     t88 = -t81 - 0.3638*t84 - 0.006*t83 + a2*t85
     t89 = t0*t86 + t2*t87
-    tau_s = numpy.zeros(batch + (6,))
     tau_s[..., 0] = t89
     tau_s[..., 1] = t88
     tau_s[..., 2] = -t81
     tau_s[..., 3] = t73
     tau_s[..., 4] = -t66
     tau_s[..., 5] = t61
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -2186,6 +2268,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -2201,30 +2292,25 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     a3 = p[..., 1]
     d3 = p[..., 2]
     d4 = p[..., 3]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = d3*t6
     t8 = t2 + a3*t6
     t9 = d3*t5
-    t10 = numpy.cos(q4)
+    t12, t10 = _sincos(q4)
     t11 = t10*t5
-    t12 = numpy.sin(q4)
     t13 = t12*t5
     t14 = t10*t7 + t12*t8 - d4*t13
     t15 = d4*t11 + t12*t7 - t10*t8
-    t16 = numpy.sin(q5)
-    t17 = numpy.cos(q5)
+    t16, t17 = _sincos(q5)
     t18 = t11*t17 + t16*t6
     t19 = t17*t6 - t11*t16
     t20 = t14*t17 - t16*t9
     t21 = t14*t16 + t17*t9
-    t22 = numpy.sin(q6)
-    t23 = numpy.cos(q6)
+    t22, t23 = _sincos(q6)
     t24 = t18*t23 - t13*t22
     t25 = t13*t23 + t18*t22
     t26 = t20*t23 - t15*t22
@@ -2360,21 +2446,16 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t156 = 1.024164*t1
     t157 = 230.0445*a2*t0
     t158 = q2 + q3
-    t159 = numpy.sin(t158)
+    t159, t161 = _sincos(t158)
     t160 = 0.9558864*t159
-    t161 = numpy.cos(t158)
     t162 = 3.4489998*t161
     t163 = 59.3505*a3*t159
     t164 = 12.2625*d4*t161
     t165 = 0.0282528*t161*t17
     t166 = 0.0282528*t10*t159*t16
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t154
-    potential = numpy.zeros(batch + ())
     potential[...] = t156 + t157 + t162 + t163 + t164 + t165 - t155 - t160 - t166
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = t154 + t155 + t160 + t166 - t156 - t157 - t162 - t163 - t164 - t165
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

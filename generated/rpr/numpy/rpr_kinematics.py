@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters L3
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 3
 PARAMETER_NAMES = ("L3", )
 DEFAULT_PARAMETERS = numpy.array([1.0], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,17 +98,21 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.sin(q1)
-    t1 = numpy.sin(q3)
+    t0, t4 = _sincos(q1)
+    t1, t3 = _sincos(q3)
     t2 = t0*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.cos(q1)
     t5 = t1*t4
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t2
     T[..., 0, 1] = t0*t3
     T[..., 0, 2] = t4
@@ -65,7 +125,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 1] = -t1
     T[..., 2, 3] = L3*t3
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -78,18 +137,23 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.sin(q1)
-    t1 = L3*numpy.sin(q3)
-    t2 = numpy.cos(q1)
-    p_tool = numpy.zeros(batch + (3,))
+    t0, t2 = _sincos(q1)
+    _s1, _c1 = _sincos(q3)
+    t1 = _s1*L3
     p_tool[..., 0] = q2*t0 + t0*t1
     p_tool[..., 1] = -q2*t2 - t1*t2
-    p_tool[..., 2] = L3*numpy.cos(q3)
-    return p_tool
+    p_tool[..., 2] = _c1*L3
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -102,15 +166,21 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q1)
-    t1 = L3*numpy.sin(q3)
-    t2 = numpy.sin(q1)
-    t3 = L3*numpy.cos(q3)
-    J = numpy.zeros(batch + (6, 3))
+    t2, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q3)
+    t1 = _s1*L3
+    t3 = _c1*L3
     J[..., 0, 0] = q2*t0 + t0*t1
     J[..., 0, 1] = t2
     J[..., 0, 2] = t2*t3
@@ -121,7 +191,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 3, 2] = t0
     J[..., 4, 2] = t2
     J[..., 5, 0] = 1
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -134,15 +203,21 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 3))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q1)
-    t1 = L3*numpy.sin(q3)
-    t2 = numpy.sin(q1)
-    t3 = L3*numpy.cos(q3)
-    Jp = numpy.zeros(batch + (3, 3))
+    t2, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q3)
+    t1 = _s1*L3
+    t3 = _c1*L3
     Jp[..., 0, 0] = q2*t0 + t0*t1
     Jp[..., 0, 1] = t2
     Jp[..., 0, 2] = t2*t3
@@ -150,7 +225,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 1, 1] = -t0
     Jp[..., 1, 2] = -t0*t3
     Jp[..., 2, 2] = -t1
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -164,21 +238,26 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.sin(q1)
-    t1 = numpy.sin(q3)
+    t0, t5 = _sincos(q1)
+    t1, t3 = _sincos(q3)
     t2 = t0*t1
-    t3 = numpy.cos(q3)
     t4 = t0*t3
-    t5 = numpy.cos(q1)
     t6 = L3*t2 + q2*t0
     t7 = t1*t5
     t8 = t3*t5
     t9 = L3*t7 + q2*t5
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t2
     T[..., 0, 1] = t4
     T[..., 0, 2] = t5
@@ -191,7 +270,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 1] = -t1
     T[..., 2, 3] = L3*t3
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 3))
     J[..., 0, 0] = t9
     J[..., 0, 1] = t0
     J[..., 0, 2] = L3*t4
@@ -202,7 +280,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 3, 2] = t5
     J[..., 4, 2] = t0
     J[..., 5, 0] = 1
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -215,13 +292,19 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = L3*numpy.sin(q3)
-    det = numpy.zeros(batch + ())
+    _s0, _c0 = _sincos(q3)
+    t0 = _s0*L3
     det[...] = t0*(q2 + t0)
-    return det
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -234,13 +317,19 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = L3*numpy.sin(q3)
-    mu = numpy.zeros(batch + ())
+    _s0, _c0 = _sincos(q3)
+    t0 = _s0*L3
     mu[...] = abs(t0*(q2 + t0))
-    return mu
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -253,11 +342,17 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
-    t1 = numpy.sin(q3)
+    t1, t0 = _sincos(q3)
     t2 = q2 + L3*t1
     t3 = 3.393*t2 - 1.6965*t1
     t4 = 0.0006786*t0
@@ -272,13 +367,11 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t13 = 5.301 + t0*t11 + t1*t10
     t14 = -1.6965 + 3.393*L3
     t15 = 0.2831 - t14*t5
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t9
     M[..., 1, 1] = t13
     M[..., 1, 2] = t12
     M[..., 2, 1] = t12
     M[..., 2, 2] = t15
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -291,21 +384,25 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (3,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q3 = q[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
+    t2, t0 = _sincos(q3)
     t1 = 9.81*t0
-    t2 = numpy.sin(q3)
     t3 = -9.81*t2
     t4 = 3.393*t1
     t5 = 3.393*t3
     t6 = -0.5 + L3
     t7 = t5*t6
     t8 = t0*t5 + t2*t4
-    G = numpy.zeros(batch + (3,))
     G[..., 1] = t8
     G[..., 2] = t7
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -320,6 +417,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (3,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -329,9 +433,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t0 = dq1**2
     t1 = q2*t0
     t2 = 2*dq1*dq2
-    t3 = numpy.cos(q3)
+    t5, t3 = _sincos(q3)
     t4 = dq1*t3
-    t5 = numpy.sin(q3)
     t6 = dq1*t5
     t7 = dq3*t6
     t8 = dq3*t4
@@ -354,11 +457,9 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t25 = 2.6505*t0 - 5.301*t1 + t17*t5 + t18*t3
     t26 = t19 + t24
     t27 = -0.5*t24 + q2*t26 - t20*t3 - t22*t5
-    c = numpy.zeros(batch + (3,))
     c[..., 0] = t27
     c[..., 1] = t25
     c[..., 2] = -t23
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -373,14 +474,20 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (3, 3))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     dq3 = dq[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
-    t1 = numpy.sin(q3)
+    t1, t0 = _sincos(q3)
     t2 = q2 + L3*t1
     t3 = 3.393*t2 - 1.6965*t1
     t4 = 0.0006786*t0
@@ -402,14 +509,12 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t20 = (1/2)*t17
     t21 = dq1*t19
     t22 = dq1*t20
-    C = numpy.zeros(batch + (3, 3))
     C[..., 0, 0] = dq2*t19 + dq3*t20
     C[..., 0, 1] = t21
     C[..., 0, 2] = t22
     C[..., 1, 0] = -t21
     C[..., 1, 2] = dq3*t18
     C[..., 2, 0] = -t22
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -425,14 +530,21 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    bias = numpy.zeros(batch + (3,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     dq3 = dq[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
-    t1 = numpy.sin(q3)
+    t1, t0 = _sincos(q3)
     t2 = q2 + L3*t1
     t3 = 3.393*t2 - 1.6965*t1
     t4 = 0.0006786*t0
@@ -472,17 +584,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t38 = 2.6505*t16 - 5.301*t17 + t0*t32 + t1*t31
     t39 = t33 + t37
     t40 = -0.5*t37 + q2*t39 - t0*t34 - t1*t35
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t9
     M[..., 1, 1] = t13
     M[..., 1, 2] = -t12
     M[..., 2, 1] = -t12
     M[..., 2, 2] = t15
-    bias = numpy.zeros(batch + (3,))
     bias[..., 0] = t40
     bias[..., 1] = t38
     bias[..., 2] = -t36
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -499,6 +608,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (3,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -511,9 +627,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t0 = dq1**2
     t1 = ddq2 - q2*t0
     t2 = ddq1*q2 + 2*dq1*dq2
-    t3 = numpy.cos(q3)
+    t5, t3 = _sincos(q3)
     t4 = dq1*t3
-    t5 = numpy.sin(q3)
     t6 = dq1*t5
     t7 = ddq1*t3 - dq3*t6
     t8 = ddq1*t5 + dq3*t4
@@ -538,11 +653,9 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t27 = 2.6505*t0 + 5.301*t1 + t19*t5 + t20*t3
     t28 = t21 + t26
     t29 = 0.447901*ddq1 - 0.5*t26 + q2*t28 + t22*t3 - t24*t5
-    tau = numpy.zeros(batch + (3,))
     tau[..., 0] = t29
     tau[..., 1] = t27
     tau[..., 2] = t25
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -557,6 +670,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (3,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -567,17 +687,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_ny = wrench[..., 4]
     w_nz = wrench[..., 5]
     L3 = p[..., 0]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q3)
+    t3, t0 = _sincos(q1)
+    t1, t5 = _sincos(q3)
     t2 = L3*t1
-    t3 = numpy.sin(q1)
     t4 = t3*w_fx
-    t5 = numpy.cos(q3)
-    tau_w = numpy.zeros(batch + (3,))
     tau_w[..., 0] = -w_nz + w_fx*(-q2*t0 - t0*t2) + w_fy*(-q2*t3 - t2*t3)
     tau_w[..., 1] = -t4 + t0*w_fy
     tau_w[..., 2] = -t0*w_nx - t3*w_ny + L3*t1*w_fz - L3*t4*t5 + L3*t0*t5*w_fy
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -592,6 +708,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (3,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -602,14 +725,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_ny = wrench[..., 4]
     w_nz = wrench[..., 5]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
+    t2, t0 = _sincos(q3)
     t1 = 9.81*t0
-    t2 = numpy.sin(q3)
     t3 = 9.81*t2
     t4 = 3.393*t3
-    t5 = numpy.cos(q1)
+    t7, t5 = _sincos(q1)
     t6 = t5*w_fy
-    t7 = numpy.sin(q1)
     t8 = t7*w_fx
     t9 = t6 - t8
     t10 = 3.393*t1 + t2*t9 - t0*w_fz
@@ -622,11 +743,9 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t17 = 0.5*t4 + L3*t11 - t5*w_nx - t7*w_ny
     t18 = t0*t11 + t10*t2
     t19 = t0*t15 - q2*t12 - t16*t2
-    tau_s = numpy.zeros(batch + (3,))
     tau_s[..., 0] = t19
     tau_s[..., 1] = t18
     tau_s[..., 2] = t17
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -643,14 +762,22 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     dq3 = dq[..., 2]
     L3 = p[..., 0]
-    t0 = numpy.cos(q3)
-    t1 = numpy.sin(q3)
+    t1, t0 = _sincos(q3)
     t2 = q2 + L3*t1
     t3 = 3.393*t2 - 1.6965*t1
     t4 = 0.0006786*t0
@@ -669,13 +796,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t17 = (1/2)*t16 - dq2*dq3*t12
     t18 = 16.642665*t0
     t19 = 33.28533*L3*t0
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t17
-    potential = numpy.zeros(batch + ())
     potential[...] = t19 - t18
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = t17 + t18 - t19
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

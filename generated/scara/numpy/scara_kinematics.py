@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 3
 PARAMETER_NAMES = ("L1", "L2", )
 DEFAULT_PARAMETERS = numpy.array([0.325, 0.225], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,25 +98,30 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = numpy.cos(t0)
-    t2 = numpy.sin(t0)
-    T = numpy.zeros(batch + (4, 4))
+    t2, t1 = _sincos(t0)
+    _s1, _c1 = _sincos(q1)
     T[..., 0, 0] = t1
     T[..., 0, 1] = -t2
-    T[..., 0, 3] = L1*numpy.cos(q1) + L2*t1
+    T[..., 0, 3] = _c1*L1 + L2*t1
     T[..., 1, 0] = t2
     T[..., 1, 1] = t1
-    T[..., 1, 3] = L1*numpy.sin(q1) + L2*t2
+    T[..., 1, 3] = _s1*L1 + L2*t2
     T[..., 2, 2] = 1
     T[..., 2, 3] = q3
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -73,17 +134,24 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    p_tool = numpy.zeros(batch + (3,))
-    p_tool[..., 0] = L1*numpy.cos(q1) + L2*numpy.cos(t0)
-    p_tool[..., 1] = L1*numpy.sin(q1) + L2*numpy.sin(t0)
+    _s0, _c0 = _sincos(q1)
+    _s1, _c1 = _sincos(t0)
+    p_tool[..., 0] = _c0*L1 + _c1*L2
+    p_tool[..., 1] = _s0*L1 + _s1*L2
     p_tool[..., 2] = q3
-    return p_tool
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -96,22 +164,29 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = L2*numpy.sin(t0)
-    t2 = L2*numpy.cos(t0)
-    J = numpy.zeros(batch + (6, 3))
-    J[..., 0, 0] = -t1 - L1*numpy.sin(q1)
+    _s0, _c0 = _sincos(t0)
+    t1 = _s0*L2
+    t2 = _c0*L2
+    _s1, _c1 = _sincos(q1)
+    J[..., 0, 0] = -t1 - _s1*L1
     J[..., 0, 1] = -t1
-    J[..., 1, 0] = t2 + L1*numpy.cos(q1)
+    J[..., 1, 0] = t2 + _c1*L1
     J[..., 1, 1] = t2
     J[..., 2, 2] = 1
     J[..., 5, 0] = 1
     J[..., 5, 1] = 1
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -124,20 +199,27 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 3))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = L2*numpy.sin(t0)
-    t2 = L2*numpy.cos(t0)
-    Jp = numpy.zeros(batch + (3, 3))
-    Jp[..., 0, 0] = -t1 - L1*numpy.sin(q1)
+    _s0, _c0 = _sincos(t0)
+    t1 = _s0*L2
+    t2 = _c0*L2
+    _s1, _c1 = _sincos(q1)
+    Jp[..., 0, 0] = -t1 - _s1*L1
     Jp[..., 0, 1] = -t1
-    Jp[..., 1, 0] = t2 + L1*numpy.cos(q1)
+    Jp[..., 1, 0] = t2 + _c1*L1
     Jp[..., 1, 1] = t2
     Jp[..., 2, 2] = 1
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -151,19 +233,26 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 3))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = numpy.cos(t0)
-    t2 = numpy.sin(t0)
+    t2, t1 = _sincos(t0)
     t3 = L2*t1
-    t4 = t3 + L1*numpy.cos(q1)
+    _s1, _c1 = _sincos(q1)
+    t4 = t3 + _c1*L1
     t5 = L2*t2
-    t6 = t5 + L1*numpy.sin(q1)
-    T = numpy.zeros(batch + (4, 4))
+    t6 = t5 + _s1*L1
     T[..., 0, 0] = t1
     T[..., 0, 1] = -t2
     T[..., 0, 3] = t4
@@ -173,7 +262,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = 1
     T[..., 2, 3] = q3
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 3))
     J[..., 0, 0] = -t6
     J[..., 0, 1] = -t5
     J[..., 1, 0] = t4
@@ -181,7 +269,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 2, 2] = 1
     J[..., 5, 0] = 1
     J[..., 5, 1] = 1
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -194,12 +281,18 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    det = numpy.zeros(batch + ())
-    det[...] = L1*L2*numpy.sin(q2)
-    return det
+    _s0, _c0 = _sincos(q2)
+    det[...] = _s0*L1*L2
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -212,12 +305,18 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    mu = numpy.zeros(batch + ())
-    mu[...] = abs(L1*L2*numpy.sin(q2))
-    return mu
+    _s0, _c0 = _sincos(q2)
+    mu[...] = abs(_s0*L1*L2)
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -230,12 +329,18 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
     t4 = -0.1342125 + 1.193*t3
     t5 = 1.6862*t1
@@ -247,13 +352,11 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t11 = -0.1342125 + 1.193*L2
     t12 = t11 + 0.4932*L2
     t13 = 0.00524366 - 0.1125*t11 + L2*t12
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t10
     M[..., 0, 1] = t7
     M[..., 1, 0] = t7
     M[..., 1, 1] = t13
     M[..., 2, 2] = 0.493200000000000
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -267,8 +370,13 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
     G = numpy.zeros(batch + (3,))
-    G[..., 2] = 4.83829200000000
+    _blocks(_gravity, (q, ), (p, ), (G, ))
     return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
+    G[..., 2] = 4.83829200000000
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -283,6 +391,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (3,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
@@ -292,9 +407,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t1 = L1*t0
     t2 = dq1 + dq2
     t3 = t2**2
-    t4 = numpy.cos(q2)
+    t6, t4 = _sincos(q2)
     t5 = L2*t3 + t1*t4
-    t6 = numpy.sin(q2)
     t7 = t1*t6
     t8 = 1.193*t7
     t9 = 0.1342125*t3 - 1.6862*t5
@@ -302,10 +416,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t11 = -0.1125*t8 + L2*t10
     t12 = t10*t4 + t6*t9
     t13 = t11 + L1*t12
-    c = numpy.zeros(batch + (3,))
     c[..., 0] = t13
     c[..., 1] = t11
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -320,14 +432,20 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (3, 3))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.cos(q2)
     t3 = L1*t2
     t4 = L2 + t3
     t5 = 1.193*t1
@@ -340,11 +458,9 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t12 = t8 + L1*t11
     t13 = (1/2)*t12
     t14 = dq1*t13
-    C = numpy.zeros(batch + (3, 3))
     C[..., 0, 0] = dq2*t13
     C[..., 0, 1] = t14 + dq2*t8
     C[..., 1, 0] = -t14
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -360,14 +476,21 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (3, 3))
+    bias = numpy.zeros(batch + (3,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
     t4 = -0.1342125 + 1.193*t3
     t5 = 1.6862*t1
@@ -391,17 +514,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t23 = -0.1125*t20 + L2*t22
     t24 = t0*t21 + t2*t22
     t25 = t23 + L1*t24
-    M = numpy.zeros(batch + (3, 3))
     M[..., 0, 0] = t10
     M[..., 0, 1] = t7
     M[..., 1, 0] = t7
     M[..., 1, 1] = t13
     M[..., 2, 2] = 0.493200000000000
-    bias = numpy.zeros(batch + (3,))
     bias[..., 0] = t25
     bias[..., 1] = t23
     bias[..., 2] = 4.83829200000000
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -418,6 +538,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (3,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     dq1 = dq[..., 0]
     dq2 = dq[..., 1]
@@ -432,8 +559,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t3 = dq1 + dq2
     t4 = ddq1 + ddq2
     t5 = t3**2
-    t6 = numpy.cos(q2)
-    t7 = numpy.sin(q2)
+    t7, t6 = _sincos(q2)
     t8 = t2*t7 - L2*t5 - t1*t6
     t9 = L2*t4 + t1*t7 + t2*t6
     t10 = 9.81 + ddq3
@@ -445,11 +571,9 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t16 = 2.481*t2 - 0.4031625*ddq1
     t17 = t16 + t13*t7 + t14*t6
     t18 = t15 + 0.0224*ddq1 - 0.1625*t16 + L1*t17
-    tau = numpy.zeros(batch + (3,))
     tau[..., 0] = t18
     tau[..., 1] = t15
     tau[..., 2] = t11
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -464,6 +588,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (3,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     w_fx = wrench[..., 0]
@@ -473,13 +604,12 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = numpy.sin(t0)
-    t2 = L2*numpy.cos(t0)
-    tau_w = numpy.zeros(batch + (3,))
-    tau_w[..., 0] = -w_nz + w_fx*(L1*numpy.sin(q1) + L2*t1) + w_fy*(-t2 - L1*numpy.cos(q1))
+    t1, _c0 = _sincos(t0)
+    t2 = _c0*L2
+    _s1, _c1 = _sincos(q1)
+    tau_w[..., 0] = -w_nz + w_fx*(_s1*L1 + L2*t1) + w_fy*(-t2 - _c1*L1)
     tau_w[..., 1] = -w_nz - t2*w_fy + L2*t1*w_fx
     tau_w[..., 2] = -w_fz
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -494,6 +624,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (3,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     w_fx = wrench[..., 0]
@@ -503,19 +640,17 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     L1 = p[..., 0]
     L2 = p[..., 1]
     t0 = q1 + q2
-    t1 = numpy.cos(t0)
-    t2 = numpy.sin(t0)
+    t2, t1 = _sincos(t0)
     t3 = t1*w_fx + t2*w_fy
     t4 = t2*w_fx - t1*w_fy
     t5 = 4.838292 - w_fz
     t6 = -w_nz + L2*t4
-    t7 = t4*numpy.cos(q2) - t3*numpy.sin(q2)
+    _s1, _c1 = _sincos(q2)
+    t7 = _c1*t4 - _s1*t3
     t8 = t6 + L1*t7
-    tau_s = numpy.zeros(batch + (3,))
     tau_s[..., 0] = t8
     tau_s[..., 1] = t6
     tau_s[..., 2] = t5
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -532,6 +667,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     dq1 = dq[..., 0]
@@ -539,9 +683,8 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq3 = dq[..., 2]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = L1*t0
-    t2 = numpy.cos(q2)
     t3 = L2 + L1*t2
     t4 = -0.1342125 + 1.193*t3
     t5 = 1.6862*t1
@@ -556,13 +699,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t14 = t10*dq1**2 + t13*dq2**2
     t15 = (1/2)*t14 + 0.2466*dq3**2 + dq1*dq2*t7
     t16 = 4.838292*q3
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t15
-    potential = numpy.zeros(batch + ())
     potential[...] = 0.4838292 + t16
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = -0.4838292 + t15 - t16
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, d
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 6
 PARAMETER_NAMES = ("d1", "d2", "d6", )
 DEFAULT_PARAMETERS = numpy.array([0.412, 0.154, 0.263], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,6 +98,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -51,20 +114,15 @@ def fk(q, p=DEFAULT_PARAMETERS):
     d1 = p[..., 0]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.cos(q4)
+    t0, t9 = _sincos(q6)
+    t1, t6 = _sincos(q1)
+    t5, t2 = _sincos(q4)
     t3 = t1*t2
-    t4 = numpy.cos(q2)
-    t5 = numpy.sin(q4)
-    t6 = numpy.cos(q1)
+    t11, t4 = _sincos(q2)
     t7 = t5*t6
     t8 = -t3 - t4*t7
-    t9 = numpy.cos(q6)
-    t10 = numpy.sin(q5)
-    t11 = numpy.sin(q2)
+    t10, t13 = _sincos(q5)
     t12 = t11*t6
-    t13 = numpy.cos(q5)
     t14 = t1*t5
     t15 = -t14 + t2*t4*t6
     t16 = t13*t15 - t10*t12
@@ -77,7 +135,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     t23 = t11*t2
     t24 = -t10*t4 - t13*t23
     t25 = t13*t4 - t10*t23
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t8 + t16*t9
     T[..., 0, 1] = t8*t9 - t0*t16
     T[..., 0, 2] = t17
@@ -91,7 +148,6 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t25
     T[..., 2, 3] = d1 + d6*t25 + q3*t4
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -104,6 +160,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -112,22 +175,20 @@ def position(q, p=DEFAULT_PARAMETERS):
     d1 = p[..., 0]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q1)
-    t1 = numpy.cos(q1)
-    t2 = numpy.sin(q2)
+    t0, t1 = _sincos(q1)
+    t2, t8 = _sincos(q2)
     t3 = q3*t2
-    t4 = d6*numpy.cos(q5)
+    _s2, _c2 = _sincos(q5)
+    t4 = _c2*d6
     t5 = t2*t4
-    t6 = d6*numpy.sin(q5)
-    t7 = t6*numpy.sin(q4)
-    t8 = numpy.cos(q2)
-    t9 = t6*numpy.cos(q4)
+    t6 = _s2*d6
+    _s3, _c3 = _sincos(q4)
+    t7 = _s3*t6
+    t9 = _c3*t6
     t10 = t8*t9
-    p_tool = numpy.zeros(batch + (3,))
     p_tool[..., 0] = t1*t10 + t1*t3 + t1*t5 - d2*t0 - t0*t7
     p_tool[..., 1] = d2*t1 + t0*t10 + t0*t3 + t0*t5 + t1*t7
     p_tool[..., 2] = d1 + q3*t8 + t4*t8 - t2*t9
-    return p_tool
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -140,6 +201,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -147,16 +215,12 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q5 = q[..., 4]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = numpy.sin(q2)
+    t1, t0 = _sincos(q1)
+    t2, t8 = _sincos(q2)
     t3 = t1*t2
-    t4 = numpy.cos(q5)
-    t5 = numpy.sin(q5)
-    t6 = numpy.sin(q4)
+    t5, t4 = _sincos(q5)
+    t6, t9 = _sincos(q4)
     t7 = t0*t6
-    t8 = numpy.cos(q2)
-    t9 = numpy.cos(q4)
     t10 = t1*t9
     t11 = t3*t4 + t5*(t7 + t10*t8)
     t12 = d6*t11
@@ -172,7 +236,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t22 = d6*t21
     t23 = t22 + q3*t17 - d2*t1
     t24 = -t10 - t7*t8
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t13
     J[..., 0, 1] = t0*t16
     J[..., 0, 2] = t17
@@ -199,7 +262,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 3] = t8
     J[..., 5, 4] = t18
     J[..., 5, 5] = t14
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -212,6 +274,13 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 6))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -219,18 +288,14 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q5 = q[..., 4]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = numpy.sin(q2)
+    t1, t0 = _sincos(q1)
+    t2, t11 = _sincos(q2)
     t3 = t1*t2
-    t4 = numpy.cos(q5)
+    t7, t4 = _sincos(q5)
     t5 = d6*t4
-    t6 = numpy.sin(q4)
-    t7 = numpy.sin(q5)
+    t6, t10 = _sincos(q4)
     t8 = d6*t7
     t9 = t6*t8
-    t10 = numpy.cos(q4)
-    t11 = numpy.cos(q2)
     t12 = t11*t8
     t13 = t10*t12
     t14 = q3*t11
@@ -241,7 +306,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     t19 = t5*t6
     t20 = t1*t15
     t21 = t2*t5
-    Jp = numpy.zeros(batch + (3, 6))
     Jp[..., 0, 0] = -d2*t0 - q3*t3 - t0*t9 - t1*t13 - t3*t5
     Jp[..., 0, 1] = t0*t14 + t0*t15 - t16*t17
     Jp[..., 0, 2] = t16
@@ -256,7 +320,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 2, 2] = t11
     Jp[..., 2, 3] = t2*t9
     Jp[..., 2, 4] = -t12 - t10*t21
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -270,6 +333,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -279,20 +350,15 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     d1 = p[..., 0]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.cos(q4)
+    t0, t9 = _sincos(q6)
+    t1, t6 = _sincos(q1)
+    t5, t2 = _sincos(q4)
     t3 = t1*t2
-    t4 = numpy.cos(q2)
-    t5 = numpy.sin(q4)
-    t6 = numpy.cos(q1)
+    t11, t4 = _sincos(q2)
     t7 = t5*t6
     t8 = -t3 - t4*t7
-    t9 = numpy.cos(q6)
-    t10 = numpy.sin(q5)
-    t11 = numpy.sin(q2)
+    t10, t13 = _sincos(q5)
     t12 = t11*t6
-    t13 = numpy.cos(q5)
     t14 = t1*t5
     t15 = -t14 + t2*t4*t6
     t16 = t13*t15 - t10*t12
@@ -312,7 +378,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t30 = t13*t4 - t10*t28
     t31 = d6*t30
     t32 = t31 + q3*t4
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t8 + t16*t9
     T[..., 0, 1] = t8*t9 - t0*t16
     T[..., 0, 2] = t17
@@ -326,7 +391,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t30
     T[..., 2, 3] = d1 + t32
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t26
     J[..., 0, 1] = t32*t6
     J[..., 0, 2] = t12
@@ -353,7 +417,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 3] = t4
     J[..., 5, 4] = t27
     J[..., 5, 5] = t30
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -366,12 +429,19 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q5 = q[..., 4]
-    det = numpy.zeros(batch + ())
-    det[...] = q3**2*numpy.sin(q2)*numpy.sin(q5)
-    return det
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q5)
+    det[...] = _s0*_s1*q3**2
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -384,12 +454,19 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q5 = q[..., 4]
-    mu = numpy.zeros(batch + ())
-    mu[...] = q3**2*abs(numpy.sin(q2)*numpy.sin(q5))
-    return mu
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q5)
+    mu[...] = q3**2*abs(_s0*_s1)
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -402,6 +479,13 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -409,25 +493,21 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q6 = q[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q2)
-    t1 = numpy.sin(q2)
+    t1, t0 = _sincos(q2)
     t2 = d2*t0
     t3 = d2*t1
     t4 = q3*t1
-    t5 = numpy.cos(q4)
+    t7, t5 = _sincos(q4)
     t6 = t1*t5
-    t7 = numpy.sin(q4)
     t8 = t1*t7
     t9 = t4*t7 - t2*t5
     t10 = t2*t7 + t4*t5
-    t11 = numpy.sin(q5)
-    t12 = numpy.cos(q5)
+    t11, t12 = _sincos(q5)
     t13 = t0*t11 + t12*t6
     t14 = t0*t12 - t11*t6
     t15 = t11*t3 + t12*t9
     t16 = t11*t9 - t12*t3
-    t17 = numpy.sin(q6)
-    t18 = numpy.cos(q6)
+    t17, t18 = _sincos(q6)
     t19 = t17*t8 - t13*t18
     t20 = t13*t17 + t18*t8
     t21 = d6*t20 + t10*t17 + t15*t18
@@ -522,7 +602,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t110 = 0.11733745*t17 - 0.8923*t108
     t111 = 0.005233*t17 + t110*t25
     t112 = 0.005233*t18 - t109*t25
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.2 - t53
     M[..., 0, 1] = t46
     M[..., 0, 2] = -t45
@@ -555,7 +634,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 5, 1] = t68
     M[..., 5, 3] = t102
     M[..., 5, 5] = 0.0501785000000000
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -568,6 +646,13 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (6,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -575,20 +660,16 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q6 = q[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q4)
+    t6, t4 = _sincos(q4)
     t5 = t1*t4
-    t6 = numpy.sin(q4)
     t7 = t1*t6
-    t8 = numpy.sin(q5)
-    t9 = numpy.cos(q5)
+    t8, t9 = _sincos(q5)
     t10 = t3*t8 + t5*t9
     t11 = t3*t9 - t5*t8
-    t12 = numpy.sin(q6)
-    t13 = numpy.cos(q6)
+    t12, t13 = _sincos(q6)
     t14 = t12*t7 - t10*t13
     t15 = t10*t12 + t13*t7
     t16 = 0.8923*t14
@@ -618,13 +699,11 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     t40 = -0.077*t37 + d2*t39 + t29*t4 - q3*t33 - t25*t6
     t41 = t30 + 0.077*t36 + d2*t38
     t42 = t0*t40 + t2*t41
-    G = numpy.zeros(batch + (6,))
     G[..., 0] = -t42
     G[..., 1] = t35
     G[..., 2] = t34
     G[..., 3] = -t30
     G[..., 4] = t25
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -639,6 +718,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (6,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -652,9 +738,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq6 = dq[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = dq2*t3
     t5 = dq2*t1
@@ -669,8 +754,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t14 = dq2*t13 - q3*t9
     t15 = q3*t11 + t1*t13 - d2*t10
     t16 = q3*t12
-    t17 = numpy.cos(q4)
-    t18 = numpy.sin(q4)
+    t18, t17 = _sincos(q4)
     t19 = dq2*t18 - t1*t17
     t20 = dq4 + t3
     t21 = dq2*t17 + t1*t18
@@ -680,8 +764,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t25 = t20*t21
     t26 = t14*t17 + t15*t18
     t27 = t15*t17 - t14*t18
-    t28 = numpy.cos(q5)
-    t29 = numpy.sin(q5)
+    t29, t28 = _sincos(q5)
     t30 = t19*t28 - t20*t29
     t31 = dq5 + t21
     t32 = t19*t29 + t20*t28
@@ -691,8 +774,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t36 = t31*t32
     t37 = t16*t29 + t26*t28
     t38 = t26*t29 - t16*t28
-    t39 = numpy.cos(q6)
-    t40 = numpy.sin(q6)
+    t40, t39 = _sincos(q6)
     t41 = t30*t39 + t31*t40
     t42 = t31*t39 - t30*t40
     t43 = dq6 + t32
@@ -735,14 +817,12 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t80 = 0.5*t75 - 1.276447*t4 + d2*t78 + t17*t71 - q3*t77 - t18*t73
     t81 = t72 + 0.007517*t5 + d2*t76
     t82 = t0*t80 + t2*t81
-    c = numpy.zeros(batch + (6,))
     c[..., 0] = -t82
     c[..., 1] = t79
     c[..., 2] = t78
     c[..., 3] = -t72
     c[..., 4] = t66
     c[..., 5] = t61
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -757,6 +837,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (6, 6))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -770,25 +857,21 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq6 = dq[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q2)
-    t1 = numpy.sin(q2)
+    t1, t0 = _sincos(q2)
     t2 = d2*t0
     t3 = d2*t1
     t4 = q3*t1
-    t5 = numpy.cos(q4)
+    t7, t5 = _sincos(q4)
     t6 = t1*t5
-    t7 = numpy.sin(q4)
     t8 = t1*t7
     t9 = t4*t7 - t2*t5
     t10 = t2*t7 + t4*t5
-    t11 = numpy.cos(q5)
-    t12 = numpy.sin(q5)
+    t12, t11 = _sincos(q5)
     t13 = t0*t12 + t11*t6
     t14 = t0*t11 - t12*t6
     t15 = t11*t9 + t12*t3
     t16 = t12*t9 - t11*t3
-    t17 = numpy.sin(q6)
-    t18 = numpy.cos(q6)
+    t17, t18 = _sincos(q6)
     t19 = t17*t8 - t13*t18
     t20 = t13*t17 + t18*t8
     t21 = d6*t20 + t10*t17 + t15*t18
@@ -1197,7 +1280,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t424 = t275*t370
     t425 = t334*t384
     t426 = dq2*t406 + dq5*t412 - dq4*t413
-    C = numpy.zeros(batch + (6, 6))
     C[..., 0, 0] = -dq2*t404 - t185*t377 - t212*t387 - t236*t383 - t249*t384
     C[..., 0, 1] = -t405 + dq2*t250 + t377*t406 + t383*t407 + t384*t408 + t387*t409
     C[..., 0, 2] = (1/2)*t426 - t410 - t411 - dq3*t180
@@ -1232,7 +1314,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 5, 2] = t391
     C[..., 5, 3] = t370*t396 + t390*t394 - t383*t402
     C[..., 5, 4] = -t403 + t370*t401 - t387*t402 - t390*t400
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -1248,6 +1329,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    bias = numpy.zeros(batch + (6,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1261,25 +1350,21 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq6 = dq[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q2)
-    t1 = numpy.sin(q2)
+    t1, t0 = _sincos(q2)
     t2 = d2*t0
     t3 = d2*t1
     t4 = q3*t1
-    t5 = numpy.cos(q4)
+    t7, t5 = _sincos(q4)
     t6 = t1*t5
-    t7 = numpy.sin(q4)
     t8 = t1*t7
     t9 = t4*t7 - t2*t5
     t10 = t2*t7 + t4*t5
-    t11 = numpy.sin(q5)
-    t12 = numpy.cos(q5)
+    t11, t12 = _sincos(q5)
     t13 = t0*t11 + t12*t6
     t14 = t0*t12 - t11*t6
     t15 = t11*t3 + t12*t9
     t16 = t11*t9 - t12*t3
-    t17 = numpy.sin(q6)
-    t18 = numpy.cos(q6)
+    t17, t18 = _sincos(q6)
     t19 = t17*t8 - t13*t18
     t20 = t13*t17 + t18*t8
     t21 = d6*t20 + t10*t17 + t15*t18
@@ -1454,7 +1539,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t190 = 0.5*t181 - 1.276447*t115 - 0.077*t187 + d2*t189 + t177*t5 - q3*t183 - t179*t7
     t191 = t178 + 0.007517*t116 + 0.077*t186 + d2*t188
     t192 = t0*t191 + t1*t190
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.2 - t53
     M[..., 0, 1] = t46
     M[..., 0, 2] = -t45
@@ -1487,14 +1571,12 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 5, 1] = t68
     M[..., 5, 3] = t102
     M[..., 5, 5] = 0.0501785000000000
-    bias = numpy.zeros(batch + (6,))
     bias[..., 0] = -t192
     bias[..., 1] = t185
     bias[..., 2] = t184
     bias[..., 3] = -t178
     bias[..., 4] = t172
     bias[..., 5] = t167
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -1511,6 +1593,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (6,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1530,9 +1619,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq6 = ddq[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = ddq1*t0 + dq2*t3
     t5 = ddq1*t2 - dq2*t1
@@ -1554,8 +1642,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t21 = -t18 + dq2*t20 + q3*t13
     t22 = q3*t15 + t1*t20 - d2*t14
     t23 = ddq3 + t19 - q3*t17
-    t24 = numpy.sin(q4)
-    t25 = numpy.cos(q4)
+    t24, t25 = _sincos(q4)
     t26 = dq2*t24 - t1*t25
     t27 = dq4 + t3
     t28 = dq2*t25 + t1*t24
@@ -1566,8 +1653,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t33 = t27*t28
     t34 = t21*t25 + t22*t24
     t35 = t22*t25 - t21*t24
-    t36 = numpy.cos(q5)
-    t37 = numpy.sin(q5)
+    t37, t36 = _sincos(q5)
     t38 = t26*t36 - t27*t37
     t39 = dq5 + t28
     t40 = t26*t37 + t27*t36
@@ -1578,8 +1664,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t45 = t39*t40
     t46 = t34*t36 - t23*t37
     t47 = t23*t36 + t34*t37
-    t48 = numpy.cos(q6)
-    t49 = numpy.sin(q6)
+    t49, t48 = _sincos(q6)
     t50 = t38*t48 + t39*t49
     t51 = t39*t48 - t38*t49
     t52 = dq6 + t40
@@ -1627,14 +1712,12 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t94 = 0.5*t85 - 0.646395*t4 - 0.630052*t11 - 0.077*t91 + d2*t93 + t25*t81 - q3*t87 - t24*t83
     t95 = -t82 + 0.004413*t9 + 0.077*t90 + 0.01193*t5 - d2*t92
     t96 = -0.02265*ddq1 + t0*t94 - t2*t95
-    tau = numpy.zeros(batch + (6,))
     tau[..., 0] = -t96 + 0.2*ddq1
     tau[..., 1] = t89 + 0.204082*ddq2
     tau[..., 2] = t88 + 2*ddq3
     tau[..., 3] = -t82 + 0.05*ddq4
     tau[..., 4] = t76 + 0.05*ddq5
     tau[..., 5] = t71 + 0.05*ddq6
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -1649,6 +1732,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (6,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -1662,16 +1752,12 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_nz = wrench[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = numpy.sin(q2)
+    t1, t0 = _sincos(q1)
+    t2, t8 = _sincos(q2)
     t3 = t1*t2
-    t4 = numpy.cos(q5)
-    t5 = numpy.sin(q5)
-    t6 = numpy.sin(q4)
+    t5, t4 = _sincos(q5)
+    t6, t9 = _sincos(q4)
     t7 = t0*t6
-    t8 = numpy.cos(q2)
-    t9 = numpy.cos(q4)
     t10 = t1*t9
     t11 = t3*t4 + t5*(t7 + t10*t8)
     t12 = d6*t11
@@ -1690,14 +1776,12 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t25 = t15*t8 - t0*t9
     t26 = -t25
     t27 = -t24
-    tau_w = numpy.zeros(batch + (6,))
     tau_w[..., 0] = -w_nz + t13*w_fx - t18*w_fy
     tau_w[..., 1] = t1*w_nx + w_fz*(t0*t18 + t1*t13) - t0*w_ny - t0*t22*w_fx - t1*t22*w_fy
     tau_w[..., 2] = -t14*w_fx - t3*w_fy - t8*w_fz
     tau_w[..., 3] = w_fx*(t12*t8 - t21*t3) + w_fy*(-t17*t8 + d6*t0*t2*t20) + w_fz*(t17*t3 - t12*t14) - t14*w_nx - t3*w_ny - t8*w_nz
     tau_w[..., 4] = t24*w_nx + t25*w_ny + w_fx*(t12*t23 - t21*t26) + w_fy*(-t17*t23 + d6*t20*t27) + w_fz*(t17*t26 - t12*t27) - t23*w_nz
     tau_w[..., 5] = t19*w_nz - t11*w_ny - t16*w_nx
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -1712,6 +1796,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (6,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -1726,20 +1817,16 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     w_nz = wrench[..., 5]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q4)
+    t6, t4 = _sincos(q4)
     t5 = t1*t4
-    t6 = numpy.sin(q4)
     t7 = t1*t6
-    t8 = numpy.sin(q5)
-    t9 = numpy.cos(q5)
+    t8, t9 = _sincos(q5)
     t10 = t3*t8 + t5*t9
     t11 = t3*t9 - t5*t8
-    t12 = numpy.sin(q6)
-    t13 = numpy.cos(q6)
+    t12, t13 = _sincos(q6)
     t14 = t12*t7 - t10*t13
     t15 = t10*t12 + t13*t7
     t16 = 0.8923*t14
@@ -1750,12 +1837,11 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t21 = t2*t8
     t22 = t0*t6
     t23 = t13*t21 + t19*t20 - t12*t22
-    t24 = numpy.sin(q1)
+    t24, t29 = _sincos(q1)
     t25 = t12*t4
     t26 = t24*t25
     t27 = t24*t6
     t28 = t13*t9
-    t29 = numpy.cos(q1)
     t30 = t0*t8
     t31 = t29*t6
     t32 = t2*t9
@@ -1803,14 +1889,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t74 = -0.077*t71 + d2*t73 + t4*t63 - q3*t67 - t59*t6
     t75 = t64 + 0.077*t70 + d2*t72
     t76 = t0*t74 + t2*t75
-    tau_s = numpy.zeros(batch + (6,))
     tau_s[..., 0] = -t76
     tau_s[..., 1] = t69
     tau_s[..., 2] = t68
     tau_s[..., 3] = -t64
     tau_s[..., 4] = t59
     tau_s[..., 5] = t54
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -1827,6 +1911,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1841,25 +1934,21 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     d1 = p[..., 0]
     d2 = p[..., 1]
     d6 = p[..., 2]
-    t0 = numpy.cos(q2)
-    t1 = numpy.sin(q2)
+    t1, t0 = _sincos(q2)
     t2 = d2*t0
     t3 = d2*t1
     t4 = q3*t1
-    t5 = numpy.cos(q4)
+    t7, t5 = _sincos(q4)
     t6 = t1*t5
-    t7 = numpy.sin(q4)
     t8 = t1*t7
     t9 = t4*t7 - t2*t5
     t10 = t2*t7 + t4*t5
-    t11 = numpy.sin(q5)
-    t12 = numpy.cos(q5)
+    t11, t12 = _sincos(q5)
     t13 = t0*t11 + t12*t6
     t14 = t0*t12 - t11*t6
     t15 = t11*t3 + t12*t9
     t16 = t11*t9 - t12*t3
-    t17 = numpy.sin(q6)
-    t18 = numpy.cos(q6)
+    t17, t18 = _sincos(q6)
     t19 = t17*t8 - t13*t18
     t20 = t13*t17 + t18*t8
     t21 = d6*t20 + t10*t17 + t15*t18
@@ -1971,13 +2060,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t127 = t11*t6
     t128 = 1.1510803845*t127
     t129 = t125*t127
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t119
-    potential = numpy.zeros(batch + ())
     potential[...] = -25.4224188 + t120 + t122 + t126 + t128 - t121 - t124 - t129
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = 25.4224188 + t119 + t121 + t124 + t129 - t120 - t122 - t126 - t128
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

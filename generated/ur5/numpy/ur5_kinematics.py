@@ -25,11 +25,67 @@ arrays with the same leading batch dimensions.  ``p`` holds the parameters d1, a
 in that order (default: the robot file's values).
 """
 
+import math
+
 import numpy
 
 DOF = 6
 PARAMETER_NAMES = ("d1", "a2", "a3", "d4", "d5", "d6", )
 DEFAULT_PARAMETERS = numpy.array([0.089159, -0.425, -0.39225, 0.10915, 0.09465, 0.0823], dtype=float)
+BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
+
+
+def _blocks(kernel, states, shared, outputs):
+    """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
+
+    A batch of more than BLOCK_ROWS states (one batch shape for every state input, parameters
+    not batched) runs block by block, so that the kernel's intermediates are arrays of at most
+    BLOCK_ROWS entries that stay in the cache and the outputs are the only full-size arrays.
+    Each block reads its state columns from a copy in which every column is contiguous and
+    writes each output entry into a contiguous row of a buffer, copied into the outputs in
+    one pass (entry by entry, a strided write of the outputs would touch every cache line
+    of the block once per entry).  Anything else runs in one call that broadcasts.
+    """
+    batch = states[0].shape[:-1]
+    size = states[0].size // states[0].shape[-1]
+    if (
+        size <= BLOCK_ROWS
+        or any(s.shape[:-1] != batch for s in states)
+        or any(numpy.ndim(x) > 1 for x in shared)
+    ):
+        kernel(*states, *shared, *outputs)
+        return
+    rows = [s.reshape(size, s.shape[-1]) for s in states]
+    flat = [o.reshape((size,) + o.shape[len(batch):]) for o in outputs]
+    buffers = [numpy.zeros(f.shape[1:] + (BLOCK_ROWS,)) for f in flat]
+    for start in range(0, size, BLOCK_ROWS):
+        part = slice(start, start + BLOCK_ROWS)
+        count = min(BLOCK_ROWS, size - start)
+        columns = [numpy.ascontiguousarray(r[part].T).T for r in rows]
+        blocks = [numpy.moveaxis(b[..., :count], -1, 0) for b in buffers]
+        kernel(*columns, *shared, *blocks)
+        for f, b in zip(flat, blocks):
+            f[part] = b
+
+
+def _sincos(x):
+    """sin x and cos x.  One angle: Python's math (a NumPy ufunc call on one number costs
+    several times as much), as NumPy float64 numbers.  Up to 32 angles: numpy.sin and
+    numpy.cos.  More: from one tangent of the half angle, t = tan(x/2), because NumPy's float64
+    tan loop is vectorised and its sin and cos are not.  With r = 2/(1 + t^2): sin x = t r,
+    cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
+    cannot overflow).
+    """
+    if x.ndim == 0:
+        try:
+            return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
+        except ValueError:  # an infinite angle: NumPy's nan
+            return numpy.sin(x), numpy.cos(x)
+    if x.size <= 32:
+        return numpy.sin(x), numpy.cos(x)
+    t = numpy.tan(0.5 * x)
+    r = 2.0 / (1.0 + t * t)
+    return t * r, r - 1.0
 
 
 def fk(q, p=DEFAULT_PARAMETERS):
@@ -42,6 +98,13 @@ def fk(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    _blocks(_fk, (q, ), (p, ), (T, ))
+    return T
+
+
+def _fk(q, p, T):
+    """fk of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -54,30 +117,27 @@ def fk(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.cos(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.sin(q5)
+    t4, t0 = _sincos(q6)
+    t1, t5 = _sincos(q1)
+    t2, t10 = _sincos(q5)
     t3 = t1*t2
-    t4 = numpy.sin(q6)
-    t5 = numpy.cos(q1)
     t6 = q2 + q3
     t7 = q4 + t6
-    t8 = numpy.sin(t7)
+    t8, t12 = _sincos(t7)
     t9 = t5*t8
-    t10 = numpy.cos(q5)
     t11 = t10*t5
-    t12 = numpy.cos(t7)
     t13 = t12*t4
     t14 = t1*t10
     t15 = t2*t5
     t16 = t12*t15
-    t17 = a2*numpy.cos(q2)
-    t18 = a3*numpy.cos(t6)
+    _s4, _c4 = _sincos(q2)
+    t17 = _c4*a2
+    _s5, _c5 = _sincos(t6)
+    t18 = _c5*a3
     t19 = t1*t8
     t20 = t12*t3
     t21 = t10*t8
     t22 = t2*t8
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t3 - t4*t9 + t0*t11*t12
     T[..., 0, 1] = -t0*t9 - t11*t13 - t3*t4
     T[..., 0, 2] = t14 - t16
@@ -89,9 +149,8 @@ def fk(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 0] = t13 + t0*t21
     T[..., 2, 1] = t0*t12 - t21*t4
     T[..., 2, 2] = -t22
-    T[..., 2, 3] = d1 + a2*numpy.sin(q2) + a3*numpy.sin(t6) - d5*t12 - d6*t22
+    T[..., 2, 3] = d1 + _s4*a2 + _s5*a3 - d5*t12 - d6*t22
     T[..., 3, 3] = 1
-    return T
 
 
 def position(q, p=DEFAULT_PARAMETERS):
@@ -104,6 +163,13 @@ def position(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    p_tool = numpy.zeros(batch + (3,))
+    _blocks(_position, (q, ), (p, ), (p_tool, ))
+    return p_tool
+
+
+def _position(q, p, p_tool):
+    """position of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -115,23 +181,22 @@ def position(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q1)
-    t1 = numpy.cos(q1)
-    t2 = a2*numpy.cos(q2)
-    t3 = d6*numpy.cos(q5)
+    t0, t1 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
+    _s2, _c2 = _sincos(q5)
+    t3 = _c2*d6
     t4 = q2 + q3
-    t5 = a3*numpy.cos(t4)
+    _s3, _c3 = _sincos(t4)
+    t5 = _c3*a3
     t6 = q4 + t4
-    t7 = numpy.sin(t6)
+    t7, t9 = _sincos(t6)
     t8 = d5*t7
-    t9 = numpy.cos(t6)
-    t10 = d6*numpy.sin(q5)
+    t10 = _s2*d6
     t11 = t10*t9
-    p_tool = numpy.zeros(batch + (3,))
     p_tool[..., 0] = d4*t0 + t0*t3 + t1*t2 + t1*t5 + t1*t8 - t1*t11
     p_tool[..., 1] = t0*t2 + t0*t5 + t0*t8 - d4*t1 - t0*t11 - t1*t3
-    p_tool[..., 2] = d1 + a2*numpy.sin(q2) + a3*numpy.sin(t4) - d5*t9 - t10*t7
-    return p_tool
+    p_tool[..., 2] = d1 + _s1*a2 + _s3*a3 - d5*t9 - t10*t7
 
 
 def jacobian(q, p=DEFAULT_PARAMETERS):
@@ -144,6 +209,13 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_jacobian, (q, ), (p, ), (J, ))
+    return J
+
+
+def _jacobian(q, p, J):
+    """jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -154,19 +226,18 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
-    t3 = numpy.cos(q5)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
+    t9, t3 = _sincos(q5)
     t4 = q2 + q3
-    t5 = a3*numpy.cos(t4)
+    _s3, _c3 = _sincos(t4)
+    t5 = _c3*a3
     t6 = q4 + t4
-    t7 = numpy.sin(t6)
+    t7, t10 = _sincos(t6)
     t8 = d5*t7
-    t9 = numpy.sin(q5)
-    t10 = numpy.cos(t6)
-    t11 = a2*numpy.sin(q2)
-    t12 = a3*numpy.sin(t4)
+    t11 = _s1*a2
+    t12 = _s3*a3
     t13 = t0*t12
     t14 = d5*t10
     t15 = t0*t7
@@ -182,7 +253,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     t25 = t24 + t5
     t26 = t10*t9
     t27 = -t0
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = d4*t0 - t1*t2 - t1*t5 - t1*t8 + d6*t0*t3 + d6*t1*t10*t9
     J[..., 0, 1] = -t13 - t0*t11 + d5*t0*t10 + d6*t0*t7*t9
     J[..., 0, 2] = t17 - t13
@@ -210,7 +280,6 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 0] = 1
     J[..., 5, 4] = -t10
     J[..., 5, 5] = -t7*t9
-    return J
 
 
 def position_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -223,6 +292,13 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    Jp = numpy.zeros(batch + (3, 6))
+    _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
+    return Jp
+
+
+def _position_jacobian(q, p, Jp):
+    """position_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -233,19 +309,18 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
-    t3 = numpy.cos(q5)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
+    t9, t3 = _sincos(q5)
     t4 = q2 + q3
-    t5 = a3*numpy.cos(t4)
+    _s3, _c3 = _sincos(t4)
+    t5 = _c3*a3
     t6 = q4 + t4
-    t7 = numpy.sin(t6)
+    t7, t10 = _sincos(t6)
     t8 = d5*t7
-    t9 = numpy.sin(q5)
-    t10 = numpy.cos(t6)
-    t11 = a2*numpy.sin(q2)
-    t12 = a3*numpy.sin(t4)
+    t11 = _s1*a2
+    t12 = _s3*a3
     t13 = t0*t12
     t14 = d5*t10
     t15 = d6*t9
@@ -258,7 +333,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     t22 = t1*t14 + t18*t7
     t23 = t8 - t10*t15
     t24 = t23 + t5
-    Jp = numpy.zeros(batch + (3, 6))
     Jp[..., 0, 0] = d4*t0 - t1*t2 - t1*t5 - t1*t8 + d6*t0*t3 + d6*t1*t10*t9
     Jp[..., 0, 1] = -t13 - t0*t11 + d5*t0*t10 + d6*t0*t7*t9
     Jp[..., 0, 2] = t17 - t13
@@ -273,7 +347,6 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     Jp[..., 2, 2] = t24
     Jp[..., 2, 3] = t23
     Jp[..., 2, 4] = -t19*t7
-    return Jp
 
 
 def fk_jacobian(q, p=DEFAULT_PARAMETERS):
@@ -287,6 +360,14 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    T = numpy.zeros(batch + (4, 4))
+    J = numpy.zeros(batch + (6, 6))
+    _blocks(_fk_jacobian, (q, ), (p, ), (T, J, ))
+    return T, J
+
+
+def _fk_jacobian(q, p, T, J):
+    """fk_jacobian of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -299,27 +380,25 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.cos(q6)
-    t1 = numpy.sin(q1)
-    t2 = numpy.sin(q5)
+    t4, t0 = _sincos(q6)
+    t1, t5 = _sincos(q1)
+    t2, t10 = _sincos(q5)
     t3 = t1*t2
-    t4 = numpy.sin(q6)
-    t5 = numpy.cos(q1)
     t6 = q2 + q3
     t7 = q4 + t6
-    t8 = numpy.sin(t7)
+    t8, t12 = _sincos(t7)
     t9 = t5*t8
-    t10 = numpy.cos(q5)
     t11 = t10*t5
-    t12 = numpy.cos(t7)
     t13 = t12*t4
     t14 = t1*t10
     t15 = t2*t5
     t16 = t12*t15
     t17 = t14 - t16
-    t18 = a2*numpy.cos(q2)
+    _s4, _c4 = _sincos(q2)
+    t18 = _c4*a2
     t19 = d6*t14
-    t20 = a3*numpy.cos(t6)
+    _s5, _c5 = _sincos(t6)
+    t20 = _c5*a3
     t21 = d5*t8
     t22 = t19 + d4*t1 + t18*t5 + t20*t5 + t21*t5 - d6*t16
     t23 = t1*t8
@@ -330,8 +409,8 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t28 = t10*t8
     t29 = t2*t8
     t30 = -t29
-    t31 = a2*numpy.sin(q2)
-    t32 = a3*numpy.sin(t6)
+    t31 = _s4*a2
+    t32 = _s5*a3
     t33 = d5*t12
     t34 = d6*t29
     t35 = t32*t5
@@ -341,7 +420,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     t39 = t21 - d6*t12*t2
     t40 = t20 + t39
     t41 = -t5
-    T = numpy.zeros(batch + (4, 4))
     T[..., 0, 0] = t0*t3 - t4*t9 + t0*t11*t12
     T[..., 0, 1] = -t0*t9 - t11*t13 - t3*t4
     T[..., 0, 2] = t17
@@ -355,7 +433,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     T[..., 2, 2] = t30
     T[..., 2, 3] = d1 + t31 + t32 - t33 - t34
     T[..., 3, 3] = 1
-    J = numpy.zeros(batch + (6, 6))
     J[..., 0, 0] = -t27
     J[..., 0, 1] = -t35 - t31*t5 + d5*t12*t5 + d6*t2*t5*t8
     J[..., 0, 2] = t36 - t35
@@ -383,7 +460,6 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     J[..., 5, 0] = 1
     J[..., 5, 4] = -t12
     J[..., 5, 5] = t30
-    return T, J
 
 
 def det(q, p=DEFAULT_PARAMETERS):
@@ -396,6 +472,13 @@ def det(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    det = numpy.zeros(batch + ())
+    _blocks(_det, (q, ), (p, ), (det, ))
+    return det
+
+
+def _det(q, p, det):
+    """det of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -404,9 +487,12 @@ def det(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 2]
     d5 = p[..., 4]
     t0 = q2 + q3
-    det = numpy.zeros(batch + ())
-    det[...] = a2*a3*(a2*numpy.cos(q2) + a3*numpy.cos(t0) + d5*numpy.sin(q4 + t0))*numpy.sin(q3)*numpy.sin(q5)
-    return det
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q3)
+    _s2, _c2 = _sincos(q5)
+    _s3, _c3 = _sincos(t0)
+    _s4, _c4 = _sincos(q4 + t0)
+    det[...] = _s1*_s2*a2*a3*(_c0*a2 + _c3*a3 + _s4*d5)
 
 
 def manipulability(q, p=DEFAULT_PARAMETERS):
@@ -419,6 +505,13 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    mu = numpy.zeros(batch + ())
+    _blocks(_manipulability, (q, ), (p, ), (mu, ))
+    return mu
+
+
+def _manipulability(q, p, mu):
+    """manipulability of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -427,9 +520,12 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     a3 = p[..., 2]
     d5 = p[..., 4]
     t0 = q2 + q3
-    mu = numpy.zeros(batch + ())
-    mu[...] = abs(a2*a3*(a2*numpy.cos(q2) + a3*numpy.cos(t0) + d5*numpy.sin(q4 + t0))*numpy.sin(q3)*numpy.sin(q5))
-    return mu
+    _s0, _c0 = _sincos(q2)
+    _s1, _c1 = _sincos(q3)
+    _s2, _c2 = _sincos(q5)
+    _s3, _c3 = _sincos(t0)
+    _s4, _c4 = _sincos(q4 + t0)
+    mu[...] = abs(_s1*_s2*a2*a3*(_c0*a2 + _c3*a3 + _s4*d5))
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
@@ -442,6 +538,13 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    _blocks(_mass_matrix, (q, ), (p, ), (M, ))
+    return M
+
+
+def _mass_matrix(q, p, M):
+    """mass_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -452,28 +555,23 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = t2 + a3*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t5*t8 + t6*t9
     t11 = t5*t9 - t6*t8
     t12 = d4*t11
     t13 = d4*t10
-    t14 = numpy.cos(q5)
+    t16, t14 = _sincos(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q5)
     t17 = t10*t16
     t18 = d5*t17 + t12*t14 + t16*t7
     t19 = t12*t16 - d5*t15 - t14*t7
-    t20 = numpy.sin(q6)
-    t21 = numpy.cos(q6)
+    t20, t21 = _sincos(q6)
     t22 = t15*t21 - t11*t20
     t23 = t11*t21 + t15*t20
     t24 = d6*t23 + t13*t20 + t18*t21
@@ -605,7 +703,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     t150 = -0.0001652*t20 + t149*t28
     t151 = 0.0001652*t21 + t148*t28
     t152 = -0.0015594676364 + t150*t20 - t151*t21
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.20667378213 + t0*t64 + t1*t65
     M[..., 0, 1] = t66
     M[..., 0, 2] = t58
@@ -640,7 +737,6 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     M[..., 5, 2] = t82
     M[..., 5, 3] = t82
     M[..., 5, 5] = 0.0501162000000000
-    return M
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -653,6 +749,13 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     q = numpy.asarray(q, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    G = numpy.zeros(batch + (6,))
+    _blocks(_gravity, (q, ), (p, ), (G, ))
+    return G
+
+
+def _gravity(q, p, G):
+    """gravity of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -663,24 +766,19 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t1*t4 + t3*t5
     t7 = t3*t4 - t1*t5
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t6*t8 + t7*t9
     t11 = t6*t9 - t7*t8
-    t12 = numpy.cos(q5)
+    t14, t12 = _sincos(q5)
     t13 = t10*t12
-    t14 = numpy.sin(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t13*t17 - t11*t16
     t19 = t11*t17 + t13*t16
     t20 = 0.1897*t18
@@ -718,13 +816,11 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     t52 = 0.11336*t48 + t4*t46 + t45*t5 - a2*t36
     t53 = t47 + 0.2125*t49 + a2*t50
     t54 = t0*t51 + t2*t52
-    G = numpy.zeros(batch + (6,))
     G[..., 0] = t54
     G[..., 1] = t53
     G[..., 2] = t47
     G[..., 3] = t39
     G[..., 4] = -t32
-    return G
 
 
 def coriolis(q, dq, p=DEFAULT_PARAMETERS):
@@ -739,6 +835,13 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    c = numpy.zeros(batch + (6,))
+    _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
+    return c
+
+
+def _coriolis(q, dq, p, c):
+    """coriolis of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -755,9 +858,8 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = dq2*t3
     t5 = dq2*t1
@@ -771,8 +873,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t13 = a2*t10
     t14 = a2*t9
     t15 = a2*t11
-    t16 = numpy.cos(q3)
-    t17 = numpy.sin(q3)
+    t17, t16 = _sincos(q3)
     t18 = t1*t16 + t17*t3
     t19 = t16*t3 - t1*t17
     t20 = dq2 + dq3
@@ -791,8 +892,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t33 = t14*t17 - a3*t28 - t13*t16
     t34 = a3*t26 + t13*t17 + t14*t16
     t35 = t15 + a3*t31
-    t36 = numpy.cos(q4)
-    t37 = numpy.sin(q4)
+    t37, t36 = _sincos(q4)
     t38 = t18*t36 + t19*t37
     t39 = dq4 + t20
     t40 = t18*t37 - t19*t36
@@ -812,8 +912,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t54 = d4*t49 + t33*t36 + t34*t37
     t55 = t35 - d4*t50
     t56 = d4*t52 + t33*t37 - t34*t36
-    t57 = numpy.cos(q5)
-    t58 = numpy.sin(q5)
+    t58, t57 = _sincos(q5)
     t59 = t38*t57 + t39*t58
     t60 = dq5 + t40
     t61 = t39*t57 - t38*t58
@@ -833,8 +932,7 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t75 = t54*t57 + t55*t58 - d5*t69
     t76 = -t56 + d5*t71
     t77 = t55*t57 - d5*t73 - t54*t58
-    t78 = numpy.cos(q6)
-    t79 = numpy.sin(q6)
+    t79, t78 = _sincos(q6)
     t80 = t59*t78 - t60*t79
     t81 = t59*t79 + t60*t78
     t82 = dq6 + t61
@@ -891,14 +989,12 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     t133 = -0.25269*t5 - 0.2125*t129 - 0.11336*t127 + t124*t17 + t125*t16 - a2*t131
     t134 = t126 + 0.2125*t128 + 0.11879*t9 + a2*t130
     t135 = t0*t132 + t133*t2
-    c = numpy.zeros(batch + (6,))
     c[..., 0] = t135
     c[..., 1] = t134
     c[..., 2] = t126
     c[..., 3] = t116
     c[..., 4] = -t108
     c[..., 5] = -t100
-    return c
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
@@ -913,6 +1009,13 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    C = numpy.zeros(batch + (6, 6))
+    _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
+    return C
+
+
+def _coriolis_matrix(q, dq, p, C):
+    """coriolis_matrix of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -929,29 +1032,24 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = t2 + a3*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t5*t8 + t6*t9
     t11 = t5*t9 - t6*t8
     t12 = d4*t11
     t13 = d4*t10
-    t14 = numpy.cos(q5)
+    t16, t14 = _sincos(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q5)
     t17 = t10*t16
     t18 = d5*t17 + t12*t14 + t16*t7
     t19 = t12*t16
     t20 = t19 - d5*t15 - t14*t7
-    t21 = numpy.sin(q6)
-    t22 = numpy.cos(q6)
+    t21, t22 = _sincos(q6)
     t23 = t11*t21 - t15*t22
     t24 = t11*t22 + t15*t21
     t25 = d6*t24 + t13*t21 + t18*t22
@@ -1491,7 +1589,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     t559 = dq1*t510 + dq5*t544
     t560 = dq1*t527 + dq5*t545
     t561 = dq1*t537 + dq5*t546
-    C = numpy.zeros(batch + (6, 6))
     C[..., 0, 0] = dq2*t548 + t232*t522 + t259*t523 + t287*t547 + t301*t513
     C[..., 0, 1] = t549 + dq2*t307 + t513*t552 + t522*t550 + t523*t551 + t547*t553
     C[..., 0, 2] = t554 + dq3*t310 + t511*t550 + t513*t556 + t523*t555 + t547*t557
@@ -1526,7 +1623,6 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     C[..., 5, 2] = (1/2)*t560 - t535
     C[..., 5, 3] = (1/2)*t561 - t542
     C[..., 5, 4] = t503*t543 + t511*t544 + t522*t545 + t523*t546
-    return C
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
@@ -1542,6 +1638,14 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    M = numpy.zeros(batch + (6, 6))
+    bias = numpy.zeros(batch + (6,))
+    _blocks(_mass_matrix_bias, (q, dq, ), (p, ), (M, bias, ))
+    return M, bias
+
+
+def _mass_matrix_bias(q, dq, p, M, bias):
+    """mass_matrix_bias of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1558,28 +1662,23 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = t2 + a3*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t5*t8 + t6*t9
     t11 = t5*t9 - t6*t8
     t12 = d4*t11
     t13 = d4*t10
-    t14 = numpy.cos(q5)
+    t16, t14 = _sincos(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q5)
     t17 = t10*t16
     t18 = d5*t17 + t12*t14 + t16*t7
     t19 = t12*t16 - d5*t15 - t14*t7
-    t20 = numpy.sin(q6)
-    t21 = numpy.cos(q6)
+    t20, t21 = _sincos(q6)
     t22 = t15*t21 - t11*t20
     t23 = t11*t21 + t15*t20
     t24 = d6*t23 + t13*t20 + t18*t21
@@ -1836,7 +1935,6 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     t275 = 0.11336*t269 - 0.25269*t156 - 0.2125*t271 + t266*t4 + t267*t3 - a2*t273
     t276 = t268 + 0.2125*t270 + 0.11879*t160 + a2*t272
     t277 = t0*t274 + t1*t275
-    M = numpy.zeros(batch + (6, 6))
     M[..., 0, 0] = 0.20667378213 + t0*t64 + t1*t65
     M[..., 0, 1] = t66
     M[..., 0, 2] = t58
@@ -1871,14 +1969,12 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     M[..., 5, 2] = t82
     M[..., 5, 3] = t82
     M[..., 5, 5] = 0.0501162000000000
-    bias = numpy.zeros(batch + (6,))
     bias[..., 0] = t277
     bias[..., 1] = t276
     bias[..., 2] = t268
     bias[..., 3] = t258
     bias[..., 4] = -t250
     bias[..., 5] = -t242
-    return M, bias
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -1895,6 +1991,13 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     ddq = numpy.asarray(ddq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau = numpy.zeros(batch + (6,))
+    _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
+    return tau
+
+
+def _inverse_dynamics(q, dq, ddq, p, tau):
+    """inverse_dynamics of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -1917,9 +2020,8 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = dq1*t0
-    t2 = numpy.cos(q2)
     t3 = dq1*t2
     t4 = ddq1*t0 + dq2*t3
     t5 = ddq1*t2 - dq2*t1
@@ -1937,8 +2039,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t17 = 9.81*t0 - a2*t11
     t18 = 9.81*t2 + a2*t13
     t19 = a2*t15
-    t20 = numpy.cos(q3)
-    t21 = numpy.sin(q3)
+    t21, t20 = _sincos(q3)
     t22 = t1*t20 + t21*t3
     t23 = t20*t3 - t1*t21
     t24 = dq2 + dq3
@@ -1959,8 +2060,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t39 = t17*t20 + t18*t21 - a3*t33
     t40 = a3*t35 + t18*t20 - t17*t21
     t41 = t19 + a3*t37
-    t42 = numpy.cos(q4)
-    t43 = numpy.sin(q4)
+    t43, t42 = _sincos(q4)
     t44 = t22*t42 + t23*t43
     t45 = dq4 + t24
     t46 = t22*t43 - t23*t42
@@ -1981,8 +2081,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t61 = d4*t55 + t39*t42 + t40*t43
     t62 = t41 - d4*t57
     t63 = d4*t59 + t39*t43 - t40*t42
-    t64 = numpy.cos(q5)
-    t65 = numpy.sin(q5)
+    t65, t64 = _sincos(q5)
     t66 = t44*t64 + t45*t65
     t67 = dq5 + t46
     t68 = t45*t64 - t44*t65
@@ -2003,8 +2102,7 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t83 = d5*t77 + t61*t64 + t62*t65
     t84 = -t63 + d5*t79
     t85 = t62*t64 - d5*t81 - t61*t65
-    t86 = numpy.cos(q6)
-    t87 = numpy.sin(q6)
+    t87, t86 = _sincos(q6)
     t88 = t66*t86 - t67*t87
     t89 = t66*t87 + t67*t86
     t90 = dq6 + t68
@@ -2061,14 +2159,12 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     t141 = 0.01511*t4 - 0.11336*t137 + t133*t20 - t134*t21
     t142 = 0.1339*t5 + 0.11336*t136 - 0.2125*t138 - 0.11879*t10 + t133*t21 + t134*t20 - a2*t140
     t143 = 0.007141*ddq1
-    tau = numpy.zeros(batch + (6,))
     tau[..., 0] = 0.20666*ddq1 + 0.00193*t143 + t0*t141 + t142*t2
     tau[..., 1] = t135 + 0.3339*ddq2 + 0.2125*t137 + 0.11879*t9 + a2*t139
     tau[..., 2] = t135 + 0.2*ddq3
     tau[..., 3] = t125 + 0.05*ddq4
     tau[..., 4] = -t117 + 0.05*ddq5
     tau[..., 5] = t109 + 0.05*ddq6
-    return tau
 
 
 def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -2083,6 +2179,13 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_w = numpy.zeros(batch + (6,))
+    _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
+    return tau_w
+
+
+def _wrench_torque(q, wrench, p, tau_w):
+    """wrench_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -2099,24 +2202,22 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.cos(q1)
-    t1 = numpy.sin(q1)
-    t2 = a2*numpy.cos(q2)
-    t3 = numpy.cos(q5)
+    t1, t0 = _sincos(q1)
+    _s1, _c1 = _sincos(q2)
+    t2 = _c1*a2
+    t12, t3 = _sincos(q5)
     t4 = t0*t3
     t5 = d6*t4
     t6 = q2 + q3
-    t7 = a3*numpy.cos(t6)
+    t17, _c3 = _sincos(t6)
+    t7 = _c3*a3
     t8 = q4 + t6
-    t9 = numpy.sin(t8)
+    t9, t11 = _sincos(t8)
     t10 = d5*t9
-    t11 = numpy.cos(t8)
-    t12 = numpy.sin(q5)
     t13 = d6*t12
     t14 = t1*t3
     t15 = d6*t14
-    t16 = a2*numpy.sin(q2)
-    t17 = numpy.sin(t6)
+    t16 = _s1*a2
     t18 = a3*t17
     t19 = d5*t11
     t20 = t0*t19
@@ -2130,14 +2231,12 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t28 = t0*w_ny - t1*w_nx
     t29 = t20 + t22
     t30 = t23 + t25
-    tau_w = numpy.zeros(batch + (6,))
     tau_w[..., 0] = -w_nz + w_fx*(-t5 + t1*t10 + t1*t2 + t1*t7 - d4*t0 - t1*t11*t13) + w_fy*(-t15 - d4*t1 - t0*t10 - t0*t2 - t0*t7 + d6*t0*t11*t12)
     tau_w[..., 1] = t28 + w_fx*(-t20 - t22 + t0*t16 + t0*t18) + w_fy*(-t23 - t25 + t1*t16 + t1*t18) + w_fz*(-t2 - t27)
     tau_w[..., 2] = t28 + w_fx*(-t29 + a3*t0*t17) + w_fy*(-t30 + a3*t1*t17) - t27*w_fz
     tau_w[..., 3] = t28 - t26*w_fz - t29*w_fx - t30*w_fy
     tau_w[..., 4] = t11*w_nz + w_fx*(t24 + t11*t5) + w_fy*(-t21 + t11*t15) - t0*t9*w_nx - t1*t9*w_ny + d6*t3*t9*w_fz
     tau_w[..., 5] = w_nx*(-t14 + t0*t11*t12) + w_ny*(t4 + t1*t11*t12) + t12*t9*w_nz
-    return tau_w
 
 
 def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
@@ -2152,6 +2251,13 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     wrench = numpy.asarray(wrench, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    tau_s = numpy.zeros(batch + (6,))
+    _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
+    return tau_s
+
+
+def _static_torque(q, wrench, p, tau_s):
+    """static_torque of the states given, written into the zero-filled outputs."""
     q1 = q[..., 0]
     q2 = q[..., 1]
     q3 = q[..., 2]
@@ -2169,38 +2275,31 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
+    t0, t2 = _sincos(q2)
     t1 = 9.81*t0
-    t2 = numpy.cos(q2)
     t3 = 9.81*t2
-    t4 = numpy.cos(q3)
-    t5 = numpy.sin(q3)
+    t5, t4 = _sincos(q3)
     t6 = t1*t4 + t3*t5
     t7 = t3*t4 - t1*t5
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t6*t8 + t7*t9
     t11 = t6*t9 - t7*t8
-    t12 = numpy.cos(q5)
+    t14, t12 = _sincos(q5)
     t13 = t10*t12
-    t14 = numpy.sin(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q6)
-    t17 = numpy.cos(q6)
+    t16, t17 = _sincos(q6)
     t18 = t13*t17 - t11*t16
     t19 = t11*t17 + t13*t16
     t20 = 0.1897*t18
     t21 = 0.1897*t19
     t22 = 0.1897*t15
     t23 = q2 + q3 + q4
-    t24 = numpy.cos(t23)
+    t26, t24 = _sincos(t23)
     t25 = t16*t24
-    t26 = numpy.sin(t23)
     t27 = t17*t26
     t28 = t25 + t12*t27
-    t29 = numpy.cos(q1)
+    t31, t29 = _sincos(q1)
     t30 = t14*t17
-    t31 = numpy.sin(q1)
     t32 = t16*t26
     t33 = t17*t24
     t34 = t12*t31
@@ -2249,14 +2348,12 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     t77 = 0.11336*t73 + t4*t71 + t5*t70 - a2*t61
     t78 = t72 + 0.2125*t74 + a2*t75
     t79 = t0*t76 + t2*t77
-    tau_s = numpy.zeros(batch + (6,))
     tau_s[..., 0] = t79
     tau_s[..., 1] = t78
     tau_s[..., 2] = t72
     tau_s[..., 3] = t64
     tau_s[..., 4] = -t57
     tau_s[..., 5] = t49
-    return tau_s
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
@@ -2273,6 +2370,15 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     dq = numpy.asarray(dq, dtype=float)
     p = numpy.asarray(p, dtype=float)
     batch = q.shape[:-1]
+    kinetic = numpy.zeros(batch + ())
+    potential = numpy.zeros(batch + ())
+    lagrangian = numpy.zeros(batch + ())
+    _blocks(_energy, (q, dq, ), (p, ), (kinetic, potential, lagrangian, ))
+    return kinetic, potential, lagrangian
+
+
+def _energy(q, dq, p, kinetic, potential, lagrangian):
+    """energy of the states given, written into the zero-filled outputs."""
     q2 = q[..., 1]
     q3 = q[..., 2]
     q4 = q[..., 3]
@@ -2290,28 +2396,23 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     d4 = p[..., 3]
     d5 = p[..., 4]
     d6 = p[..., 5]
-    t0 = numpy.sin(q2)
-    t1 = numpy.cos(q2)
+    t0, t1 = _sincos(q2)
     t2 = a2*t1
-    t3 = numpy.cos(q3)
-    t4 = numpy.sin(q3)
+    t4, t3 = _sincos(q3)
     t5 = t0*t3 + t1*t4
     t6 = t1*t3 - t0*t4
     t7 = t2 + a3*t6
-    t8 = numpy.cos(q4)
-    t9 = numpy.sin(q4)
+    t9, t8 = _sincos(q4)
     t10 = t5*t8 + t6*t9
     t11 = t5*t9 - t6*t8
     t12 = d4*t11
     t13 = d4*t10
-    t14 = numpy.cos(q5)
+    t16, t14 = _sincos(q5)
     t15 = t10*t14
-    t16 = numpy.sin(q5)
     t17 = t10*t16
     t18 = d5*t17 + t12*t14 + t16*t7
     t19 = t12*t16 - d5*t15 - t14*t7
-    t20 = numpy.sin(q6)
-    t21 = numpy.cos(q6)
+    t20, t21 = _sincos(q6)
     t22 = t15*t21 - t11*t20
     t23 = t11*t21 + t15*t20
     t24 = d6*t23 + t13*t20 + t18*t21
@@ -2457,23 +2558,19 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     t164 = 17.496257625*t0
     t165 = 130.970367*a2*t0
     t166 = q2 + q3
-    t167 = numpy.sin(t166)
+    t167, _c5 = _sincos(t166)
     t168 = 3.428595*t167
     t169 = 48.635037*a3*t167
     t170 = q4 + t166
-    t171 = numpy.cos(t170)
+    _s6, t171 = _sincos(t170)
     t172 = 0.2169251946*t171
     t173 = 13.819347*d5*t171
-    t174 = t16*numpy.sin(t170)
+    t174 = _s6*t16
     t175 = 0.193243243437*t174
     t176 = 1.860957*d6*t174
-    kinetic = numpy.zeros(batch + ())
     kinetic[...] = t162
-    potential = numpy.zeros(batch + ())
     potential[...] = -0.92956617 + t163 + t164 + t165 + t168 + t169 - t172 - t173 - t175 - t176
-    lagrangian = numpy.zeros(batch + ())
     lagrangian[...] = 0.92956617 + t162 + t172 + t173 + t175 + t176 - t163 - t164 - t165 - t168 - t169
-    return kinetic, potential, lagrangian
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
