@@ -257,6 +257,55 @@ def test_gravity_of_a_vertical_planar_2r_by_hand():
         assert canonical(a - e, model.q) == 0
 
 
+EXACT_2R = """
+name = "exact_2r"
+[parameters]
+L1 = 1
+L2 = 1
+[[joints]]
+type = "revolute"
+a = "L1"
+[joints.link]
+mass = 1
+com = ["-L1/2", 0, 0]
+[[joints]]
+type = "revolute"
+a = "L2"
+[joints.link]
+mass = 1
+com = ["-L2/2", 0, 0]
+"""
+
+
+def _planar_2r_coriolis(h: sp.Expr, dq1: sp.Symbol, dq2: sp.Symbol) -> sp.Matrix:
+    """Spong et al. (7.87) for the planar elbow arm: C = [[h dq2, h (dq1 + dq2)], [-h dq1, 0]]
+    with h = -m2 l1 lc2 sin(q2) (lc2: joint 2 to the centre of mass of link 2)."""
+    return sp.Matrix([[h * dq2, h * (dq1 + dq2)], [-h * dq1, 0]])
+
+
+def test_readable_lagrange_of_decimal_data_has_no_rounding_remainders():
+    """The catalogue 2R's rods (3.393 kg, centre 0.5 m behind frame i): C is Spong's, with no
+    1e-16 terms in q1 left over from sin^2 + cos^2 = 1 in floating point."""
+    model = symkin.derive(load("planar_2r"))
+    q1, q2 = model.q
+    L1, L2 = model.robot.parameter_symbols
+    h = -3.393 * L1 * (L2 - 0.5) * sp.sin(q2)
+    expected = _planar_2r_coriolis(h, *model.dq)
+    for actual, wanted in zip(model.lagrange.coriolis_matrix, expected, strict=True):
+        assert q1 not in actual.free_symbols
+        assert all(abs(f) > 1e-6 for f in actual.atoms(sp.Float)), actual
+        assert abs(sp.expand(actual - wanted).xreplace({L1: 0.7, L2: 0.4, q2: 0.3})) < 1e-12
+
+
+def test_readable_lagrange_of_exact_data_keeps_fractions():
+    """A robot given in exact numbers prints exact coefficients (``/2``), not ``0.5``."""
+    model = symkin.derive(robot_from_toml(EXACT_2R, "exact_2r.toml"))
+    L1, L2 = model.robot.parameter_symbols
+    expected = _planar_2r_coriolis(-L1 * L2 / 2 * sp.sin(model.q[1]), *model.dq)
+    assert not model.lagrange.coriolis_matrix.atoms(sp.Float)
+    assert sp.expand(model.lagrange.coriolis_matrix - expected) == sp.zeros(2, 2)
+
+
 def test_catalogue_planar_2r_moves_in_a_horizontal_plane():
     model = symkin.derive(load("planar_2r"))
     assert model.newton_euler.expanded(model.newton_euler.gravity_vector) == sp.zeros(2, 1)

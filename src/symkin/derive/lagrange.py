@@ -53,8 +53,11 @@ def lagrange_dynamics(
     n = robot.dof
     readable = n <= READABLE_DOF
     q = [se.sympify(s) for s in kinematics.q]
+    # Gravity's floats (9.81) reach G only: M and C keep their fractions when the robot's
+    # own data are exact.
+    exact, exact_gravity = (_ExactArithmetic(), _ExactArithmetic()) if readable else (_same,) * 2
     mass, potential, free_symbols = _mass_and_potential(
-        robot, kinematics, exact_from_floats if readable else _same
+        robot, kinematics, exact, exact_gravity(sp.Matrix(robot.gravity))
     )
     free_symbols |= set(kinematics.q) | set(dq)
     # SymEngine drops SymPy's assumptions; map the plain names back to our symbols.
@@ -70,7 +73,17 @@ def lagrange_dynamics(
     if coriolis_matrix:
         matrices["coriolis_matrix"] = christoffel
     if readable:
-        converted, assignments = _readable(matrices, restore, kinematics.q), ()
+        converted = {
+            name: _readable(matrix, restore, kinematics.q, exact.met_float)
+            for name, matrix in matrices.items()
+        }
+        converted["gravity_vector"] = _readable(
+            matrices["gravity_vector"],
+            restore,
+            kinematics.q,
+            exact.met_float or exact_gravity.met_float,
+        )
+        assignments = ()
     else:
         converted, assignments = _shared(matrices, restore)
     return Dynamics(
@@ -85,13 +98,16 @@ def lagrange_dynamics(
 
 
 def _mass_and_potential(
-    robot: Robot, kinematics: Kinematics, exact: Callable[[sp.Basic], sp.Basic]
+    robot: Robot,
+    kinematics: Kinematics,
+    exact: Callable[[sp.Basic], sp.Basic],
+    gravity_vector: sp.Matrix,
 ) -> tuple[se.DenseMatrix, se.Basic, set[sp.Symbol]]:
     """``M`` and ``P`` of (7.49)-(7.53) in SymEngine, each robot quantity passed through
     ``exact`` first; and the SymPy symbols they contain (to restore assumptions later)."""
     n = robot.dof
     q = [se.sympify(s) for s in kinematics.q]
-    gravity = _to_symengine(exact(sp.Matrix(robot.gravity)))
+    gravity = _to_symengine(gravity_vector)
     mass = se.zeros(n, n)
     potential = se.Integer(0)
     free_symbols: set[sp.Symbol] = set()
@@ -123,19 +139,27 @@ def _same(expr: sp.Basic) -> sp.Basic:
     return expr
 
 
+class _ExactArithmetic:
+    """:func:`exact_from_floats` that remembers whether it met a float: only then are the
+    results' rationals printed back as floats (a robot given in exact numbers keeps its
+    ``1/12`` and ``1/2``)."""
+
+    def __init__(self) -> None:
+        self.met_float = False
+
+    def __call__(self, expr: sp.Basic) -> sp.Basic:
+        self.met_float = self.met_float or bool(expr.atoms(sp.Float))
+        return exact_from_floats(expr)
+
+
 def _readable(
-    matrices: dict[str, se.DenseMatrix], restore: dict, q: Sequence[sp.Symbol]
-) -> dict[str, sp.ImmutableMatrix]:
-    """Expanded and contracted into sums of angles: for reading (small robots only)."""
-
-    def convert(matrix: se.DenseMatrix) -> sp.ImmutableMatrix:
-        entries = [
-            floats_from_exact(reduce_trig(sp.sympify(se.expand(e)).xreplace(restore), q))
-            for e in matrix
-        ]
-        return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
-
-    return {name: convert(matrix) for name, matrix in matrices.items()}
+    matrix: se.DenseMatrix, restore: dict, q: Sequence[sp.Symbol], decimals: bool
+) -> sp.ImmutableMatrix:
+    """Expanded and contracted into sums of angles: for reading (small robots only); with
+    ``decimals`` the exact coefficients are printed back as floats."""
+    back = floats_from_exact if decimals else _same
+    entries = [back(reduce_trig(sp.sympify(se.expand(e)).xreplace(restore), q)) for e in matrix]
+    return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
 
 
 def _shared(

@@ -66,7 +66,8 @@ def joint_data(model: Model) -> JointData:
         if array is not None:
             array.setflags(write=False)
     if len(_JOINT_DATA) >= _JOINT_DATA_SIZE:
-        del _JOINT_DATA[next(iter(_JOINT_DATA))]
+        # pop with a default: two threads may evict the same oldest entry at once.
+        _JOINT_DATA.pop(next(iter(_JOINT_DATA), None), None)
     _JOINT_DATA[id(model)] = (model, data)
     return data
 
