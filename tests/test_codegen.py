@@ -170,11 +170,14 @@ def test_numpy_batch_equals_loop(gen):
         batched = gen.numpy_outputs(kernel, q, p)
         for output, value in zip(kernel.outputs, batched, strict=True):
             assert value.shape == (5, 7, *numpy_shape(*output.shape)), (kernel.name, output.name)
+        # A batch of 35 takes sin and cos from the half-angle tangent, one state from math
+        # (each within 4.5e-16, tests/test_numpy_batch.py): equal to rounding, not bit for bit,
+        # and the Panda's manipulability (sqrt of a 6x6 Gram determinant) grows that to 1e-14.
         for i in range(5):
             for j in range(7):
                 single = gen.numpy_outputs(kernel, q[i, j], p)
                 for a, b in zip(batched, single, strict=True):
-                    assert_close(a[i, j], b, 1e-14, f"{gen.name}.{kernel.name} batch [{i},{j}]")
+                    assert_close(a[i, j], b, 1e-13, f"{gen.name}.{kernel.name} batch [{i},{j}]")
 
 
 def test_numpy_parameters_are_used_in_file_order(gen):

@@ -4,6 +4,8 @@ tangent (``emit/numpy_trig.py``, ``_sincos``) and large batches evaluated block 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -77,6 +79,10 @@ def test_sincos_of_one_angle_and_of_a_few(planar):
     sin, cos = module._sincos(angles)  # 20 angles: numpy.sin and numpy.cos themselves
     np.testing.assert_array_equal(sin, np.sin(angles))
     np.testing.assert_array_equal(cos, np.cos(angles))
+    # An angle of the parameters alone (a twist given as a parameter) is a Python float.
+    sin, cos = module._sincos(0.3490658503988659)
+    assert abs(sin - math.sin(0.3490658503988659)) <= 2.3e-16
+    assert abs(cos - math.cos(0.3490658503988659)) <= 2.3e-16
 
 
 @pytest.mark.parametrize("block", [33, 40, 1000])

@@ -76,7 +76,7 @@ def _sincos(x):
     cos x = r - 1 (absolute errors of a few 1e-16; |t| < 1e17 for every float64 x, so t^2
     cannot overflow).
     """
-    if x.ndim == 0:
+    if numpy.ndim(x) == 0:  # also a Python float (an angle from the parameters alone)
         try:
             return numpy.float64(math.sin(x)), numpy.float64(math.cos(x))
         except ValueError:  # an infinite angle: NumPy's nan
