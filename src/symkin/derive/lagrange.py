@@ -49,7 +49,8 @@ def lagrange_dynamics(
 
     The readable form (up to ``READABLE_DOF`` joints) is computed in exact arithmetic, the
     robot's floats (inertial data, gravity, lengths) as decimal rationals, and printed back as
-    floats: float algebra would leave ``1e-16`` remainders of ``sin^2 + cos^2 = 1`` in C."""
+    floats where the robot gave floats: float algebra would leave ``1e-16`` remainders of
+    ``sin^2 + cos^2 = 1`` in C."""
     n = robot.dof
     readable = n <= READABLE_DOF
     q = [se.sympify(s) for s in kinematics.q]
@@ -73,16 +74,12 @@ def lagrange_dynamics(
     if coriolis_matrix:
         matrices["coriolis_matrix"] = christoffel
     if readable:
+        decimals = dict.fromkeys(matrices, exact.met_float)
+        decimals["gravity_vector"] = exact.met_float or exact_gravity.met_float
         converted = {
-            name: _readable(matrix, restore, kinematics.q, exact.met_float)
+            name: _readable(matrix, restore, kinematics.q, decimals[name])
             for name, matrix in matrices.items()
         }
-        converted["gravity_vector"] = _readable(
-            matrices["gravity_vector"],
-            restore,
-            kinematics.q,
-            exact.met_float or exact_gravity.met_float,
-        )
         assignments = ()
     else:
         converted, assignments = _shared(matrices, restore)
