@@ -54,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from casadi_peer import newton_euler_forward_dynamics
 from codegen_speed import write_docs
 from derivation_time import measured_line, version
 
@@ -121,99 +122,6 @@ def problem(example: Example, objective: str, method: str, **changes):
 
 
 # --------------------------------------------------------------------------- peer
-
-
-def newton_euler_forward_dynamics(robot, inverse: bool = False):
-    """``ddq = FD(q, dq, tau, p)`` from a recursive Newton–Euler in CasADi SX (``p`` unused:
-    the geometry is numeric), for standard-DH robots with revolute joints; with ``inverse``,
-    the recursion itself, ``tau = ID(q, dq, ddq, p)``."""
-    import casadi as ca
-    import sympy as sp
-
-    if robot.convention != "standard" or any(j.type != "revolute" for j in robot.joints):
-        raise SystemExit("the peer handles standard DH with revolute joints only")
-    values = robot.parameter_values()
-    numbers = {sp.Symbol(k, real=True): v for k, v in values.items()}
-
-    def number(expr) -> float:
-        return float(sp.sympify(expr).xreplace(numbers))
-
-    n = robot.dof
-    base = np.array([[number(e) for e in row] for row in robot.base.tolist()])
-    gravity = base[:3, :3].T @ np.array([number(g) for g in robot.gravity])
-    q, dq, tau = (ca.SX.sym(name, n) for name in ("q", "dq", "tau"))
-    p = ca.SX.sym("p", len(robot.parameters))
-    z = ca.DM([0, 0, 1])
-
-    def rotation(theta, alpha: float):
-        c, s = ca.cos(theta), ca.sin(theta)
-        ca_, sa = math.cos(alpha), math.sin(alpha)
-        return ca.vertcat(
-            ca.horzcat(c, -s * ca_, s * sa), ca.horzcat(s, c * ca_, -c * sa), ca.horzcat(0, sa, ca_)
-        )
-
-    joints = []
-    for joint in robot.joints:
-        d, a, alpha = number(joint.d), number(joint.a), number(joint.alpha)
-        link = joint.link
-        ixx, iyy, izz, ixy, ixz, iyz = (number(e) for e in link.inertia)
-        joints.append(
-            {
-                "offset": number(joint.theta),
-                "alpha": alpha,
-                "r": ca.DM([a, d * math.sin(alpha), d * math.cos(alpha)]),  # r_{i-1,i} in frame i
-                "rc": ca.DM([number(e) for e in link.com]),
-                "m": number(link.mass),
-                "I": ca.DM([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]),
-                "Ia": number(link.motor_inertia),
-            }
-        )
-
-    def rnea(velocity, acceleration, g):
-        w, dw, dv = ca.DM.zeros(3), ca.DM.zeros(3), -ca.DM(g)
-        rotations, forward = [], []
-        for i, data in enumerate(joints):
-            R = rotation(q[i] + data["offset"], data["alpha"])
-            w_prev = w
-            w = R.T @ (w_prev + velocity[i] * z)
-            dw = R.T @ (dw + acceleration[i] * z + velocity[i] * ca.cross(w_prev, z))
-            dv = R.T @ dv + ca.cross(dw, data["r"]) + ca.cross(w, ca.cross(w, data["r"]))
-            ac = dv + ca.cross(dw, data["rc"]) + ca.cross(w, ca.cross(w, data["rc"]))
-            rotations.append(R)
-            forward.append((w, dw, ac))
-        f, mu, R_next = ca.DM.zeros(3), ca.DM.zeros(3), ca.DM.eye(3)
-        torques = [None] * n
-        for i in reversed(range(n)):
-            data, (w, dw, ac) = joints[i], forward[i]
-            f_next = R_next @ f
-            f = f_next + data["m"] * ac
-            mu = (
-                -ca.cross(f, data["r"] + data["rc"])
-                + R_next @ mu
-                + ca.cross(f_next, data["rc"])
-                + data["I"] @ dw
-                + ca.cross(w, data["I"] @ w)
-            )
-            torques[i] = ca.dot(mu, rotations[i].T @ z) + data["Ia"] * acceleration[i]
-            R_next = rotations[i]
-        return ca.vertcat(*torques)
-
-    if inverse:
-        ddq = ca.SX.sym("ddq", n)
-        return ca.Function(
-            "peer_inverse_dynamics",
-            [q, dq, ddq, p],
-            [rnea(dq, ddq, gravity)],
-            ["q", "dq", "ddq", "p"],
-            ["tau"],
-        )
-    zeros = ca.SX.zeros(n)
-    bias = rnea(dq, zeros, gravity)
-    mass = ca.horzcat(*(rnea(zeros, ca.DM.eye(n)[:, j], np.zeros(3)) for j in range(n)))
-    ddq = ca.solve(mass, tau - bias)
-    return ca.Function(
-        "peer_forward_dynamics", [q, dq, tau, p], [ddq], ["q", "dq", "tau", "p"], ["ddq"]
-    )
 
 
 def check_peer(model, peer) -> float:
