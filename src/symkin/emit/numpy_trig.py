@@ -57,8 +57,11 @@ def pair_trig(kernel: Kernel) -> tuple[Kernel, dict[int, TrigPair]]:
     renamed = set(mapping.values())
     assignments: list[tuple[sp.Symbol, sp.Expr]] = []
     starts: dict[int, TrigPair] = {}
+    opened_at: dict[int, list[TrigPair]] = {}
+    for pair in pairs:
+        opened_at.setdefault(first[pair.angle], []).append(pair)
     for index in range(len(kernel.assignments) + 1):
-        for pair in (p for p in pairs if first[p.angle] == index):
+        for pair in opened_at.get(index, ()):
             starts[len(assignments)] = pair
             assignments += [(pair.sin, sp.sin(pair.angle)), (pair.cos, sp.cos(pair.angle))]
         if index < len(kernel.assignments):
