@@ -8,6 +8,7 @@ solver's own report.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -15,7 +16,7 @@ import pytest
 
 from numeric_dh import overrides, reference, robot, vee
 from symkin.errors import ParameterError, SymkinError
-from symkin.runtime import compiled_ik
+from symkin.runtime import compiled_ik, modules
 from symkin.solve.ik.numeric import solve_ik
 
 pytestmark = pytest.mark.filterwarnings("ignore::symkin.errors.RobotWarning")
@@ -62,8 +63,9 @@ def targets(name: str, count: int, seed: int) -> list[np.ndarray]:
 def no_compiler(monkeypatch: pytest.MonkeyPatch) -> None:
     """``CC`` names a program that does not exist, and no extension is remembered."""
     monkeypatch.setenv("CC", "/nonexistent/symkin-test-cc")
-    monkeypatch.setattr(compiled_ik, "_BY_ID", {})
-    monkeypatch.setattr(compiled_ik, "_BY_CONTENT", {})
+    # Fresh caches for the test (identity and content); the process's own come back after it.
+    monkeypatch.setattr(modules, "_RECENT", {})
+    monkeypatch.setattr(compiled_ik, "_build", functools.lru_cache(compiled_ik._build.__wrapped__))
 
 
 # (robot, position only, poses): rpr and hand_standard (a parameter without a value, given by

@@ -13,17 +13,16 @@ from __future__ import annotations
 
 import hashlib
 import threading
+from functools import lru_cache
 from types import ModuleType
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
 from symkin.runtime.extension import build_extension, load_extension
-from symkin.runtime.modules import module_directory
+from symkin.runtime.modules import module_directory, remembered
 
-# Built extensions (or the error that stopped the build): by model identity first (hashing
-# a model is slow), then by the product form's content, shared by equal robots.
-_BY_ID: dict[int, tuple[Model, ModuleType | SymkinError]] = {}
-_BY_CONTENT: dict[Model, ModuleType | SymkinError] = {}
+# One build at a time: two threads asking for the same robot must not compile into the same
+# folder at once (the second finds the first's result in the cache).
 _LOCK = threading.Lock()
 
 
@@ -33,19 +32,14 @@ def ik_extension(model: Model) -> ModuleType:
     Raises :class:`~symkin.errors.SymkinError` when the extension cannot be built; the failure
     is remembered for the process, like the module.
     """
-    entry = _BY_ID.get(id(model))
-    if entry is None or entry[0] is not model:
-        with _LOCK:  # one build per robot, also when threads ask at once
-            built = _BY_CONTENT.get(model.product_form)
-            if built is None:
-                built = _build(model.product_form)
-                _BY_CONTENT[model.product_form] = built
-            _BY_ID[id(model)] = entry = (model, built)
-    if isinstance(entry[1], SymkinError):
-        raise entry[1]
-    return entry[1]
+    with _LOCK:
+        built = remembered(model, "ik_extension", _build)
+    if isinstance(built, SymkinError):
+        raise built
+    return built
 
 
+@lru_cache(maxsize=32)
 def _build(model: Model) -> ModuleType | SymkinError:
     """Render, compile and import the extension; the error instead when that fails."""
     # Imported here, not at the top: ``import symkin`` should not load the code generators.

@@ -47,14 +47,14 @@ def generated_numpy_module(model: Model, kind: str = "dynamics") -> ModuleType:
     generation starts from, so a simplified model shares the module of its product form and
     nothing readable is derived for it.  The generated code is checked against the symbolic
     model in the test suite."""
-    return _remembered(model, ("numpy", kind), _generated_module, "numpy", kind)
+    return remembered(model, ("numpy", kind), _generated_module, "numpy", kind)
 
 
 def generated_casadi_module(model: Model, kind: str = "dynamics") -> ModuleType:
     """The CasADi backend's ``kind`` kernels, loaded the same way: ``fk_function``,
     ``forward_dynamics_function`` and the others build ``casadi.Function`` objects for
     optimisation (trajectories, IK through IPOPT)."""
-    return _remembered(model, ("casadi", kind), _generated_module, "casadi", kind)
+    return remembered(model, ("casadi", kind), _generated_module, "casadi", kind)
 
 
 def generated_point_module(
@@ -63,7 +63,7 @@ def generated_point_module(
     """The NumPy (or, with ``backend="casadi"``, CasADi) kernels ``point1, point2, ...``
     (position, velocity and acceleration of each ``(link, (x, y, z))`` point), from the product
     form, built once per robot, point set and backend."""
-    return _remembered(model, ("points", points, backend), _point_module, points, backend)
+    return remembered(model, ("points", points, backend), _point_module, points, backend)
 
 
 # The modules of the models used last, by identity: hashing a model hashes its robot's every
@@ -73,11 +73,12 @@ _RECENT_SIZE = 64
 _RECENT_LOCK = threading.Lock()
 
 
-def _remembered(
+def remembered(
     model: Model, key: Hashable, build: Callable[..., ModuleType], *arguments: Hashable
 ) -> ModuleType:
     """``build(model.product_form, *arguments)``, looked up by the model's identity first and
-    by its content (``build``'s own cache, shared by equal robots) after that."""
+    by its content (``build``'s own cache, shared by equal robots) after that.  Both caches are
+    bounded, so a process that makes many models does not keep them all."""
     entry = _RECENT.get((id(model), key))
     if entry is not None and entry[0] is model:
         return entry[1]
