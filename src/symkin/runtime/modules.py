@@ -18,13 +18,15 @@ from collections.abc import Callable, Hashable
 from functools import lru_cache
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from symkin.derive import Model
 from symkin.errors import SymkinError
 
 if TYPE_CHECKING:
     from symkin.kernels import Kernel
+
+T = TypeVar("T")
 
 
 # What the numeric solvers call, nothing more: the determinant, the singular set, the
@@ -68,26 +70,25 @@ def generated_point_module(
 
 # The modules of the models used last, by identity: hashing a model hashes its robot's every
 # SymPy number, which for the PUMA takes three times as long as its fk_jacobian kernel.
-_RECENT: dict[tuple[int, Hashable], tuple[Model, ModuleType]] = {}
+_RECENT: dict[tuple[int, Hashable], tuple[Model, object]] = {}
 _RECENT_SIZE = 64
 _RECENT_LOCK = threading.Lock()
 
 
-def remembered(
-    model: Model, key: Hashable, build: Callable[..., ModuleType], *arguments: Hashable
-) -> ModuleType:
-    """``build(model.product_form, *arguments)``, looked up by the model's identity first and
-    by its content (``build``'s own cache, shared by equal robots) after that.  Both caches are
-    bounded, so a process that makes many models does not keep them all."""
+def remembered(model: Model, key: Hashable, build: Callable[..., T], *arguments: Hashable) -> T:
+    """``build(model.product_form, *arguments)`` (a module, or any value ``build`` makes once
+    per robot), looked up by the model's identity first and by its content (``build``'s own
+    cache, shared by equal robots) after that.  Both caches are bounded, so a process that
+    makes many models does not keep them all."""
     entry = _RECENT.get((id(model), key))
     if entry is not None and entry[0] is model:
         return entry[1]
-    module = build(model.product_form, *arguments)
+    value = build(model.product_form, *arguments)
     with _RECENT_LOCK:  # threads may share a model; the oldest entry goes first
         if len(_RECENT) >= _RECENT_SIZE:
             del _RECENT[next(iter(_RECENT))]
-        _RECENT[(id(model), key)] = (model, module)  # the model is kept: its id is not reused
-    return module
+        _RECENT[(id(model), key)] = (model, value)  # the model is kept: its id is not reused
+    return value
 
 
 @lru_cache(maxsize=32)

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from symkin.derive import Model
 from symkin.errors import ParameterError, SymkinError
+from symkin.runtime.modules import remembered
 
 # Random restarts draw unlimited prismatic joints from [-PRISMATIC_RANGE, PRISMATIC_RANGE] m.
 PRISMATIC_RANGE = 1.0
@@ -37,16 +39,14 @@ class JointData:
     has_limits: bool
 
 
-# By model identity (the model is kept, so its id is not reused); the oldest entry goes first.
-_JOINT_DATA: dict[int, tuple[Model, JointData]] = {}
-_JOINT_DATA_SIZE = 64
-
-
 def joint_data(model: Model) -> JointData:
-    """The :class:`JointData` of ``model``, computed once per model and process."""
-    entry = _JOINT_DATA.get(id(model))
-    if entry is not None and entry[0] is model:
-        return entry[1]
+    """The :class:`JointData` of ``model``, computed once per robot and process (looked up by
+    the model's identity first: hashing a model is slow)."""
+    return remembered(model, "joint_data", _joint_data)
+
+
+@lru_cache(maxsize=64)
+def _joint_data(model: Model) -> JointData:
     lower, upper = joint_bounds(model)
     revolute = np.array([j.type == "revolute" for j in model.robot.joints])
     try:
@@ -65,10 +65,6 @@ def joint_data(model: Model) -> JointData:
     for array in (lower, upper, revolute, data.unlimited, data.middle, parameters):
         if array is not None:
             array.setflags(write=False)
-    if len(_JOINT_DATA) >= _JOINT_DATA_SIZE:
-        # pop with a default: two threads may evict the same oldest entry at once.
-        _JOINT_DATA.pop(next(iter(_JOINT_DATA), None), None)
-    _JOINT_DATA[id(model)] = (model, data)
     return data
 
 
