@@ -14,7 +14,7 @@ symkin uses two targeted steps instead:
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import symengine as se
@@ -110,22 +110,43 @@ def contract_product(
     as it multiplies; SymEngine's product and expansion are the cheap part.  An entry longer
     than :data:`MAX_CONTRACTED_TERMS` keeps its SymPy product form.
     """
-    product = _symengine_matrix(left) * _symengine_matrix(right)
+    product = symengine_matrix(left) * symengine_matrix(right)
     symbols = {s.name: s for s in left.free_symbols | right.free_symbols}
+
+    def product_form(i: int, j: int) -> sp.Expr:
+        return sum(left[i, k] * right[k, j] for k in range(left.cols))
+
+    return contract_symengine(product, symbols, angle_sums, product_form)
+
+
+def contract_symengine(
+    matrix: se.DenseMatrix,
+    symbols: dict[str, sp.Symbol],
+    angle_sums: bool = True,
+    fallback: Callable[[int, int], sp.Expr] | None = None,
+) -> sp.ImmutableMatrix:
+    """:func:`contract_matrix` of a SymEngine matrix: every entry expanded by SymEngine,
+    brought back to SymPy once with ``symbols`` (by name), then contracted by TR10i when
+    ``angle_sums``.  An entry longer than :data:`MAX_CONTRACTED_TERMS` terms is
+    ``fallback(i, j)`` (its product form) when given, else its unread expansion."""
     entries = []
-    for i in range(left.rows):
-        for j in range(right.cols):
-            expanded = se.expand(product[i, j])
-            if isinstance(expanded, se.Add) and len(expanded.args) > MAX_CONTRACTED_TERMS:
-                entries.append(sum(left[i, k] * right[k, j] for k in range(left.cols)))
+    for i in range(matrix.rows):
+        for j in range(matrix.cols):
+            expanded = se.expand(matrix[i, j])
+            if fallback is not None and _longer_than(expanded, MAX_CONTRACTED_TERMS):
+                entries.append(fallback(i, j))
                 continue
             entry = sympy_from_symengine(expanded, symbols)
             contracted = angle_sums and entry.has(sp.sin, sp.cos)
             entries.append(TR10i(entry) if contracted else entry)
-    return sp.ImmutableMatrix(left.rows, right.cols, entries)
+    return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
 
 
-def _symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
+def _longer_than(expr: se.Basic, terms: int) -> bool:
+    return isinstance(expr, se.Add) and len(expr.args) > terms
+
+
+def symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
     return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
 
 
