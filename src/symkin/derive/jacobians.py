@@ -71,9 +71,7 @@ def _local_tool_points(robot: Robot, kinematics: Kinematics) -> list[se.DenseMat
     points.reverse()  # points[k] = tool point in DH frame k
     at_axes = points[:-1] if robot.convention == "standard" else points[1:]
     flip = se.DenseMatrix(4, 4, [1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1])
-    return [
-        flip * p if joint.flip else p for joint, p in zip(robot.joints, at_axes, strict=True)
-    ]
+    return [flip * p if joint.flip else p for joint, p in zip(robot.joints, at_axes, strict=True)]
 
 
 def _local_columns(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatrix:
