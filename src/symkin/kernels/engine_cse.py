@@ -38,11 +38,12 @@ def symengine_cse(
     names = {s.name: s for e in flat for s in e.free_symbols}
     replacements, reduced = se.cse([se.sympify(e) for e in flat])
     found = []
+    seen: dict = {}  # converted once, shared by every expression
     for symbol, expr in replacements:
         # SymEngine names its symbols apart from the expressions' own (x0 taken: x1).
         names[symbol.name] = next(symbols)
-        found.append((names[symbol.name], sympy_from_symengine(expr, names)))
-    entries = iter([sympy_from_symengine(e, names) for e in reduced])
+        found.append((names[symbol.name], sympy_from_symengine(expr, names, seen)))
+    entries = iter([sympy_from_symengine(e, names, seen) for e in reduced])
     result: list[sp.Expr | sp.ImmutableMatrix] = []
     for shape in shapes:
         if shape is None:
