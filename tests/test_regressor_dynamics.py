@@ -48,18 +48,22 @@ TENSOR_ENTRIES = {
 }
 
 
+def link_values(i: int, m: float, c: np.ndarray, inertia: np.ndarray) -> dict[str, float]:
+    """Link ``i``'s barycentric parameters by the parallel-axis theorem written out here
+    (Khalil & Dombre eq. 9.4, ``I_o = I_c + m (c.c E - c c^T)``), first moments ``m c``, mass."""
+    about_origin = inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
+    values = {f"{name}{i}": about_origin[entry] for name, entry in TENSOR_ENTRIES.items()}
+    return values | {f"mx{i}": m * c[0], f"my{i}": m * c[1], f"mz{i}": m * c[2], f"m{i}": m}
+
+
 def file_delta(robot: symkin.Robot) -> np.ndarray:
-    """The robot file's data as ``delta``: the parallel-axis theorem written out here
-    (Khalil & Dombre eq. 9.4, ``I_o = I_c + m (c.c E - c c^T)``), first moments ``m c``, the
-    mass, then the drive parameters the file gives (rotor inertia, viscous, Coulomb)."""
+    """The robot file's data as ``delta``: per link :func:`link_values`, then the drive
+    parameters the file gives (rotor inertia, viscous, Coulomb)."""
     values = {}
     for i, joint in enumerate(robot.joints, start=1):
         link = joint.link
         m, c = float(link.mass), np.array([float(x) for x in link.com])
-        inertia = np.array(link.inertia_matrix, dtype=float)
-        about_origin = inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
-        values |= {f"{name}{i}": about_origin[entry] for name, entry in TENSOR_ENTRIES.items()}
-        values |= {f"mx{i}": m * c[0], f"my{i}": m * c[1], f"mz{i}": m * c[2], f"m{i}": m}
+        values |= link_values(i, m, c, np.array(link.inertia_matrix, dtype=float))
         values[f"ia{i}"] = float(link.motor_inertia)
         values[f"fv{i}"] = float(link.viscous)
         values[f"fc{i}"] = values[f"fcp{i}"] = float(link.coulomb)
@@ -281,3 +285,42 @@ def test_smoothed_coulomb_and_elastic_rotor_follow_the_file_form(tmp_path):
     barycentric = import_path("smooth_elastic", tmp_path / "numpy" / f"{robot.name}_kinematics.py")
     close(barycentric.inverse_dynamics_barycentric(q, dq, ddq, delta=delta), tau, "tau")
     close(barycentric.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q), "M")
+
+
+def test_symbolic_inertia_robot_takes_pi_and_delta_side_by_side(tmp_path):
+    """A robot file without inertial data: the file-form kernels take ``pi`` (m, c, I about
+    the COM), the barycentric ones ``delta``; the same bodies in both forms give the same
+    ``M`` and ``tau``."""
+    robot = symkin.robot_from_toml(SYMBOLIC_ARM, "symbolic_arm.toml")
+    model = symkin.derive(robot)
+    write_tree(tmp_path, emit_numpy(robot, dynamics_kernels(model) + barycentric_kernels(model)))
+    generated = import_path("symbolic_arm", tmp_path / "numpy" / "symbolic_arm_kinematics.py")
+    rng = np.random.default_rng(10)
+    pi, values = [], {}
+    for i in (1, 2):
+        m, c = rng.uniform(0.5, 2.0), rng.uniform(-0.2, 0.2, 3)
+        principal = rng.uniform(0.01, 0.05, 3)
+        inertia = np.diag(principal) + 0.002 * (1 - np.eye(3))  # ixy = ixz = iyz = 0.002
+        pi += [m, *c, *principal, 0.002, 0.002, 0.002]  # m cx cy cz ixx iyy izz ixy ixz iyz
+        values |= link_values(i, m, c, inertia)
+    delta = np.array([values[s.name] for s in parameter_symbols(robot)])
+    q, dq, ddq = states(11, 5, 2)
+    close(generated.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q, pi=pi), "M")
+    close(
+        generated.inverse_dynamics_barycentric(q, dq, ddq, delta=delta),
+        generated.inverse_dynamics(q, dq, ddq, pi=pi),
+        "tau",
+    )
+
+
+SYMBOLIC_ARM = """
+name = "symbolic_arm"
+[[joints]]
+type = "revolute"
+a = 0.5
+alpha = 30
+[[joints]]
+type = "prismatic"
+alpha = 90
+theta = 20
+"""
