@@ -26,12 +26,14 @@ import symkin
 from codegen_helpers import CC, CONVERSION, SHARED, STRICT, import_path, run_parallel, write_tree
 from symkin.cli import main
 from symkin.derive.regressor import parameter_symbols
+from symkin.derive.regressor_base import base_regressor
 from symkin.emit.numpy import emit_numpy
 from symkin.kernels import dynamics_kernels
 from symkin.kernels.regressor import barycentric_kernels
 from symkin.runtime.extension import load_extension
 from symkin.runtime.modules import generated_numpy_module
-from test_regressor import FRICTION_ARM
+from symkin.solve.identify import identify
+from test_regressor import FRICTION_ARM, I1, I2, L1, LC1, LC2, M1, M2, planar_torques
 
 ROOT = Path(__file__).resolve().parents[1]
 # SymPyBotics' mass matrix of the PUMA 560 with symbolic (barycentric) inertia and numeric
@@ -324,3 +326,27 @@ type = "prismatic"
 alpha = 90
 theta = 20
 """
+
+
+def test_identified_base_parameters_give_the_textbook_mass_matrix(tmp_path):
+    """The natural use: fit ``beta`` to torques of the textbook planar elbow arm (Spong,
+    Hutchinson, Vidyasagar, Sec. 7.4.1), put it into ``delta`` at the base regressor's columns
+    (zero elsewhere: the folded parameters change no torque), and ``M`` of ``delta`` is the
+    textbook ``D(q)``."""
+    robot = symkin.load_robot("planar_2r")
+    model = symkin.derive(robot)
+    q, dq, ddq = states(12, 40, 2)
+    fit = identify(model, q, dq, ddq, planar_torques(q, dq, ddq))
+    delta = np.zeros(len(parameter_symbols(robot)))
+    delta[list(base_regressor(robot, model.kinematics).folding.kept)] = fit.estimate
+    write_tree(tmp_path, emit_numpy(robot, barycentric_kernels(model)))
+    generated = import_path("identified_2r", tmp_path / "numpy" / "planar_2r_kinematics.py")
+    q, dq, ddq = states(13, 5, 2)
+    c2 = np.cos(q[:, 1])
+    d11 = M1 * LC1**2 + M2 * (L1**2 + LC2**2 + 2 * L1 * LC2 * c2) + I1 + I2
+    d12 = M2 * (LC2**2 + L1 * LC2 * c2) + I2
+    d22 = np.full_like(c2, M2 * LC2**2 + I2)
+    textbook = np.stack([np.stack([d11, d12], -1), np.stack([d12, d22], -1)], -2)
+    close(generated.mass_matrix_barycentric(q, delta=delta), textbook, "M", 1e-9)
+    tau = generated.inverse_dynamics_barycentric(q, dq, ddq, delta=delta)
+    close(tau, planar_torques(q, dq, ddq), "tau", 1e-9)
