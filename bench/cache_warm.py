@@ -46,6 +46,9 @@ COMMANDS = {
 def timed_run(argv: list[str], cache: Path, out: Path) -> dict:
     env = os.environ | {"XDG_CACHE_HOME": str(cache)}
     env.pop("SYMKIN_NO_CACHE", None)
+    # Python's bytecode cache on, as in a user's install (a warm run would else recompile
+    # symkin's sources on every start).
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
     start = time.perf_counter()
     done = subprocess.run(
         [sys.executable, "-c", CHILD, "--time-limit", "0", *argv],

@@ -182,8 +182,11 @@ class Settings:
 
 
 def _env(cache: Path) -> dict[str, str]:
-    """The environment of every child: its own, empty cache directory."""
-    return dict(os.environ, XDG_CACHE_HOME=str(cache))
+    """The environment of every child: its own, empty cache directory, and Python's bytecode
+    cache on, as in a user's install (a warm run would else recompile symkin's sources)."""
+    env = dict(os.environ, XDG_CACHE_HOME=str(cache))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    return env
 
 
 def _derive(arm: Arm, settings: Settings, cache: Path, out: Path) -> Sample:

@@ -6,10 +6,17 @@ numbers for the product-form fallback.
 
 from __future__ import annotations
 
+import pytest
+import symengine as se
 import sympy as sp
 
 from symkin.derive import simplify
-from symkin.derive.simplify import contract_product, contract_trig, expand
+from symkin.derive.simplify import (
+    contract_product,
+    contract_trig,
+    expand,
+    sympy_from_symengine,
+)
 
 q1, q2, a = sp.symbols("q1 q2 a", real=True)
 
@@ -49,3 +56,30 @@ def test_contract_product_keeps_long_entries_in_product_form(monkeypatch):
     assert result[0, 0] == (sp.cos(q1) + a) * (sp.cos(q2) + 1) + sp.sin(q1) * sp.sin(q2)
     point = {q1: 0.3, q2: -1.1, a: 0.7}
     assert abs(float(result[0, 0].subs(point)) - float((left * right)[0, 0].subs(point))) < 1e-15
+
+
+def _symengine_own_conversion(expr, symbols):
+    """SymEngine's converter (``_sympy_``, SymPy's constructors throughout), then our symbols."""
+    return expr._sympy_().xreplace({sp.Symbol(s.name): s for s in symbols})
+
+
+@pytest.mark.parametrize(
+    "expr",
+    [
+        (a * sp.cos(q1) + sp.Float(0.107) * sp.sin(q2) - 1) ** 3 * (sp.cos(q1 + q2) - a),
+        sp.Float(1.0) * a * sp.sin(q1) + sp.Float(0.5) * sp.cos(q2) ** 2 * a**2 + 3,
+        (sp.sqrt(2) / 2 * sp.cos(q1) - sp.sqrt(2) / 2 * sp.sin(q1)) * (a + sp.sin(q2)),
+        sp.Rational(1, 3) * a * sp.sin(q1) ** 2 * sp.cos(q1) - a / 3 + sp.cos(q1 + 2 * q2),
+        (a + sp.sin(q1)) * (a - sp.sin(q1)) + sp.sin(q1) ** 2,
+    ],
+)
+def test_rebuilt_expansion_is_sympys_own_canonical_form(expr):
+    """The rebuild assembles plain sums and products in SymPy's canonical order itself; the
+    result must be the very object SymPy's constructors make (same args, same order)."""
+    expanded = se.expand(se.sympify(expr))
+    symbols = expr.free_symbols
+    rebuilt = sympy_from_symengine(expanded, {s.name: s for s in symbols})
+    expected = _symengine_own_conversion(expanded, symbols)
+    assert sp.srepr(rebuilt) == sp.srepr(expected)
+    assert rebuilt == expected and hash(rebuilt) == hash(expected)
+    assert sp.expand(rebuilt - sp.expand(expr)) == 0

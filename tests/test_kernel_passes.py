@@ -22,9 +22,10 @@ INPUTS = (KernelInput("q", X, "inputs"),)
 COEFFICIENTS = (1, -1, 2, -3, sp.Float(0.5), sp.Float(-0.25), sp.Rational(1, 3))
 
 
-def kernel(assignments, outputs):
+def kernel(assignments, outputs, engine="sympy"):
     matrix = sp.Matrix(outputs)
-    return kernel_from_assignments("k", "test", INPUTS, assignments, [("o", matrix, "", "vector")])
+    spec = [("o", matrix, "", "vector")]
+    return kernel_from_assignments("k", "test", INPUTS, assignments, spec, engine)
 
 
 def evaluate(assignments, outputs, values: dict) -> list[float]:
@@ -129,12 +130,26 @@ def chains(draw):
     return assignments, outputs
 
 
+@pytest.mark.parametrize("engine", ["sympy", "symengine"])
 @settings(max_examples=150, deadline=None)
 @given(chains(), st.lists(st.floats(-2.0, 2.0), min_size=4, max_size=4))
-def test_random_chains_keep_their_values(chain, numbers):
+def test_random_chains_keep_their_values(engine, chain, numbers):
     assignments, outputs = chain
-    result = kernel(assignments, outputs)
+    result = kernel(assignments, outputs, engine)
     assert_same_values(assignments, outputs, result, dict(zip(X, numbers, strict=True)))
+
+
+def test_symengine_cse_shares_a_repeated_subexpression_and_keeps_assumptions():
+    a, b, c, _ = X
+    shared = sp.sin(a + b) * c
+    outputs = [shared + a, shared * b, (a + b) ** 2]
+    result = kernel([], outputs, "symengine")
+    assert_same_values([], outputs, result, VALUES)
+    # sin(a + b)*c (and a + b in it) is computed once: one sine in the whole kernel.
+    sines = [e for _, e in result.assignments for f in sp.preorder_traversal(e) if f.func == sp.sin]
+    assert len(sines) == 1
+    # The inputs come back as the same (real) symbols, not SymEngine's plain ones.
+    assert all(s.is_real for _, e in result.assignments for s in e.free_symbols)
 
 
 def test_a_kernel_refuses_a_symbol_it_never_defines():

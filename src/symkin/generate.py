@@ -31,7 +31,7 @@ from symkin.kernels import (
     statics_kernels,
 )
 from symkin.kernels.derivatives import derivative_kernels
-from symkin.kernels.regressor import identification_kernels
+from symkin.kernels.regressor import barycentric_kernels, identification_kernels
 from symkin.output_folder import (
     check_no_symlink,
     manifest_name,
@@ -101,8 +101,9 @@ def files_for_robot(
     form, ``det`` and ``manipulability`` are computed numerically from the Jacobian);
     ``dynamics=False`` leaves the dynamics kernels out; ``derivatives=True`` adds the
     derivative kernels (and the forward dynamics' derivatives) to them; ``regressor=True``
-    adds the identification kernels ``regressor`` and ``base_regressor`` (opt-in: they cost
-    derivation time no other kernel needs).
+    adds the identification kernels ``regressor`` and ``base_regressor`` and the dynamics of
+    their parameters, ``mass_matrix_barycentric`` and ``inverse_dynamics_barycentric``
+    (opt-in: they cost derivation time no other kernel needs).
     """
     if precision not in PRECISIONS:
         raise ParameterError(
@@ -113,7 +114,7 @@ def files_for_robot(
     model = derive(robot, budget, closed_forms)
 
     def all_kernels() -> tuple[Kernel, ...]:
-        extra = identification_kernels(model) if regressor else ()
+        extra = identification_kernels(model) + barycentric_kernels(model) if regressor else ()
         return robot_kernels(model, dynamics, derivatives) + point_kernels(model, points) + extra
 
     kernels = functools.cache(all_kernels)

@@ -4,8 +4,8 @@
  * Regenerate with: symkin generate  (or: symkin derive cylindrical_rtt_wrist --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 56 ops (14 additions, 34 multiplications, 8 trig)
- *   position: 24 ops (6 additions, 12 multiplications, 6 trig)
- *   jacobian: 50 ops (8 additions, 35 multiplications, 6 trig, 1 powers)
+ *   position: 19 ops (5 additions, 8 multiplications, 6 trig)
+ *   jacobian: 47 ops (7 additions, 34 multiplications, 6 trig)
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
@@ -16,7 +16,7 @@
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
  *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
- *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   wrench_torque: 75 ops (21 additions, 48 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
  *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  *
@@ -39,7 +39,6 @@
 
 #define MAX_STATES 3
 #define MAX_OUTPUTS 3
-#define NUM_INERTIAL 0
 /* Below this many states the GIL stays held: releasing it costs more than the C. */
 #define RELEASE_GIL_FROM 64
 #define USAGE_NOTE " (state inputs by position; p and pi also by keyword)"
@@ -52,7 +51,8 @@ typedef struct {
     const char *usage;
     int nstates;
     int sizes[MAX_STATES];
-    int takes_pi;
+    int pi_size;            /* the parameter vector after p: 0 (none) or its size */
+    const char *pi_name;    /* "pi" (the file's inertial data) or "delta" (barycentric) */
     batch_kernel kernel;
     int noutputs;
     int ndims[MAX_OUTPUTS];
@@ -117,7 +117,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
     int batched = 0, i, k;
     npy_intp count = 1;
 
-    if (nargs < b->nstates || nargs > b->nstates + 1 + b->takes_pi) {
+    if (nargs < b->nstates || nargs > b->nstates + 1 + (b->pi_size > 0)) {
         PyErr_Format(PyExc_TypeError, "expected %s" USAGE_NOTE, b->usage);
         return NULL;
     }
@@ -130,7 +130,7 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
     for (j = 0; j < nkw; ++j) {
         const char *key = PyUnicode_AsUTF8(PyTuple_GET_ITEM(kwnames, j));
         int is_p = key != NULL && strcmp(key, "p") == 0;
-        int is_pi = key != NULL && b->takes_pi && strcmp(key, "pi") == 0;
+        int is_pi = key != NULL && b->pi_size > 0 && strcmp(key, b->pi_name) == 0;
         if ((is_p && nargs > b->nstates) || (is_pi && nargs > b->nstates + 1)) {
             PyErr_Format(PyExc_TypeError, "%s: got multiple values for argument '%s'", b->usage, key);
             return NULL;
@@ -167,12 +167,14 @@ static PyObject *run_binding(const binding *b, PyObject *const *args, Py_ssize_t
         }
         p_data = (const double *)PyArray_DATA(p);
     }
-    if (b->takes_pi) {
+    if (b->pi_size > 0) {
         if (pi_value == Py_None) {
-            PyErr_Format(PyExc_ValueError, "%s: give the %d inertial parameters pi the robot file leaves out", b->usage, NUM_INERTIAL);
+            PyErr_Format(PyExc_ValueError, "%s: give the %d %s parameters %s%s", b->usage, b->pi_size,
+                         strcmp(b->pi_name, "pi") == 0 ? "inertial" : "barycentric", b->pi_name,
+                         strcmp(b->pi_name, "pi") == 0 ? " the robot file leaves out" : "");
             goto done;
         }
-        pi = vector_argument(pi_value, NUM_INERTIAL, "pi", b->usage);
+        pi = vector_argument(pi_value, b->pi_size, b->pi_name, b->usage);
         if (pi == NULL) {
             goto done;
         }
@@ -242,7 +244,7 @@ static void fk_adapter(size_t count, const double *const *states, const double *
 }
 
 static const binding fk_binding = {
-    "fk(q, p=None)", 1, { 6 }, 0, fk_adapter, 1,
+    "fk(q, p=None)", 1, { 6 }, 0, "pi", fk_adapter, 1,
     { 2 },
     { { 4, 4 } },
 NULL,
@@ -262,7 +264,7 @@ static void position_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding position_binding = {
-    "position(q, p=None)", 1, { 6 }, 0, position_adapter, 1,
+    "position(q, p=None)", 1, { 6 }, 0, "pi", position_adapter, 1,
     { 1 },
     { { 3, 0 } },
 NULL,
@@ -282,7 +284,7 @@ static void jacobian_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding jacobian_binding = {
-    "jacobian(q, p=None)", 1, { 6 }, 0, jacobian_adapter, 1,
+    "jacobian(q, p=None)", 1, { 6 }, 0, "pi", jacobian_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -302,7 +304,7 @@ static void position_jacobian_adapter(size_t count, const double *const *states,
 }
 
 static const binding position_jacobian_binding = {
-    "position_jacobian(q, p=None)", 1, { 6 }, 0, position_jacobian_adapter, 1,
+    "position_jacobian(q, p=None)", 1, { 6 }, 0, "pi", position_jacobian_adapter, 1,
     { 2 },
     { { 3, 6 } },
 NULL,
@@ -322,7 +324,7 @@ static void fk_jacobian_adapter(size_t count, const double *const *states, const
 }
 
 static const binding fk_jacobian_binding = {
-    "fk_jacobian(q, p=None)", 1, { 6 }, 0, fk_jacobian_adapter, 2,
+    "fk_jacobian(q, p=None)", 1, { 6 }, 0, "pi", fk_jacobian_adapter, 2,
     { 2, 2 },
     { { 4, 4 }, { 6, 6 } },
 NULL,
@@ -342,7 +344,7 @@ static void det_adapter(size_t count, const double *const *states, const double 
 }
 
 static const binding det_binding = {
-    "det(q, p=None)", 1, { 6 }, 0, det_adapter, 1,
+    "det(q, p=None)", 1, { 6 }, 0, "pi", det_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -362,7 +364,7 @@ static void manipulability_adapter(size_t count, const double *const *states, co
 }
 
 static const binding manipulability_binding = {
-    "manipulability(q, p=None)", 1, { 6 }, 0, manipulability_adapter, 1,
+    "manipulability(q, p=None)", 1, { 6 }, 0, "pi", manipulability_adapter, 1,
     { 0 },
     { { 0, 0 } },
 NULL,
@@ -382,7 +384,7 @@ static void mass_matrix_adapter(size_t count, const double *const *states, const
 }
 
 static const binding mass_matrix_binding = {
-    "mass_matrix(q, p=None)", 1, { 6 }, 0, mass_matrix_adapter, 1,
+    "mass_matrix(q, p=None)", 1, { 6 }, 0, "pi", mass_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -402,7 +404,7 @@ static void gravity_adapter(size_t count, const double *const *states, const dou
 }
 
 static const binding gravity_binding = {
-    "gravity(q, p=None)", 1, { 6 }, 0, gravity_adapter, 1,
+    "gravity(q, p=None)", 1, { 6 }, 0, "pi", gravity_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -422,7 +424,7 @@ static void coriolis_adapter(size_t count, const double *const *states, const do
 }
 
 static const binding coriolis_binding = {
-    "coriolis(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_adapter, 1,
+    "coriolis(q, dq, p=None)", 2, { 6, 6 }, 0, "pi", coriolis_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -442,7 +444,7 @@ static void coriolis_matrix_adapter(size_t count, const double *const *states, c
 }
 
 static const binding coriolis_matrix_binding = {
-    "coriolis_matrix(q, dq, p=None)", 2, { 6, 6 }, 0, coriolis_matrix_adapter, 1,
+    "coriolis_matrix(q, dq, p=None)", 2, { 6, 6 }, 0, "pi", coriolis_matrix_adapter, 1,
     { 2 },
     { { 6, 6 } },
 NULL,
@@ -462,7 +464,7 @@ static void mass_matrix_bias_adapter(size_t count, const double *const *states, 
 }
 
 static const binding mass_matrix_bias_binding = {
-    "mass_matrix_bias(q, dq, p=None)", 2, { 6, 6 }, 0, mass_matrix_bias_adapter, 2,
+    "mass_matrix_bias(q, dq, p=None)", 2, { 6, 6 }, 0, "pi", mass_matrix_bias_adapter, 2,
     { 2, 1 },
     { { 6, 6 }, { 6, 0 } },
 NULL,
@@ -482,7 +484,7 @@ static void inverse_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding inverse_dynamics_binding = {
-    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 6, 6, 6 }, 0, inverse_dynamics_adapter, 1,
+    "inverse_dynamics(q, dq, ddq, p=None)", 3, { 6, 6, 6 }, 0, "pi", inverse_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -502,7 +504,7 @@ static void wrench_torque_adapter(size_t count, const double *const *states, con
 }
 
 static const binding wrench_torque_binding = {
-    "wrench_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, wrench_torque_adapter, 1,
+    "wrench_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, "pi", wrench_torque_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -522,7 +524,7 @@ static void static_torque_adapter(size_t count, const double *const *states, con
 }
 
 static const binding static_torque_binding = {
-    "static_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, static_torque_adapter, 1,
+    "static_torque(q, wrench, p=None)", 2, { 6, 6 }, 0, "pi", static_torque_adapter, 1,
     { 1 },
     { { 6, 0 } },
 NULL,
@@ -542,7 +544,7 @@ static void energy_adapter(size_t count, const double *const *states, const doub
 }
 
 static const binding energy_binding = {
-    "energy(q, dq, p=None)", 2, { 6, 6 }, 0, energy_adapter, 3,
+    "energy(q, dq, p=None)", 2, { 6, 6 }, 0, "pi", energy_adapter, 3,
     { 0, 0, 0 },
     { { 0, 0 }, { 0, 0 }, { 0, 0 } },
 NULL,
@@ -565,7 +567,7 @@ static void forward_dynamics_adapter(size_t count, const double *const *states, 
 }
 
 static const binding forward_dynamics_binding = {
-    "forward_dynamics(q, dq, tau, p=None)", 3, { 6, 6, 6 }, 0, forward_dynamics_adapter, 1,
+    "forward_dynamics(q, dq, tau, p=None)", 3, { 6, 6, 6 }, 0, "pi", forward_dynamics_adapter, 1,
     { 1 },
     { { 6, 0 } },
 "ddq is not finite: M(q) is not positive definite there (non-physical inertial data?) or an input is not finite",

@@ -282,7 +282,8 @@ def add_derive(commands: Commands) -> None:
         "--regressor",
         action="store_true",
         help="also the identification kernels: regressor (tau = Y pi) and base_regressor "
-        "(tau = Y_b beta); see docs/identification.md",
+        "(tau = Y_b beta), and mass_matrix_barycentric and inverse_dynamics_barycentric of a "
+        "parameter vector delta = pi; see docs/identification.md",
     )
     derive_parser.add_argument(
         "--derivatives",

@@ -14,12 +14,18 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import symengine as se
 import sympy as sp
 
-from symkin.derive.kinematics import Kinematics, euler_zyx_of_tool, joint_axis_sign
+from symkin.derive.kinematics import (
+    Kinematics,
+    euler_zyx_of_tool,
+    joint_axis_sign,
+    numeric_trig_constants,
+)
 from symkin.derive.orientation_rates import orientation_rates
 from symkin.derive.pythagorean import fold_matrix
-from symkin.derive.simplify import derivative_matrix
+from symkin.derive.simplify import contract_symengine, derivative_matrix, symengine_matrix
 from symkin.errors import SymkinError
 from symkin.robot import Robot
 from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation, transform_inverse
@@ -43,9 +49,52 @@ def _geometric_columns(
 
 
 def geometric_jacobian(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatrix:
-    """6 x n geometric Jacobian of the tool point, base frame, linear rows first."""
+    """6 x n geometric Jacobian of the tool point, base frame, linear rows first.
+
+    Simplified kinematics get :func:`_local_columns` (the same values, no ``sin^2 + cos^2``
+    to fold); the product form keeps ``z x (p - o)`` as it is.
+    """
+    if kinematics.simplified:
+        return _local_columns(robot, kinematics)
     columns = _geometric_columns(robot, kinematics, kinematics.tool_position)
     return kinematics.contract(sp.Matrix.hstack(*columns))
+
+
+def _local_tool_points(robot: Robot, kinematics: Kinematics) -> list[se.DenseMatrix]:
+    """The tool point in each joint's axis frame (homogeneous 4x1, SymEngine, expanded):
+    ``p^n`` = the tool's translation, ``p^(k-1) = A_k p^k``, taken at frame i-1 (standard DH)
+    or i (modified, placement) for joint i, ``y`` and ``z`` negated for a flipped joint."""
+    point = symengine_matrix(numeric_trig_constants(robot.tool)[:, 3])
+    points = [point]
+    for link in reversed(kinematics.link_transforms):
+        points.append((symengine_matrix(link) * points[-1]).applyfunc(se.expand))
+    points.reverse()  # points[k] = tool point in DH frame k
+    at_axes = points[:-1] if robot.convention == "standard" else points[1:]
+    flip = se.DenseMatrix(4, 4, [1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1])
+    return [flip * p if joint.flip else p for joint, p in zip(robot.joints, at_axes, strict=True)]
+
+
+def _local_columns(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatrix:
+    """``[R (e_z x p_local); R e_z]`` (revolute) or ``[R e_z; 0]`` (prismatic) with ``R``
+    the joint's axis frame and ``p_local`` the tool point in it: ``z x (p - o)`` equals
+    ``R (e_z x R^T (p - o))``.  The rotation ``R`` holds joints 1..i and ``p_local`` joints
+    i+1..n, so every product term is linear in each joint's sine and cosine and no
+    ``sin^2 + cos^2`` arises (``z x (p - o)`` expanded has them, and folding them away took
+    most of the Panda's derivation time).  Formed in SymEngine, brought back once."""
+    columns = []
+    points = _local_tool_points(robot, kinematics)
+    for joint, frame, p in zip(robot.joints, kinematics.joint_frames, points, strict=True):
+        rotation = symengine_matrix(frame[:3, :3])
+        axis = rotation[:, 2]
+        if joint.type == "revolute":
+            linear = rotation[:, 1] * p[0] - rotation[:, 0] * p[1]
+            columns.append(linear.col_join(axis))
+        else:
+            columns.append(axis.col_join(se.zeros(3, 1)))
+    entries = [column[row] for row in range(6) for column in columns]
+    matrix = se.DenseMatrix(6, len(columns), entries)
+    symbols = {s.name: s for s in kinematics.forward_kinematics.free_symbols | set(kinematics.q)}
+    return contract_symengine(matrix, symbols, kinematics.angle_sums)
 
 
 def frame_jacobian(robot: Robot, kinematics: Kinematics, index: int) -> sp.ImmutableMatrix:

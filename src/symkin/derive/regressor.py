@@ -12,10 +12,15 @@ The columns of the link parameters are the partial derivatives of the Newton–E
 of :func:`symkin.derive.recursion.joint_torques` run with symbolic barycentric parameters,
 taken through its named intermediates (forward mode), so ``Y`` shares the recursion's
 subexpressions and never expands.  ``tau`` is linear in ``pi``, so the derivative is exact.
+
+:func:`barycentric_dynamics` is that recursion itself with ``pi`` as its input: ``tau`` and
+``M`` of any parameter vector ``pi`` (an identified one, say), without the parallel-axis terms
+the robot file's centre-of-mass form costs.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -29,7 +34,7 @@ from symkin.derive.base_parameters import (
 )
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import Recorder, joint_torques
+from symkin.derive.recursion import BarycentricParameters, Recorder, joint_torques
 from symkin.errors import RobotError
 from symkin.robot import Link, Robot
 from symkin.symbols import joint_symbols, link_inertial_symbols
@@ -88,12 +93,16 @@ def _drive_columns(
             "covers rotor inertia, viscous and Coulomb friction only"
         )
     sign = sp.sign(dq)
-    drive = [("ia", link.motor_inertia, ddq), ("fv", link.viscous, dq)]
+    # As symkin.derive.dynamics.friction_torque: tanh(dq / w) for a smoothed Coulomb term; an
+    # elastic joint's rotor is on the motor side and not in the link torques.
+    direction = sign if link.coulomb_width is None else sp.tanh(dq / link.coulomb_width)
+    rotor = sp.Integer(0) if link.is_elastic else link.motor_inertia
+    drive = [("ia", rotor, ddq), ("fv", link.viscous, dq)]
     if link.coulomb_negative is None:
-        drive.append(("fc", link.coulomb, sign))
+        drive.append(("fc", link.coulomb, direction))
     else:
-        drive.append(("fcp", link.coulomb, (sign + sign**2) / 2))
-        drive.append(("fcn", link.coulomb_negative, (sign - sign**2) / 2))
+        drive.append(("fcp", link.coulomb, (direction + sign * direction) / 2))
+        drive.append(("fcn", link.coulomb_negative, (direction - sign * direction) / 2))
     return [
         (sp.Symbol(f"{name}{number}", real=True), sp.Symbol(f"{name}{number}", real=True),
          value, entry)
@@ -147,6 +156,91 @@ def regressor(robot: Robot, kinematics: Kinematics) -> Regressor:
         matrix,
         _needed(recorder.assignments, matrix),
         known,
+    )
+
+
+def parameter_symbols(robot: Robot) -> tuple[sp.Symbol, ...]:
+    """``pi`` in the regressor's column order (:func:`regressor`'s ``symbols``), without
+    deriving ``Y``: per link :data:`COLUMN_ORDER`, then its joint's drive parameters."""
+    n = robot.dof
+    dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
+    delta = barycentric_symbols(n)
+    count = len(PARAMETER_NAMES)
+    symbols: list[sp.Symbol] = []
+    for i in range(n):
+        symbols += [delta[i * count + PARAMETER_NAMES.index(name)] for name in COLUMN_ORDER]
+        drive = _drive_columns(robot.joints[i].link, i + 1, dq[i], ddq[i])
+        symbols += [symbol for symbol, *_ in drive]
+    return tuple(symbols)
+
+
+@dataclass(frozen=True)
+class BarycentricDynamics:
+    """``tau(q, dq, ddq; pi)`` and ``M(q; pi)`` with the regressor's parameter vector ``pi``
+    (``symbols``, in :func:`parameter_symbols` order) as symbols: ``tau = Y pi`` exactly.
+
+    Each comes with its own named intermediates (one Newton–Euler pass for ``tau``; ``n``
+    unit-acceleration passes without gravity for ``M``, its lower triangle mirrored as in
+    :func:`symkin.derive.newton_euler.newton_euler_dynamics`), plus the drive terms.
+    """
+
+    symbols: tuple[sp.Symbol, ...]
+    torque_assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    torque: sp.ImmutableMatrix
+    mass_assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    mass_matrix: sp.ImmutableMatrix
+
+
+def rigid_mass_matrix(
+    robot: Robot,
+    kinematics: Kinematics,
+    recorder: Recorder,
+    inertial: Sequence[BarycentricParameters] | None,
+) -> sp.Matrix:
+    """The links' ``M`` (no rotor inertia) by ``n`` unit-acceleration passes at rest without
+    gravity, column ``j`` the torques of ``ddq = e_j``; the lower triangle mirrored, so the
+    code computes each entry once.  ``inertial`` as for
+    :func:`symkin.derive.recursion.joint_torques` (None: the robot file's form)."""
+    n = robot.dof
+    zeros, no_gravity = [sp.Integer(0)] * n, [sp.Integer(0)] * 3
+    columns = [
+        joint_torques(
+            robot,
+            kinematics,
+            recorder,
+            zeros,
+            [sp.Integer(int(k == j)) for k in range(n)],
+            no_gravity,
+            inertial,
+        )
+        for j in range(n)
+    ]
+    return sp.Matrix(n, n, lambda r, c: columns[min(r, c)][max(r, c)])
+
+
+@lru_cache(maxsize=16)
+def barycentric_dynamics(robot: Robot, kinematics: Kinematics) -> BarycentricDynamics:
+    """``tau`` and ``M`` of the recursion run on the symbols of :func:`parameter_symbols`
+    (the class docstring): the drive parameters add ``ia_i ddq_i``, ``fv_i dq_i`` and the
+    Coulomb terms to ``tau_i``, and ``ia_i`` to ``M_ii``."""
+    n = robot.dof
+    dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
+    links = barycentric_links(barycentric_symbols(n))
+    torque_recorder, mass_recorder = Recorder("s"), Recorder("s")
+    torque = sp.Matrix(
+        joint_torques(robot, kinematics, torque_recorder, dq, ddq, robot.gravity, links)
+    )
+    mass = rigid_mass_matrix(robot, kinematics, mass_recorder, links)
+    for i in range(n):
+        for symbol, _, _, entry in _drive_columns(robot.joints[i].link, i + 1, dq[i], ddq[i]):
+            torque[i] += symbol * entry
+            mass[i, i] += symbol * sp.diff(entry, ddq[i])
+    return BarycentricDynamics(
+        parameter_symbols(robot),
+        tuple(torque_recorder.assignments),
+        sp.ImmutableMatrix(torque),
+        tuple(mass_recorder.assignments),
+        sp.ImmutableMatrix(mass),
     )
 
 

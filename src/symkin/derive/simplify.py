@@ -14,11 +14,12 @@ symkin uses two targeted steps instead:
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import symengine as se
 import sympy as sp
+from sympy.core.basic import _args_sortkey
 from sympy.simplify.fu import TR10i
 
 
@@ -63,21 +64,78 @@ _REBUILT = (
 )
 
 
-def sympy_from_symengine(expr: se.Basic, symbols: dict[str, sp.Symbol]) -> sp.Expr:
+def sympy_from_symengine(
+    expr: se.Basic, symbols: dict[str, sp.Symbol], seen: dict | None = None
+) -> sp.Expr:
     """``expr`` back in SymPy, in one pass, with ``symbols`` (by name) for its symbols.
 
     SymEngine drops SymPy's assumptions (``q1`` is real); rebuilding sums and products with
-    our symbols in place costs half of converting and then substituting them.
+    our symbols in place costs half of converting and then substituting them.  ``seen``
+    (SymEngine subexpression -> SymPy) may be shared by the entries of one matrix: their
+    sines, cosines and products of them repeat.  A sum or product whose terms or factors are
+    all plain (:func:`_plain_product`) is assembled in SymPy's canonical order directly
+    (:func:`_canonical`), skipping a collection of like terms SymEngine has done already.
     """
+    if seen is None:
+        seen = {}
+    done = seen.get(expr)
+    if done is None:
+        done = seen[expr] = _rebuilt(expr, symbols, seen)
+    return done
+
+
+def _rebuilt(expr: se.Basic, symbols: dict[str, sp.Symbol], seen: dict) -> sp.Expr:
     if isinstance(expr, se.Symbol):
         return symbols.get(expr.name) or sp.sympify(expr)
     for symengine_type, sympy_type in _REBUILT:
         if isinstance(expr, symengine_type):
-            return sympy_type(*(sympy_from_symengine(a, symbols) for a in expr.args))
+            args = [sympy_from_symengine(a, symbols, seen) for a in expr.args]
+            if sympy_type in (sp.Add, sp.Mul):
+                fast = _canonical(sympy_type, args)
+                if fast is not None:
+                    return fast
+            return sympy_type(*args)
     converted = sp.sympify(expr)
     if converted.free_symbols:
         return converted.xreplace({sp.Symbol(k): v for k, v in symbols.items()})
     return converted
+
+
+def _plain_factor(e: sp.Basic) -> bool:
+    """A symbol, a sine or cosine, or one of them to an integer power."""
+    if e.is_Pow:
+        if not e.exp.is_Integer:
+            return False
+        e = e.base
+    return e.is_Symbol or isinstance(e, sp.sin | sp.cos)
+
+
+def _plain_product(e: sp.Basic) -> bool:
+    """A plain factor, or a product of plain factors with at most a numeric coefficient."""
+    if e.is_Mul:
+        factors = e.args[1:] if e.args[0].is_Number else e.args
+        return all(_plain_factor(f) for f in factors)
+    return _plain_factor(e)
+
+
+def _canonical(kind: type, args: list[sp.Expr]) -> sp.Expr | None:
+    """``kind(*args)`` for the args of a SymEngine sum or product (like terms collected, like
+    factors merged, numbers folded into one coefficient) when every other arg is plain: the
+    args in SymPy's canonical order (``Basic.compare``), the number first unless it is the
+    identity; ``None`` otherwise (SymPy's own constructor then decides)."""
+    numbers = [a for a in args if a.is_Number]
+    rest = [a for a in args if not a.is_Number]
+    plain = _plain_product if kind is sp.Add else _plain_factor
+    if len(numbers) > 1 or len(rest) < 2 or not all(plain(a) for a in rest):
+        return None
+    if kind is sp.Mul and any(a.is_Mul for a in rest):
+        return None
+    rest.sort(key=_args_sortkey)
+    if numbers and numbers[0] is not kind.identity:
+        if numbers[0].is_zero or not numbers[0].is_finite:
+            return None  # SymPy's constructor decides what 0 * x or oo + x are
+        rest.insert(0, numbers[0])
+    return kind._from_args(rest, True)
 
 
 def derivative_matrix(column: sp.MatrixBase, variables: Sequence[sp.Symbol]) -> sp.Matrix:
@@ -110,22 +168,43 @@ def contract_product(
     as it multiplies; SymEngine's product and expansion are the cheap part.  An entry longer
     than :data:`MAX_CONTRACTED_TERMS` keeps its SymPy product form.
     """
-    product = _symengine_matrix(left) * _symengine_matrix(right)
+    product = symengine_matrix(left) * symengine_matrix(right)
     symbols = {s.name: s for s in left.free_symbols | right.free_symbols}
-    entries = []
-    for i in range(left.rows):
-        for j in range(right.cols):
-            expanded = se.expand(product[i, j])
-            if isinstance(expanded, se.Add) and len(expanded.args) > MAX_CONTRACTED_TERMS:
-                entries.append(sum(left[i, k] * right[k, j] for k in range(left.cols)))
+
+    def product_form(i: int, j: int) -> sp.Expr:
+        return sum(left[i, k] * right[k, j] for k in range(left.cols))
+
+    return contract_symengine(product, symbols, angle_sums, product_form)
+
+
+def contract_symengine(
+    matrix: se.DenseMatrix,
+    symbols: dict[str, sp.Symbol],
+    angle_sums: bool = True,
+    fallback: Callable[[int, int], sp.Expr] | None = None,
+) -> sp.ImmutableMatrix:
+    """:func:`contract_matrix` of a SymEngine matrix: every entry expanded by SymEngine,
+    brought back to SymPy once with ``symbols`` (by name), then contracted by TR10i when
+    ``angle_sums``.  An entry longer than :data:`MAX_CONTRACTED_TERMS` terms is
+    ``fallback(i, j)`` (its product form) when given, else its unread expansion."""
+    entries, seen = [], {}
+    for i in range(matrix.rows):
+        for j in range(matrix.cols):
+            expanded = se.expand(matrix[i, j])
+            if fallback is not None and _longer_than(expanded, MAX_CONTRACTED_TERMS):
+                entries.append(fallback(i, j))
                 continue
-            entry = sympy_from_symengine(expanded, symbols)
+            entry = sympy_from_symengine(expanded, symbols, seen)
             contracted = angle_sums and entry.has(sp.sin, sp.cos)
             entries.append(TR10i(entry) if contracted else entry)
-    return sp.ImmutableMatrix(left.rows, right.cols, entries)
+    return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)
 
 
-def _symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
+def _longer_than(expr: se.Basic, terms: int) -> bool:
+    return isinstance(expr, se.Add) and len(expr.args) > terms
+
+
+def symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
     return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
 
 
@@ -183,4 +262,3 @@ def floats_from_exact(expr: sp.Basic) -> sp.Basic:
     return expr.xreplace(
         {r: sp.Float(float(r)) for r in expr.atoms(sp.Rational) if not r.is_Integer}
     )
-

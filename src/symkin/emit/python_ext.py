@@ -22,7 +22,9 @@ FD_DERIVATIVES = ("dddq_dq", "dddq_ddq", "dddq_dtau")
 
 @dataclass(frozen=True)
 class Binding:
-    """One Python function: its per-state inputs, whether it takes ``pi``, its outputs.
+    """One Python function: its per-state inputs, the parameter vector it takes after ``p``
+    (``pi``, the file's missing inertial data, or ``delta``, the barycentric parameters of the
+    identification kernels; size 0: none), its outputs.
 
     ``batched`` kernels have a ``<robot>_<name>_batch`` C entry point; forward dynamics has
     none and is looped over the states in the binding.
@@ -32,14 +34,19 @@ class Binding:
     description: str
     states: tuple[str, ...]
     state_sizes: tuple[int, ...]
-    takes_pi: bool
+    pi_size: int
     outputs: tuple[tuple[str, tuple[int, ...]], ...]
     batched: bool = True
     if_not_finite: str = ""  # the error raised when an output is NaN or infinite
+    pi_name: str = "pi"
+
+    @property
+    def takes_pi(self) -> bool:
+        return self.pi_size > 0
 
     @property
     def signature(self) -> str:
-        extra = ", pi=None" if self.takes_pi else ""
+        extra = f", {self.pi_name}=None" if self.takes_pi else ""
         return f"{self.name}({', '.join(self.states)}, p=None{extra})"
 
 
@@ -53,15 +60,16 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
     for kernel in kernels:
         # Printing is not needed for the binding; the layout only supplies names and shapes.
         layout = kernel_layout(kernel, lambda e: "")
-        names = [i.name for i in layout.inputs]
+        vector = next((i for i in layout.inputs if not i.per_state and i.name != "p"), None)
         result.append(
             Binding(
                 name=layout.name,
                 description=layout.description,
                 states=tuple(i.name for i in layout.inputs if i.per_state),
                 state_sizes=tuple(i.size for i in layout.inputs if i.per_state),
-                takes_pi="pi" in names,
+                pi_size=vector.size if vector else 0,
                 outputs=tuple((o.name, o.numpy_shape) for o in layout.outputs),
+                pi_name=vector.name if vector else "pi",
             )
         )
     forward = forward_dynamics_context(kernels)
@@ -81,7 +89,7 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 description=f"{description} (Cholesky)",
                 states=("q", "dq", "tau"),
                 state_sizes=(robot.dof,) * 3,
-                takes_pi=bool(forward["pi"]),
+                pi_size=forward["pi"],
                 outputs=(("ddq", (n,)), *more),
                 # forward_dynamics has no batched C entry point: the binding loops over states.
                 batched=bool(more),
@@ -96,7 +104,7 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
                 description="elastic-joint forward dynamics (ddq, ddtheta) (Spong's model)",
                 states=("q", "dq", "theta", "tau"),
                 state_sizes=(robot.dof,) * 4,
-                takes_pi=bool(forward["pi"]),
+                pi_size=forward["pi"],
                 outputs=(("ddq", (robot.dof,)), ("ddtheta", (robot.dof,))),
                 batched=False,
                 if_not_finite="ddq or ddtheta is not finite: M(q) is not positive definite "
@@ -138,6 +146,7 @@ def emit_python_extension(
         parameter_names=[n for n, _ in robot.parameters],
         has_parameters=bool(robot.parameters),
         inertial_count=len(inertial.symbols) if inertial else 0,
+        barycentric=any(f.pi_name == "delta" for f in functions),
         bindings=functions,
         max_outputs=max(len(f.outputs) for f in functions),
         # At least 3 (q, dq, tau of forward dynamics) so rigid robots' files stay as they were.

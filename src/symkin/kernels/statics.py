@@ -20,7 +20,7 @@ import sympy as sp
 from symkin.derive import Model
 from symkin.derive.wrench import wrench_torque
 from symkin.kernels import units
-from symkin.kernels.catalogue import dynamics_inputs, shortest_kernel, state_inputs
+from symkin.kernels.catalogue import cse_engine, dynamics_inputs, shortest_kernel, state_inputs
 from symkin.kernels.passes import kernel_from_assignments
 from symkin.kernels.spec import Kernel, KernelInput
 
@@ -82,6 +82,7 @@ def static_torque_kernel(model: Model) -> Kernel:
                 units.generalized_force(model.robot),
             )
         ],
+        cse_engine(model),
     )
 
 
@@ -102,4 +103,5 @@ def energy_kernel(model: Model) -> Kernel:
             (name, sp.Matrix([[value]]), description, "scalar", ENERGY_UNIT)
             for name, value, description in outputs
         ],
+        cse_engine(model),
     )

@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from symkin.solve.trajopt.functions import RobotFunctions
 from symkin.solve.trajopt.problem import TrajectoryProblem
@@ -84,6 +83,10 @@ def integrate_interval(
     """``solve_ivp`` over interval k from ``x0`` (with ``dense``, the dense output kept), on
     the generated forward dynamics as a CasADi function (half the time of the NumPy kernel
     per call)."""
+    # Imported here: SciPy's integrators take half a second to import, which every `symkin`
+    # command would pay through the CLI's parser.
+    from scipy.integrate import solve_ivp
+
     n = functions.dof
 
     def rhs(s, x):
