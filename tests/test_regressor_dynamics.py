@@ -350,3 +350,25 @@ def test_identified_base_parameters_give_the_textbook_mass_matrix(tmp_path):
     close(generated.mass_matrix_barycentric(q, delta=delta), textbook, "M", 1e-9)
     tau = generated.inverse_dynamics_barycentric(q, dq, ddq, delta=delta)
     close(tau, planar_torques(q, dq, ddq), "tau", 1e-9)
+
+
+@pytest.mark.parametrize("name", ["placed_arm", "dh_tilted_arm", "puma560_elastic"])
+def test_other_conventions_give_the_file_form_dynamics(name, tmp_path):
+    """URDF-like placed joints (tilted origins, axes along y and -z, a slanted prismatic) and
+    DH edge cases (generic twists, offsets, a flipped joint; elastic joints, whose rotors
+    are not in M): the composite-rigid-body ``M`` and the recursion's ``tau`` of the file's
+    converted data are the generated file-form ``mass_matrix`` and ``inverse_dynamics``."""
+    robot = symkin.load_robot(ROOT / "tests" / "data" / f"{name}.toml")
+    model = symkin.derive(robot)
+    write_tree(tmp_path, emit_numpy(robot, barycentric_kernels(model)))
+    path = tmp_path / "numpy" / f"{robot.name}_kinematics.py"
+    barycentric = import_path(f"barycentric_{name}", path)
+    generated = generated_numpy_module(model)
+    delta = file_delta(robot)
+    q, dq, ddq = states(14, 6, robot.dof)
+    close(barycentric.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q), "M")
+    close(
+        barycentric.inverse_dynamics_barycentric(q, dq, ddq, delta=delta),
+        generated.inverse_dynamics(q, dq, ddq),
+        "tau",
+    )

@@ -104,7 +104,14 @@ def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> O
     )
 
 
-def kernel_layout(kernel: Kernel, printer: Callable[[sp.Expr], str]) -> KernelLayout:
+def kernel_layout(
+    kernel: Kernel,
+    printer: Callable[[sp.Expr], str],
+    counts: dict[str, int] | None = None,
+) -> KernelLayout:
+    """What the templates need from ``kernel``, each expression printed by ``printer``;
+    ``counts``: the operation counts to report (the kernel's own when ``None``; a backend
+    that rewrites a kernel reports the counts of the kernel it was given)."""
     used = set().union(
         *(e.free_symbols for _, e in kernel.assignments),
         *(o.matrix.free_symbols for o in kernel.outputs),
@@ -120,7 +127,7 @@ def kernel_layout(kernel: Kernel, printer: Callable[[sp.Expr], str]) -> KernelLa
         name=kernel.name,
         description=kernel.description,
         inputs=tuple(InputLayout(i.name, len(i.symbols), i.description) for i in kernel.inputs),
-        counts=kernel.operation_counts,
+        counts=kernel.operation_counts if counts is None else counts,
         unpack=unpack,
         unused_inputs=tuple(i.name for i in kernel.inputs if i.name not in read),
         assignments=tuple((symbol.name, printer(expr)) for symbol, expr in kernel.assignments),
