@@ -112,12 +112,21 @@ _USED: weakref.WeakKeyDictionary[Kernel, frozenset[sp.Symbol]] = weakref.WeakKey
 
 def used_symbols(kernel: Kernel) -> frozenset[sp.Symbol]:
     """Every symbol the kernel's assignments and outputs read."""
-    if kernel not in _USED:
-        _USED[kernel] = frozenset().union(
-            *(e.free_symbols for _, e in kernel.assignments),
-            *(o.matrix.free_symbols for o in kernel.outputs),
-        )
-    return _USED[kernel]
+    try:
+        return _USED[kernel]
+    except KeyError:
+        pass
+    except TypeError:  # a kernel built with a list somewhere cannot be a key: no memo
+        return _symbols_read(kernel)
+    used = _USED[kernel] = _symbols_read(kernel)
+    return used
+
+
+def _symbols_read(kernel: Kernel) -> frozenset[sp.Symbol]:
+    return frozenset().union(
+        *(e.free_symbols for _, e in kernel.assignments),
+        *(o.matrix.free_symbols for o in kernel.outputs),
+    )
 
 
 def kernel_layout(
