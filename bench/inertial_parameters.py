@@ -13,7 +13,8 @@ in three forms:
 * **barycentric**: per link the inertia about the frame origin, the first moment ``m c`` and
   the mass (SymPyBotics' and Khalil's "standard" parameters), ten per link: the kernels
   ``mass_matrix_barycentric`` and ``inverse_dynamics_barycentric`` that ``symkin derive
-  --regressor`` emits (``symkin.kernels.regressor.barycentric_kernels``), counted as emitted;
+  --regressor`` emits (``symkin.kernels.regressor.barycentric_kernels``), counted as emitted
+  (their M by the composite-rigid-body algorithm, ``symkin.derive.regressor_mass``);
 * **base parameters**: the fewest combinations of those that give the same torques
   (``symkin.derive.base_parameters.symbolic_base_parameters``), the form the identification
   literature uses.
@@ -50,7 +51,6 @@ from symkin import derive
 from symkin.derive.base_parameters import symbolic_base_parameters
 from symkin.derive.dynamics import motor_inertia_matrix
 from symkin.derive.recursion import Recorder, joint_torques
-from symkin.derive.regressor import rigid_mass_matrix
 from symkin.kernels import (
     KernelInput,
     count_operations,
@@ -74,11 +74,25 @@ def _kernel_operations(name: str, inputs, recorder: Recorder, matrix: sp.Matrix)
 
 
 def _mass_matrix(model, links) -> tuple[Recorder, sp.Matrix]:
-    """M as ``symkin.derive.newton_euler`` builds it (n unit-acceleration passes without
-    gravity, the lower triangle mirrored), plus the rotor inertias."""
+    """M as ``symkin.derive.newton_euler`` builds it: n unit-acceleration passes without
+    gravity, plus the rotor inertias, the lower triangle mirrored."""
+    robot, n = model.robot, model.robot.dof
+    zeros, no_gravity = [sp.Integer(0)] * n, [sp.Integer(0)] * 3
     recorder = Recorder("s")
-    mass = rigid_mass_matrix(model.robot, model.kinematics, recorder, links)
-    return recorder, mass + motor_inertia_matrix(model.robot)
+    columns = [
+        joint_torques(
+            robot,
+            model.kinematics,
+            recorder,
+            zeros,
+            [sp.Integer(int(k == j)) for k in range(n)],
+            no_gravity,
+            links,
+        )
+        for j in range(n)
+    ]
+    mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
+    return recorder, sp.Matrix(n, n, lambda r, c: mass[max(r, c), min(r, c)])
 
 
 def operations(name: str) -> dict[str, tuple[int, int, int]]:
@@ -158,8 +172,9 @@ def render(counts: dict[str, dict[str, tuple[int, int, int]]], theirs: dict, che
         "dynamics tau / mass matrix M. The file form is what `symkin derive` generates; the "
         "barycentric column is the kernels `inverse_dynamics_barycentric` and "
         "`mass_matrix_barycentric` that `symkin derive --regressor` also emits, counted as "
-        "emitted; the base-parameter column is the same recursion with other inputs, counted "
-        "but not emitted. "
+        "emitted (M by the composite-rigid-body algorithm; the other columns' M by n "
+        "unit-acceleration passes of the recursion, as `mass_matrix`); the base-parameter "
+        "column is the same recursion with other inputs, counted but not emitted. "
         f"{peer}; it takes barycentric parameters and has no rotor inertia.",
         "",
         "| robot | inertial inputs | file form (m, c, I about the COM) | barycentric "

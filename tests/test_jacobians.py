@@ -25,7 +25,8 @@ from numeric_dh import (
     task_rows,
     wrap,
 )
-from symkin.derive import Model
+from symkin.derive import Model, jacobians, simplify
+from symkin.derive.kinematics import kinematics_from_robot
 from symkin.errors import BudgetWarning, SymkinError
 
 FD_TOL = 1e-6  # central differences, h = 1e-6: truncation ~1e-12, rounding ~1e-10
@@ -66,6 +67,19 @@ def test_geometric_jacobian_matches_finite_differences(name: str) -> None:
     assert model(name).geometric_jacobian.shape == (6, robot(name).dof)
     for q in samples(name, 11, 3):
         np.testing.assert_allclose(jacobian(q), reference(name).jacobian(q), rtol=0, atol=FD_TOL)
+
+
+def test_jacobian_entries_too_long_to_contract_keep_their_product_form(monkeypatch) -> None:
+    """Past MAX_CONTRACTED_TERMS an entry is not expanded for reading: the column's product
+    ``R (e_z x p_local)`` stays as it is, with the same values."""
+    monkeypatch.setattr(simplify, "MAX_CONTRACTED_TERMS", 3)
+    kinematics = kinematics_from_robot(robot("puma560"))
+    result = jacobians.geometric_jacobian(robot("puma560"), kinematics)
+    nodes = (node for e in result for node in sp.preorder_traversal(e))
+    assert any(node.is_Mul and any(f.is_Add for f in node.args) for node in nodes)
+    jacobian = function("puma560", result)
+    for q in samples("puma560", 13, 3):
+        np.testing.assert_allclose(jacobian(q), reference("puma560").jacobian(q), atol=FD_TOL)
 
 
 @pytest.mark.parametrize("name", ALL_ROBOTS)

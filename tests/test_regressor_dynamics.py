@@ -26,12 +26,14 @@ import symkin
 from codegen_helpers import CC, CONVERSION, SHARED, STRICT, import_path, run_parallel, write_tree
 from symkin.cli import main
 from symkin.derive.regressor import parameter_symbols
+from symkin.derive.regressor_base import base_regressor
 from symkin.emit.numpy import emit_numpy
 from symkin.kernels import dynamics_kernels
 from symkin.kernels.regressor import barycentric_kernels
 from symkin.runtime.extension import load_extension
 from symkin.runtime.modules import generated_numpy_module
-from test_regressor import FRICTION_ARM
+from symkin.solve.identify import identify
+from test_regressor import FRICTION_ARM, I1, I2, L1, LC1, LC2, M1, M2, planar_torques
 
 ROOT = Path(__file__).resolve().parents[1]
 # SymPyBotics' mass matrix of the PUMA 560 with symbolic (barycentric) inertia and numeric
@@ -48,18 +50,22 @@ TENSOR_ENTRIES = {
 }
 
 
+def link_values(i: int, m: float, c: np.ndarray, inertia: np.ndarray) -> dict[str, float]:
+    """Link ``i``'s barycentric parameters by the parallel-axis theorem written out here
+    (Khalil & Dombre eq. 9.4, ``I_o = I_c + m (c.c E - c c^T)``), first moments ``m c``, mass."""
+    about_origin = inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
+    values = {f"{name}{i}": about_origin[entry] for name, entry in TENSOR_ENTRIES.items()}
+    return values | {f"mx{i}": m * c[0], f"my{i}": m * c[1], f"mz{i}": m * c[2], f"m{i}": m}
+
+
 def file_delta(robot: symkin.Robot) -> np.ndarray:
-    """The robot file's data as ``delta``: the parallel-axis theorem written out here
-    (Khalil & Dombre eq. 9.4, ``I_o = I_c + m (c.c E - c c^T)``), first moments ``m c``, the
-    mass, then the drive parameters the file gives (rotor inertia, viscous, Coulomb)."""
+    """The robot file's data as ``delta``: per link :func:`link_values`, then the drive
+    parameters the file gives (rotor inertia, viscous, Coulomb)."""
     values = {}
     for i, joint in enumerate(robot.joints, start=1):
         link = joint.link
         m, c = float(link.mass), np.array([float(x) for x in link.com])
-        inertia = np.array(link.inertia_matrix, dtype=float)
-        about_origin = inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
-        values |= {f"{name}{i}": about_origin[entry] for name, entry in TENSOR_ENTRIES.items()}
-        values |= {f"mx{i}": m * c[0], f"my{i}": m * c[1], f"mz{i}": m * c[2], f"m{i}": m}
+        values |= link_values(i, m, c, np.array(link.inertia_matrix, dtype=float))
         values[f"ia{i}"] = float(link.motor_inertia)
         values[f"fv{i}"] = float(link.viscous)
         values[f"fc{i}"] = values[f"fcp{i}"] = float(link.coulomb)
@@ -281,3 +287,88 @@ def test_smoothed_coulomb_and_elastic_rotor_follow_the_file_form(tmp_path):
     barycentric = import_path("smooth_elastic", tmp_path / "numpy" / f"{robot.name}_kinematics.py")
     close(barycentric.inverse_dynamics_barycentric(q, dq, ddq, delta=delta), tau, "tau")
     close(barycentric.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q), "M")
+
+
+def test_symbolic_inertia_robot_takes_pi_and_delta_side_by_side(tmp_path):
+    """A robot file without inertial data: the file-form kernels take ``pi`` (m, c, I about
+    the COM), the barycentric ones ``delta``; the same bodies in both forms give the same
+    ``M`` and ``tau``."""
+    robot = symkin.robot_from_toml(SYMBOLIC_ARM, "symbolic_arm.toml")
+    model = symkin.derive(robot)
+    write_tree(tmp_path, emit_numpy(robot, dynamics_kernels(model) + barycentric_kernels(model)))
+    generated = import_path("symbolic_arm", tmp_path / "numpy" / "symbolic_arm_kinematics.py")
+    rng = np.random.default_rng(10)
+    pi, values = [], {}
+    for i in (1, 2):
+        m, c = rng.uniform(0.5, 2.0), rng.uniform(-0.2, 0.2, 3)
+        principal = rng.uniform(0.01, 0.05, 3)
+        inertia = np.diag(principal) + 0.002 * (1 - np.eye(3))  # ixy = ixz = iyz = 0.002
+        pi += [m, *c, *principal, 0.002, 0.002, 0.002]  # m cx cy cz ixx iyy izz ixy ixz iyz
+        values |= link_values(i, m, c, inertia)
+    delta = np.array([values[s.name] for s in parameter_symbols(robot)])
+    q, dq, ddq = states(11, 5, 2)
+    close(generated.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q, pi=pi), "M")
+    close(
+        generated.inverse_dynamics_barycentric(q, dq, ddq, delta=delta),
+        generated.inverse_dynamics(q, dq, ddq, pi=pi),
+        "tau",
+    )
+
+
+SYMBOLIC_ARM = """
+name = "symbolic_arm"
+[[joints]]
+type = "revolute"
+a = 0.5
+alpha = 30
+[[joints]]
+type = "prismatic"
+alpha = 90
+theta = 20
+"""
+
+
+def test_identified_base_parameters_give_the_textbook_mass_matrix(tmp_path):
+    """The natural use: fit ``beta`` to torques of the textbook planar elbow arm (Spong,
+    Hutchinson, Vidyasagar, Sec. 7.4.1), put it into ``delta`` at the base regressor's columns
+    (zero elsewhere: the folded parameters change no torque), and ``M`` of ``delta`` is the
+    textbook ``D(q)``."""
+    robot = symkin.load_robot("planar_2r")
+    model = symkin.derive(robot)
+    q, dq, ddq = states(12, 40, 2)
+    fit = identify(model, q, dq, ddq, planar_torques(q, dq, ddq))
+    delta = np.zeros(len(parameter_symbols(robot)))
+    delta[list(base_regressor(robot, model.kinematics).folding.kept)] = fit.estimate
+    write_tree(tmp_path, emit_numpy(robot, barycentric_kernels(model)))
+    generated = import_path("identified_2r", tmp_path / "numpy" / "planar_2r_kinematics.py")
+    q, dq, ddq = states(13, 5, 2)
+    c2 = np.cos(q[:, 1])
+    d11 = M1 * LC1**2 + M2 * (L1**2 + LC2**2 + 2 * L1 * LC2 * c2) + I1 + I2
+    d12 = M2 * (LC2**2 + L1 * LC2 * c2) + I2
+    d22 = np.full_like(c2, M2 * LC2**2 + I2)
+    textbook = np.stack([np.stack([d11, d12], -1), np.stack([d12, d22], -1)], -2)
+    close(generated.mass_matrix_barycentric(q, delta=delta), textbook, "M", 1e-9)
+    tau = generated.inverse_dynamics_barycentric(q, dq, ddq, delta=delta)
+    close(tau, planar_torques(q, dq, ddq), "tau", 1e-9)
+
+
+@pytest.mark.parametrize("name", ["placed_arm", "dh_tilted_arm", "puma560_elastic"])
+def test_other_conventions_give_the_file_form_dynamics(name, tmp_path):
+    """URDF-like placed joints (tilted origins, axes along y and -z, a slanted prismatic) and
+    DH edge cases (generic twists, offsets, a flipped joint; elastic joints, whose rotors
+    are not in M): the composite-rigid-body ``M`` and the recursion's ``tau`` of the file's
+    converted data are the generated file-form ``mass_matrix`` and ``inverse_dynamics``."""
+    robot = symkin.load_robot(ROOT / "tests" / "data" / f"{name}.toml")
+    model = symkin.derive(robot)
+    write_tree(tmp_path, emit_numpy(robot, barycentric_kernels(model)))
+    path = tmp_path / "numpy" / f"{robot.name}_kinematics.py"
+    barycentric = import_path(f"barycentric_{name}", path)
+    generated = generated_numpy_module(model)
+    delta = file_delta(robot)
+    q, dq, ddq = states(14, 6, robot.dof)
+    close(barycentric.mass_matrix_barycentric(q, delta=delta), generated.mass_matrix(q), "M")
+    close(
+        barycentric.inverse_dynamics_barycentric(q, dq, ddq, delta=delta),
+        generated.inverse_dynamics(q, dq, ddq),
+        "tau",
+    )

@@ -4,8 +4,8 @@
  * Regenerate with: symkin generate  (or: symkin derive cylindrical_rtt_wrist --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 56 ops (14 additions, 34 multiplications, 8 trig)
- *   position: 24 ops (6 additions, 12 multiplications, 6 trig)
- *   jacobian: 50 ops (8 additions, 35 multiplications, 6 trig, 1 powers)
+ *   position: 19 ops (5 additions, 8 multiplications, 6 trig)
+ *   jacobian: 47 ops (7 additions, 34 multiplications, 6 trig)
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
@@ -16,7 +16,7 @@
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
  *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
- *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   wrench_torque: 75 ops (21 additions, 48 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
  *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  */
@@ -174,15 +174,14 @@ void cylindrical_rtt_wrist_position(const double q[6], const double *p, double p
     const double q5 = q[4];
     const double d1 = p[0];
     const double d6 = p[1];
-    const double t0 = sin(q1);
-    const double t1 = d6*cos(q5);
-    const double t2 = sin(q5);
-    const double t3 = cos(q1);
-    const double t4 = cos(q4);
-    const double t5 = d6*t2;
-    p_tool[0] = -q3*t0 - t0*t1 + d6*t2*t3*t4;
-    p_tool[1] = q3*t3 + t1*t3 + t0*t4*t5;
-    p_tool[2] = d1 + q2 - t5*sin(q4);
+    const double t0 = cos(q1);
+    const double t1 = d6*sin(q5);
+    const double t2 = t1*cos(q4);
+    const double t3 = sin(q1);
+    const double t4 = q3 + d6*cos(q5);
+    p_tool[0] = t0*t2 - t3*t4;
+    p_tool[1] = t0*t4 + t2*t3;
+    p_tool[2] = d1 + q2 - t1*sin(q4);
 }
 
 void cylindrical_rtt_wrist_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)
@@ -200,57 +199,57 @@ void cylindrical_rtt_wrist_jacobian(const double q[6], const double *p, double J
     const double q4 = q[3];
     const double q5 = q[4];
     const double d6 = p[1];
-    const double t0 = cos(q1);
-    const double t1 = cos(q5);
-    const double t2 = sin(q1);
-    const double t3 = sin(q5);
-    const double t4 = cos(q4);
-    const double t5 = t0*t1 + t2*t3*t4;
-    const double t6 = d6*t5;
-    const double t7 = -t2;
-    const double t8 = sin(q4);
-    const double t9 = t0*t8;
-    const double t10 = d6*t3;
-    const double t11 = t10*t8*t8;
-    const double t12 = -t1*t2 + t0*t3*t4;
-    const double t13 = d6*t12;
-    const double t14 = t2*t8;
-    J[0] = -t6 - q3*t0;
+    const double t0 = cos(q4);
+    const double t1 = sin(q1);
+    const double t2 = sin(q5);
+    const double t3 = d6*t2;
+    const double t4 = t1*t3;
+    const double t5 = cos(q1);
+    const double t6 = cos(q5);
+    const double t7 = d6*t6;
+    const double t8 = -q3 - t7;
+    const double t9 = -t1;
+    const double t10 = sin(q4);
+    const double t11 = t10*t5;
+    const double t12 = t0*t7;
+    const double t13 = t3*t5;
+    const double t14 = t1*t10;
+    J[0] = t5*t8 - t0*t4;
     J[1] = 0;
-    J[2] = t7;
-    J[3] = -t10*t9;
-    J[4] = t11*t2 + t4*t6;
+    J[2] = t9;
+    J[3] = -t11*t3;
+    J[4] = t4 + t12*t5;
     J[5] = 0;
-    J[6] = t13 - q3*t2;
+    J[6] = t0*t13 + t1*t8;
     J[7] = 0;
-    J[8] = t0;
-    J[9] = -t10*t14;
-    J[10] = -t0*t11 - t13*t4;
+    J[8] = t5;
+    J[9] = -t14*t3;
+    J[10] = -t13 + t1*t12;
     J[11] = 0;
     J[12] = 0;
     J[13] = 1;
     J[14] = 0;
-    J[15] = -t0*t13 - t2*t6;
-    J[16] = t13*t14 - t6*t9;
+    J[15] = -t0*t3;
+    J[16] = -t10*t7;
     J[17] = 0;
     J[18] = 0;
     J[19] = 0;
     J[20] = 0;
-    J[21] = t7;
-    J[22] = -t9;
-    J[23] = t12;
+    J[21] = t9;
+    J[22] = -t11;
+    J[23] = -t1*t6 + t0*t2*t5;
     J[24] = 0;
     J[25] = 0;
     J[26] = 0;
-    J[27] = t0;
+    J[27] = t5;
     J[28] = -t14;
-    J[29] = t5;
+    J[29] = t5*t6 + t0*t1*t2;
     J[30] = 1;
     J[31] = 0;
     J[32] = 0;
     J[33] = 0;
-    J[34] = -t4;
-    J[35] = -t3*t8;
+    J[34] = -t0;
+    J[35] = -t10*t2;
 }
 
 void cylindrical_rtt_wrist_jacobian_batch(size_t count, const double *q, const double *p, double *restrict J)
@@ -1372,26 +1371,25 @@ void cylindrical_rtt_wrist_wrench_torque(const double q[6], const double wrench[
     const double w_ny = wrench[4];
     const double w_nz = wrench[5];
     const double d6 = p[1];
-    const double t0 = cos(q1);
-    const double t1 = cos(q5);
-    const double t2 = t0*t1;
+    const double t0 = cos(q4);
+    const double t1 = sin(q1);
+    const double t2 = sin(q5);
     const double t3 = d6*t2;
-    const double t4 = cos(q4);
-    const double t5 = sin(q1);
-    const double t6 = sin(q5);
+    const double t4 = t1*t3;
+    const double t5 = cos(q1);
+    const double t6 = cos(q5);
     const double t7 = d6*t6;
-    const double t8 = t5*t7;
-    const double t9 = t1*t5;
-    const double t10 = d6*t9;
+    const double t8 = -q3 - t7;
+    const double t9 = t3*t5;
+    const double t10 = sin(q4);
     const double t11 = t0*t7;
-    const double t12 = sin(q4);
-    const double t13 = t4*t6;
-    tau_w[0] = -w_nz + w_fx*(t3 + q3*t0 + t4*t8) + w_fy*(t10 + q3*t5 - t11*t4);
+    const double t12 = t0*t2;
+    tau_w[0] = -w_nz + w_fx*(t0*t4 - t5*t8) + w_fy*(-t0*t9 - t1*t8);
     tau_w[1] = -w_fz;
-    tau_w[2] = t5*w_fx - t0*w_fy;
-    tau_w[3] = t5*w_nx - t0*w_ny + t11*t12*w_fx + t12*t8*w_fy + t4*t7*w_fz;
-    tau_w[4] = t4*w_nz + w_fx*(-t8 - t3*t4) + w_fy*(-t10*t4 + d6*t0*t6) + t0*t12*w_nx + t12*t5*w_ny + d6*t1*t12*w_fz;
-    tau_w[5] = w_nx*(t9 - t0*t13) + w_ny*(-t2 - t13*t5) + t12*t6*w_nz;
+    tau_w[2] = t1*w_fx - t5*w_fy;
+    tau_w[3] = t1*w_nx - t5*w_ny + t0*t3*w_fz + t10*t4*w_fy + t10*t9*w_fx;
+    tau_w[4] = t0*w_nz + w_fx*(-t4 - t11*t5) + w_fy*(-t1*t11 + d6*t2*t5) + t1*t10*w_ny + t10*t5*w_nx + t10*t7*w_fz;
+    tau_w[5] = w_nx*(t1*t6 - t12*t5) + w_ny*(-t1*t12 - t5*t6) + t10*t2*w_nz;
 }
 
 void cylindrical_rtt_wrist_wrench_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *restrict tau_w)

@@ -5,8 +5,8 @@
  * Regenerate with: symkin generate  (or: symkin derive cylindrical_rtt_wrist --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 56 ops (14 additions, 34 multiplications, 8 trig)
- *   position: 24 ops (6 additions, 12 multiplications, 6 trig)
- *   jacobian: 50 ops (8 additions, 35 multiplications, 6 trig, 1 powers)
+ *   position: 19 ops (5 additions, 8 multiplications, 6 trig)
+ *   jacobian: 47 ops (7 additions, 34 multiplications, 6 trig)
  *   position_jacobian: 36 ops (6 additions, 24 multiplications, 6 trig)
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
@@ -17,7 +17,7 @@
  *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
  *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
- *   wrench_torque: 75 ops (22 additions, 47 multiplications, 6 trig)
+ *   wrench_torque: 75 ops (21 additions, 48 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
  *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
  */

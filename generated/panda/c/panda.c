@@ -4,7 +4,7 @@
  * Regenerate with: symkin generate  (or: symkin derive panda --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 145 ops (47 additions, 84 multiplications, 14 trig)
- *   position: 109 ops (35 additions, 62 multiplications, 12 trig)
+ *   position: 63 ops (20 additions, 31 multiplications, 12 trig)
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
@@ -210,40 +210,31 @@ void panda_position(const double q[7], const double *p, double p_tool[restrict 3
     const double a5 = p[3];
     const double d5 = p[4];
     const double a7 = p[5];
-    const double t0 = cos(q1);
-    const double t1 = sin(q2);
-    const double t2 = t0*t1;
-    const double t3 = sin(q1);
-    const double t4 = sin(q3);
-    const double t5 = t3*t4;
-    const double t6 = cos(q2);
-    const double t7 = cos(q3);
-    const double t8 = -t5 + t0*t6*t7;
+    const double t0 = sin(q1);
+    const double t1 = cos(q3);
+    const double t2 = sin(q6);
+    const double t3 = cos(q6);
+    const double t4 = 0.107*t2 + a7*t3;
+    const double t5 = -t4;
+    const double t6 = sin(q5);
+    const double t7 = t5*t6;
+    const double t8 = sin(q3);
     const double t9 = sin(q4);
-    const double t10 = cos(q4);
-    const double t11 = t10*t8 + t2*t9;
-    const double t12 = -t8*t9 + t0*t1*t10;
-    const double t13 = cos(q6);
-    const double t14 = 0.107*t13;
-    const double t15 = sin(q5);
-    const double t16 = t3*t7;
-    const double t17 = t0*t4;
-    const double t18 = cos(q5);
-    const double t19 = t11*t18 - t15*(t16 + t17*t6);
-    const double t20 = sin(q6);
-    const double t21 = 0.107*t20;
-    const double t22 = t1*t3;
-    const double t23 = t17 + t16*t6;
-    const double t24 = t10*t23 + t22*t9;
-    const double t25 = -t23*t9 + t1*t10*t3;
-    const double t26 = t18*t24 - t15*(t5*t6 - t0*t7);
-    const double t27 = t1*t7;
-    const double t28 = t10*t6 + t27*t9;
-    const double t29 = t6*t9 - t10*t27;
-    const double t30 = t18*t29 + t1*t15*t4;
-    p_tool[0] = a4*t8 + a5*t11 + a7*(t12*t20 + t13*t19) + d3*t2 + d5*t12 + t19*t21 - t12*t14;
-    p_tool[1] = a4*t23 + a5*t24 + a7*(t13*t26 + t20*t25) + d3*t22 + d5*t25 + t21*t26 - t14*t25;
-    p_tool[2] = d1 + a5*t29 + a7*(t13*t30 + t20*t28) + d3*t6 + d5*t28 + t21*t30 - a4*t27 - t14*t28;
+    const double t10 = d5 - 0.107*t3 + a7*t2;
+    const double t11 = cos(q4);
+    const double t12 = cos(q5);
+    const double t13 = -a4 + t10*t9 + t11*(-a5 + t12*t5);
+    const double t14 = cos(q1);
+    const double t15 = sin(q2);
+    const double t16 = a5 + t12*t4;
+    const double t17 = d3 + t10*t11 + t16*t9;
+    const double t18 = cos(q2);
+    const double t19 = a4 + t11*t16 - t10*t9;
+    const double t20 = t15*t17 + t18*(t1*t19 + t7*t8);
+    const double t21 = t4*t6;
+    p_tool[0] = t0*(t1*t7 + t13*t8) + t14*t20;
+    p_tool[1] = t0*t20 + t14*(t1*t21 + t19*t8);
+    p_tool[2] = d1 + t15*(t1*t13 + t21*t8) + t17*t18;
 }
 
 void panda_position_batch(size_t count, const double *q, const double *p, double *restrict p_tool)

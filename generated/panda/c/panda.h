@@ -4,7 +4,7 @@
  * Regenerate with: symkin generate  (or: symkin derive panda --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 145 ops (47 additions, 84 multiplications, 14 trig)
- *   position: 109 ops (35 additions, 62 multiplications, 12 trig)
+ *   position: 63 ops (20 additions, 31 multiplications, 12 trig)
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
@@ -61,7 +61,7 @@ void panda_fk(const double q[7], const double *p, double T[SYMKIN_RESTRICT 16]);
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_fk_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT T);
 
-/* Tool position (109 operations).
+/* Tool position (63 operations).
  * p_tool[3]: tool position in the base frame (3x1)
  *   units: m
  * q[7]: joint positions (rad or m) (one row per state in the batch call)

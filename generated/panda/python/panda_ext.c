@@ -4,7 +4,7 @@
  * Regenerate with: symkin generate  (or: symkin derive panda --out DIR)
  * Operation counts after common-subexpression elimination:
  *   fk: 145 ops (47 additions, 84 multiplications, 14 trig)
- *   position: 109 ops (35 additions, 62 multiplications, 12 trig)
+ *   position: 63 ops (20 additions, 31 multiplications, 12 trig)
  *   jacobian: 181 ops (56 additions, 113 multiplications, 12 trig)
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)

@@ -25,7 +25,12 @@ from symkin.derive.kinematics import (
 )
 from symkin.derive.orientation_rates import orientation_rates
 from symkin.derive.pythagorean import fold_matrix
-from symkin.derive.simplify import contract_symengine, derivative_matrix, symengine_matrix
+from symkin.derive.simplify import (
+    contract_symengine,
+    derivative_matrix,
+    symengine_matrix,
+    sympy_from_symengine,
+)
 from symkin.errors import SymkinError
 from symkin.robot import Robot
 from symkin.spatial import axis_angle_from_rotation, euler_zyz_from_rotation, transform_inverse
@@ -94,7 +99,11 @@ def _local_columns(robot: Robot, kinematics: Kinematics) -> sp.ImmutableMatrix:
     entries = [column[row] for row in range(6) for column in columns]
     matrix = se.DenseMatrix(6, len(columns), entries)
     symbols = {s.name: s for s in kinematics.forward_kinematics.free_symbols | set(kinematics.q)}
-    return contract_symengine(matrix, symbols, kinematics.angle_sums)
+
+    def product_form(i: int, j: int) -> sp.Expr:  # an entry too long to contract
+        return sympy_from_symengine(matrix[i, j], symbols)
+
+    return contract_symengine(matrix, symbols, kinematics.angle_sums, product_form)
 
 
 def frame_jacobian(robot: Robot, kinematics: Kinematics, index: int) -> sp.ImmutableMatrix:

@@ -1,7 +1,9 @@
 """The readable forward kinematics and Jacobian under a budget, with the product form as fallback.
 
 The readable model contracts sums of products of sines and cosines into functions of summed
-angles after every product (:func:`~symkin.derive.simplify.contract_product`, Fu's TR10i).
+angles after every product (:func:`~symkin.derive.simplify.contract_product`, Fu's TR10i);
+a chain without parallel axes has no angle sums, and its expanded ``T`` and Jacobian are
+nested joint by joint instead (:mod:`symkin.derive.nesting`).
 Its cost grows with the length of the expanded chain, far faster than the chain: readable
 FK + J take about 9 s of CPU at 8 joints with right-angle twists and more than 80 s at 12.
 The product form has the same values (and the kernels use it anyway when it is shorter), so the
@@ -22,6 +24,7 @@ contraction is optional like the closed forms of :mod:`symkin.derive.budget`:
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import symengine as se
@@ -30,6 +33,7 @@ import sympy as sp
 from symkin.derive import jacobians
 from symkin.derive.budget import OVER_BUDGET, ClosedForm, closed_form_within
 from symkin.derive.kinematics import Kinematics, kinematics_from_robot, link_transform
+from symkin.derive.nesting import nest_matrix
 from symkin.derive.pythagorean import fold_matrix
 from symkin.errors import BudgetWarning
 from symkin.robot import Robot
@@ -105,8 +109,15 @@ def readable_form(robot: Robot, budget: float | None) -> ClosedForm:
         # J(3,2), 258 -> 209 ops once folded); the fold stays as a net, walked only when a
         # square of a sine or cosine is there (a long generic chain keeps it: 1.3 s more at
         # six generic joints).
-        folded = inline and _has_trig_square(jacobian)
-        return kinematics, fold_matrix(jacobian) if folded else jacobian
+        if inline and _has_trig_square(jacobian):
+            jacobian = fold_matrix(jacobian)
+        if kinematics.angle_sums:
+            return kinematics, jacobian
+        # No angle sums to show: T and J nested joint by joint (half the length, shared
+        # groups; see symkin.derive.nesting).
+        tool = nest_matrix(kinematics.forward_kinematics, kinematics.q)
+        nested = dataclasses.replace(kinematics, forward_kinematics=tool)
+        return nested, nest_matrix(jacobian, kinematics.q)
 
     if budget is not None and size > MAX_TERMS:
         note = (

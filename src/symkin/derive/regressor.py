@@ -6,7 +6,9 @@
 and then the joint's drive parameters the robot file gives: the reflected rotor inertia
 ``ia`` (column ``ddq_i``), viscous friction ``fv`` (column ``dq_i``) and Coulomb friction
 ``fc`` (column ``sign(dq_i)``; direction-dependent Coulomb friction has one column per side,
-``fcp`` with ``(sign + sign^2)/2`` and ``fcn`` with ``(sign - sign^2)/2``).
+``fcp`` with ``(sign + sign^2)/2`` and ``fcn`` with ``(sign - sign^2)/2``; with
+``friction.smoothing`` ``w`` the columns take ``tanh(dq_i / w)`` for ``sign(dq_i)``).  An
+elastic joint's rotor is on the motor side, not in the link torques: it has no column.
 
 The columns of the link parameters are the partial derivatives of the Newton–Euler torques
 of :func:`symkin.derive.recursion.joint_torques` run with symbolic barycentric parameters,
@@ -20,7 +22,6 @@ the robot file's centre-of-mass form costs.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -34,7 +35,8 @@ from symkin.derive.base_parameters import (
 )
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import BarycentricParameters, Recorder, joint_torques
+from symkin.derive.recursion import Recorder, joint_torques
+from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.errors import RobotError
 from symkin.robot import Link, Robot
 from symkin.symbols import joint_symbols, link_inertial_symbols
@@ -179,9 +181,9 @@ class BarycentricDynamics:
     """``tau(q, dq, ddq; pi)`` and ``M(q; pi)`` with the regressor's parameter vector ``pi``
     (``symbols``, in :func:`parameter_symbols` order) as symbols: ``tau = Y pi`` exactly.
 
-    Each comes with its own named intermediates (one Newton–Euler pass for ``tau``; ``n``
-    unit-acceleration passes without gravity for ``M``, its lower triangle mirrored as in
-    :func:`symkin.derive.newton_euler.newton_euler_dynamics`), plus the drive terms.
+    Each comes with its own named intermediates (one Newton–Euler pass for ``tau``; the
+    composite-rigid-body algorithm of :mod:`symkin.derive.regressor_mass` for ``M``), plus
+    the drive terms.
     """
 
     symbols: tuple[sp.Symbol, ...]
@@ -189,33 +191,6 @@ class BarycentricDynamics:
     torque: sp.ImmutableMatrix
     mass_assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
     mass_matrix: sp.ImmutableMatrix
-
-
-def rigid_mass_matrix(
-    robot: Robot,
-    kinematics: Kinematics,
-    recorder: Recorder,
-    inertial: Sequence[BarycentricParameters] | None,
-) -> sp.Matrix:
-    """The links' ``M`` (no rotor inertia) by ``n`` unit-acceleration passes at rest without
-    gravity, column ``j`` the torques of ``ddq = e_j``; the lower triangle mirrored, so the
-    code computes each entry once.  ``inertial`` as for
-    :func:`symkin.derive.recursion.joint_torques` (None: the robot file's form)."""
-    n = robot.dof
-    zeros, no_gravity = [sp.Integer(0)] * n, [sp.Integer(0)] * 3
-    columns = [
-        joint_torques(
-            robot,
-            kinematics,
-            recorder,
-            zeros,
-            [sp.Integer(int(k == j)) for k in range(n)],
-            no_gravity,
-            inertial,
-        )
-        for j in range(n)
-    ]
-    return sp.Matrix(n, n, lambda r, c: columns[min(r, c)][max(r, c)])
 
 
 @lru_cache(maxsize=16)
@@ -230,7 +205,7 @@ def barycentric_dynamics(robot: Robot, kinematics: Kinematics) -> BarycentricDyn
     torque = sp.Matrix(
         joint_torques(robot, kinematics, torque_recorder, dq, ddq, robot.gravity, links)
     )
-    mass = rigid_mass_matrix(robot, kinematics, mass_recorder, links)
+    mass = composite_mass_matrix(robot, kinematics, links, mass_recorder)
     for i in range(n):
         for symbol, _, _, entry in _drive_columns(robot.joints[i].link, i + 1, dq[i], ddq[i]):
             torque[i] += symbol * entry

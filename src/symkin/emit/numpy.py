@@ -26,7 +26,7 @@ def numpy_kernel_layout(kernel: Kernel) -> KernelLayout:
     """The kernel's layout with each angle's sine and cosine as one line,
     ``s, c = _sincos(angle)`` (``emit.numpy_trig``); operation counts are the kernel's."""
     rewritten, pairs = pair_trig(kernel)
-    layout = kernel_layout(rewritten, numpy_code)
+    layout = kernel_layout(rewritten, numpy_code, kernel.operation_counts)
     lines = tuple(
         (f"{pairs[i].sin.name}, {pairs[i].cos.name}", f"_sincos({numpy_code(pairs[i].angle)})")
         if i in pairs
@@ -34,7 +34,7 @@ def numpy_kernel_layout(kernel: Kernel) -> KernelLayout:
         for i, line in enumerate(layout.assignments)
         if i - 1 not in pairs  # the cosine half of a pair
     )
-    return dataclasses.replace(layout, assignments=lines, counts=kernel.operation_counts)
+    return dataclasses.replace(layout, assignments=lines)
 
 
 def emit_numpy(
