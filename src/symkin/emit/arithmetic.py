@@ -21,7 +21,8 @@ on many random expressions.
 
 from __future__ import annotations
 
-from functools import cache
+from collections.abc import Callable
+from typing import Any
 
 import sympy as sp
 from sympy.core.function import Function
@@ -35,18 +36,6 @@ from sympy.printing.precedence import precedence as sympy_precedence
 MUL, ADD, ATOM = PRECEDENCE["Mul"], PRECEDENCE["Add"], PRECEDENCE["Atom"]
 # Python's unary minus binds between a product and a power (SymPy's weight for it).
 UNARY_MINUS = 0.5 * (PRECEDENCE["Pow"] + PRECEDENCE["Mul"])
-
-
-@cache
-def _precedence_rule(kind: type) -> str | float:
-    """What decides the precedence of an instance of ``kind``: a constant, or the name of
-    the class whose rule applies (SymPy looks the class names up along the MRO)."""
-    for base in kind.mro():
-        if base.__name__ in PRECEDENCE_FUNCTIONS:
-            return base.__name__
-        if base.__name__ in PRECEDENCE_VALUES:
-            return PRECEDENCE_VALUES[base.__name__]
-    return PRECEDENCE["Atom"]
 
 
 def _undefined(item: sp.Basic) -> bool:
@@ -66,15 +55,28 @@ def negative_number(item: sp.Basic) -> bool:
     return float(item) < 0
 
 
+# Function classes whose own precedence is below a product's (SymPy then brackets nothing).
+_LOW_FUNCTION: dict[type, bool] = {}
+
+
 def _product_precedence(item: sp.Mul) -> float:
-    if any(isinstance(a, Function) and getattr(a, "precedence", MUL) < MUL for a in item.args):
-        return MUL
+    if _undefined(item.args[0]):
+        return sympy_precedence(item)
+    for factor in item.args:
+        kind = type(factor)
+        low = _LOW_FUNCTION.get(kind)
+        if low is None:
+            low = _LOW_FUNCTION[kind] = issubclass(kind, Function) and (
+                getattr(kind, "precedence", MUL) < MUL
+            )
+        if low:
+            return MUL
     return ADD if negative_number(item.args[0]) else MUL
 
 
 # Numbers and products by their rule in sympy.printing.precedence, without comparisons that
 # build SymPy objects; other rules are SymPy's.
-_RULES = {
+_RULES: dict[str, Callable[[Any], float]] = {
     "Integer": lambda item: ADD if item.p < 0 else ATOM,
     "Rational": lambda item: ADD if item.p < 0 else MUL,
     "Float": lambda item: ADD if negative_number(item) else ATOM,
@@ -82,16 +84,29 @@ _RULES = {
 }
 
 
+def _rule(kind: type) -> float | Callable[[Any], float]:
+    """The precedence of every instance of ``kind``, or the function that gives it (SymPy
+    looks the class names up along the MRO; a class attribute ``precedence`` comes first)."""
+    if not issubclass(kind, sp.Basic) or hasattr(kind, "precedence"):
+        return sympy_precedence
+    for base in kind.mro():
+        if base.__name__ in PRECEDENCE_FUNCTIONS:
+            return _RULES.get(base.__name__, sympy_precedence)
+        if base.__name__ in PRECEDENCE_VALUES:
+            return PRECEDENCE_VALUES[base.__name__]
+    return ATOM
+
+
+_RULE_OF_TYPE: dict[type, float | Callable[[Any], float]] = {}
+
+
 def precedence(item: object) -> float:
     """``sympy.printing.precedence.precedence``, without building new SymPy objects."""
-    if not isinstance(item, sp.Basic) or hasattr(item, "precedence"):
-        return sympy_precedence(item)
-    if item.is_Mul and _undefined(item.args[0]):
-        return sympy_precedence(item)
-    rule = _precedence_rule(type(item))
-    if not isinstance(rule, str):
-        return rule
-    return _RULES[rule](item) if rule in _RULES else sympy_precedence(item)
+    kind = type(item)
+    rule = _RULE_OF_TYPE.get(kind)
+    if rule is None:
+        rule = _RULE_OF_TYPE.setdefault(kind, _rule(kind))
+    return rule(item) if callable(rule) else rule
 
 
 def _factors(expr: sp.Mul) -> tuple[str, tuple[sp.Expr, ...]] | None:

@@ -27,24 +27,27 @@ class TrigPair:
     angle: sp.Expr
 
 
-def _angles(kernel: Kernel) -> dict[sp.Expr, int]:
+def _angles(kernel: Kernel) -> tuple[dict[sp.Expr, int], set[int]]:
     """Each pairable angle and the index of the first assignment that needs it (the number
-    of assignments when only an output does), in a deterministic order."""
+    of assignments when only an output does), in a deterministic order; and the indices of
+    the expressions (assignments, then outputs) that hold a pairable sine or cosine."""
     exprs = [e for _, e in kernel.assignments] + [sp.Tuple(*o.matrix) for o in kernel.outputs]
     first: dict[sp.Expr, int] = {}
+    holders: set[int] = set()
     for index, expr in enumerate(exprs):
         found = sorted((t.args[0] for t in expr.atoms(sp.sin, sp.cos)), key=sp.default_sort_key)
         for angle in found:
             if angle.free_symbols and not angle.has(sp.sin, sp.cos):
                 first.setdefault(angle, min(index, len(kernel.assignments)))
-    return first
+                holders.add(index)
+    return first, holders
 
 
 def pair_trig(kernel: Kernel) -> tuple[Kernel, dict[int, TrigPair]]:
     """The kernel with every pairable ``sin(a)``/``cos(a)`` replaced by symbols defined in
     consecutive assignments ``(s, sin(a)), (c, cos(a))``, and the pairs by the index of their
     first assignment in the new kernel."""
-    first = _angles(kernel)
+    first, holders = _angles(kernel)
     named = {
         (type(e), e.args[0]): s for s, e in kernel.assignments if isinstance(e, (sp.sin, sp.cos))
     }
@@ -67,9 +70,11 @@ def pair_trig(kernel: Kernel) -> tuple[Kernel, dict[int, TrigPair]]:
         if index < len(kernel.assignments):
             symbol, expr = kernel.assignments[index]
             if symbol not in renamed:
-                assignments.append((symbol, expr.xreplace(mapping)))
+                assignments.append((symbol, expr.xreplace(mapping) if index in holders else expr))
+    n = len(kernel.assignments)
     outputs = tuple(
-        dataclasses.replace(o, matrix=o.matrix.xreplace(mapping)) for o in kernel.outputs
+        dataclasses.replace(o, matrix=o.matrix.xreplace(mapping)) if n + k in holders else o
+        for k, o in enumerate(kernel.outputs)
     )
     rewritten = dataclasses.replace(kernel, assignments=tuple(assignments), outputs=outputs)
     return rewritten, starts

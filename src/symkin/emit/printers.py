@@ -15,6 +15,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
 from symkin.emit.arithmetic import ArithmeticMixin
+from symkin.emit.dispatch import DispatchMixin
 
 C_TYPES = {"double": float64, "float": float32}
 # Terms print in SymPy's own (deterministic) argument order: sorting every sum for display
@@ -37,7 +38,7 @@ def c_literal(value: float, precision: str) -> str:
     return f"{text}F"
 
 
-class EmbeddedCPrinter(ArithmeticMixin, C99CodePrinter):
+class EmbeddedCPrinter(ArithmeticMixin, DispatchMixin, C99CodePrinter):
     """C99 for ``-std=c99 -pedantic``: no ``M_PI``, small integer powers as products."""
 
     def __init__(self, precision: str = "double") -> None:
@@ -65,7 +66,7 @@ class EmbeddedCPrinter(ArithmeticMixin, C99CodePrinter):
         return super()._print_Pow(expr)
 
 
-class BatchNumPyPrinter(ArithmeticMixin, NumPyPrinter):
+class BatchNumPyPrinter(ArithmeticMixin, DispatchMixin, NumPyPrinter):
     """NumPy expressions that broadcast over a leading batch dimension."""
 
     def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
@@ -75,7 +76,7 @@ class BatchNumPyPrinter(ArithmeticMixin, NumPyPrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-class CasadiPrinter(ArithmeticMixin, PythonCodePrinter):
+class CasadiPrinter(ArithmeticMixin, DispatchMixin, PythonCodePrinter):
     """Python expressions on CasADi SX/MX symbols (``casadi.sin``, ``casadi.atan2``, ...)."""
 
     def _module_format(self, fqn: str, register: bool = True) -> str:
