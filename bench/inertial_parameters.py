@@ -4,9 +4,9 @@ inertial data enter, against SymPyBotics when a checkout is given.
 The issue compared symkin's ``tau`` and ``M`` with SymPyBotics' (tau 962 operations for the
 PUMA 560, M 883 against 780; numeric geometry and symbolic inertia).  This script counts, for
 both robots with numeric geometry, the operations of one ``tau`` kernel and one ``M`` kernel
-(the same recursion and the same kernel passes as ``symkin.kernels.dynamics_kernels``; M by n
-unit-acceleration passes, as ``symkin.derive.newton_euler``) with the inertial data as input
-in three forms:
+(the same recursion and the same kernel passes as ``symkin.kernels.dynamics_kernels``; M by the
+composite-rigid-body algorithm, ``symkin.derive.newton_euler.mass_matrix``) with the inertial
+data as input in three forms:
 
 * **file form**: per link the mass, the centre of mass and the inertia about it (the robot
   file's keys, the ``pi`` input of symkin's generated code);
@@ -49,7 +49,7 @@ from derivation_time import version
 from dynamics_speed import DOCS, robot_variant
 from symkin import derive
 from symkin.derive.base_parameters import symbolic_base_parameters
-from symkin.derive.dynamics import motor_inertia_matrix
+from symkin.derive.newton_euler import mass_matrix
 from symkin.derive.recursion import Recorder, joint_torques
 from symkin.kernels import (
     KernelInput,
@@ -74,25 +74,10 @@ def _kernel_operations(name: str, inputs, recorder: Recorder, matrix: sp.Matrix)
 
 
 def _mass_matrix(model, links) -> tuple[Recorder, sp.Matrix]:
-    """M as ``symkin.derive.newton_euler`` builds it: n unit-acceleration passes without
-    gravity, plus the rotor inertias, the lower triangle mirrored."""
-    robot, n = model.robot, model.robot.dof
-    zeros, no_gravity = [sp.Integer(0)] * n, [sp.Integer(0)] * 3
+    """M as ``symkin.derive.newton_euler`` builds it (the composite-rigid-body algorithm on
+    ``links``, or on the file's data when None, plus the rotor inertias)."""
     recorder = Recorder("s")
-    columns = [
-        joint_torques(
-            robot,
-            model.kinematics,
-            recorder,
-            zeros,
-            [sp.Integer(int(k == j)) for k in range(n)],
-            no_gravity,
-            links,
-        )
-        for j in range(n)
-    ]
-    mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
-    return recorder, sp.Matrix(n, n, lambda r, c: mass[max(r, c), min(r, c)])
+    return recorder, mass_matrix(model.robot, model.kinematics, links, recorder)
 
 
 def operations(name: str) -> dict[str, tuple[int, int, int]]:
@@ -172,8 +157,8 @@ def render(counts: dict[str, dict[str, tuple[int, int, int]]], theirs: dict, che
         "dynamics tau / mass matrix M. The file form is what `symkin derive` generates; the "
         "barycentric column is the kernels `inverse_dynamics_barycentric` and "
         "`mass_matrix_barycentric` that `symkin derive --regressor` also emits, counted as "
-        "emitted (M by the composite-rigid-body algorithm; the other columns' M by n "
-        "unit-acceleration passes of the recursion, as `mass_matrix`); the base-parameter "
+        "emitted; every column's M by the composite-rigid-body algorithm, as the generated "
+        "`mass_matrix`; the base-parameter "
         "column is the same recursion with other inputs, counted but not emitted. "
         f"{peer}; it takes barycentric parameters and has no rotor inertia.",
         "",

@@ -10,15 +10,15 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 224 ops (72 additions, 146 multiplications, 6 trig)
+ *   mass_matrix: 64 ops (22 additions, 34 multiplications, 4 trig, 4 powers)
  *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
- *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
- *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
+ *   coriolis_matrix: 147 ops (48 additions, 84 multiplications, 7 divisions, 4 trig, 4 powers)
+ *   mass_matrix_bias: 234 ops (84 additions, 137 multiplications, 6 trig, 7 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
  *   wrench_torque: 75 ops (21 additions, 48 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
- *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
+ *   energy: 123 ops (51 additions, 56 multiplications, 2 divisions, 4 trig, 10 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void cylindrical_rtt_wrist_manipulability(const double q[6], const double *p, do
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (224 operations).
+/* Mass matrix (64 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void cylindrical_rtt_wrist_coriolis(const double q[6], const double dq[6], const
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (755 operations).
+/* Coriolis matrix (christoffel symbols) (147 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void cylindrical_rtt_wrist_coriolis_matrix(const double q[6], const double dq[6]
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (391 operations).
+/* Mass matrix and bias torques (forward dynamics) (234 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
@@ -213,7 +213,7 @@ void cylindrical_rtt_wrist_static_torque(const double q[6], const double wrench[
 /* The same for count states: q is count x 6, each output count x its size. */
 void cylindrical_rtt_wrist_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (273 operations).
+/* Kinetic and potential energy and the lagrangian (123 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

@@ -11,15 +11,15 @@
  *   fk_jacobian: 82 ops (18 additions, 55 multiplications, 8 trig, 1 powers)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 2 ops (1 multiplications, 1 trig)
- *   mass_matrix: 224 ops (72 additions, 146 multiplications, 6 trig)
+ *   mass_matrix: 64 ops (22 additions, 34 multiplications, 4 trig, 4 powers)
  *   gravity: 65 ops (17 additions, 42 multiplications, 6 trig)
  *   coriolis: 169 ops (59 additions, 101 multiplications, 6 trig, 3 powers)
- *   coriolis_matrix: 755 ops (296 additions, 437 multiplications, 16 divisions, 6 trig)
- *   mass_matrix_bias: 391 ops (133 additions, 249 multiplications, 6 trig, 3 powers)
+ *   coriolis_matrix: 147 ops (48 additions, 84 multiplications, 7 divisions, 4 trig, 4 powers)
+ *   mass_matrix_bias: 234 ops (84 additions, 137 multiplications, 6 trig, 7 powers)
  *   inverse_dynamics: 209 ops (82 additions, 118 multiplications, 6 trig, 3 powers)
  *   wrench_torque: 75 ops (21 additions, 48 multiplications, 6 trig)
  *   static_torque: 151 ops (50 additions, 93 multiplications, 8 trig)
- *   energy: 273 ops (101 additions, 159 multiplications, 1 divisions, 6 trig, 6 powers)
+ *   energy: 123 ops (51 additions, 56 multiplications, 2 divisions, 4 trig, 10 powers)
  */
 #include <stdio.h>
 

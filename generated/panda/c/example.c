@@ -10,15 +10,15 @@
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
  *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
- *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
+ *   mass_matrix: 459 ops (192 additions, 250 multiplications, 12 trig, 5 powers)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
- *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
- *   mass_matrix_bias: 2039 ops (912 additions, 1096 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 1971 ops (865 additions, 1080 multiplications, 8 divisions, 12 trig, 6 powers)
+ *   mass_matrix_bias: 1158 ops (525 additions, 597 multiplications, 12 trig, 24 powers)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
  *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
- *   energy: 1592 ops (709 additions, 863 multiplications, 1 divisions, 12 trig, 7 powers)
+ *   energy: 705 ops (322 additions, 358 multiplications, 1 divisions, 12 trig, 12 powers)
  */
 #include <stdio.h>
 

@@ -9,15 +9,15 @@
  *   position_jacobian: 330 ops (111 additions, 207 multiplications, 12 trig)
  *   fk_jacobian: 202 ops (63 additions, 125 multiplications, 14 trig)
  *   manipulability: 709 ops (287 additions, 371 multiplications, 1 divisions, 12 trig, 1 sqrt, 37 powers)
- *   mass_matrix: 1340 ops (579 additions, 749 multiplications, 12 trig)
+ *   mass_matrix: 459 ops (192 additions, 250 multiplications, 12 trig, 5 powers)
  *   gravity: 210 ops (79 additions, 119 multiplications, 12 trig)
  *   coriolis: 700 ops (328 additions, 341 multiplications, 12 trig, 19 powers)
- *   coriolis_matrix: 5748 ops (2563 additions, 3165 multiplications, 8 divisions, 12 trig)
- *   mass_matrix_bias: 2039 ops (912 additions, 1096 multiplications, 12 trig, 19 powers)
+ *   coriolis_matrix: 1971 ops (865 additions, 1080 multiplications, 8 divisions, 12 trig, 6 powers)
+ *   mass_matrix_bias: 1158 ops (525 additions, 597 multiplications, 12 trig, 24 powers)
  *   inverse_dynamics: 751 ops (358 additions, 362 multiplications, 12 trig, 19 powers)
  *   wrench_torque: 246 ops (87 additions, 147 multiplications, 12 trig)
  *   static_torque: 503 ops (179 additions, 310 multiplications, 14 trig)
- *   energy: 1592 ops (709 additions, 863 multiplications, 1 divisions, 12 trig, 7 powers)
+ *   energy: 705 ops (322 additions, 358 multiplications, 1 divisions, 12 trig, 12 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -113,7 +113,7 @@ void panda_manipulability(const double q[7], const double *p, double mu[SYMKIN_R
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (1340 operations).
+/* Mass matrix (459 operations).
  * M[49]: M(q) (7x7)
  *   units: kg m^2
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
@@ -144,7 +144,7 @@ void panda_coriolis(const double q[7], const double dq[7], const double *p, doub
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (5748 operations).
+/* Coriolis matrix (christoffel symbols) (1971 operations).
  * C[49]: C(q, dq) (7x7), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[7]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void panda_coriolis_matrix(const double q[7], const double dq[7], const double *
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (2039 operations).
+/* Mass matrix and bias torques (forward dynamics) (1158 operations).
  * M[49]: M(q) (7x7)
  *   units: kg m^2
  * bias[7]: bias = C dq + G + F, the torques at ddq = 0 (7x1)
@@ -202,7 +202,7 @@ void panda_static_torque(const double q[7], const double wrench[6], const double
 /* The same for count states: q is count x 7, each output count x its size. */
 void panda_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (1592 operations).
+/* Kinetic and potential energy and the lagrangian (705 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

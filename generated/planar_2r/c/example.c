@@ -11,15 +11,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
+ *   mass_matrix: 20 ops (10 additions, 8 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 40 ops (16 additions, 19 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 29 ops (12 additions, 12 multiplications, 1 divisions, 1 trig, 3 powers)
  */
 #include <stdio.h>
 

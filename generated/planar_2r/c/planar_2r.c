@@ -10,15 +10,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
+ *   mass_matrix: 20 ops (10 additions, 8 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 40 ops (16 additions, 19 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 29 ops (12 additions, 12 multiplications, 1 divisions, 1 trig, 3 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -309,23 +309,21 @@ void planar_2r_mass_matrix(const double q[2], const double *p, double M[restrict
     const double q2 = q[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = 3.393*t1;
-    const double t5 = -1.6965 + 3.393*t3;
-    const double t6 = -0.5 + L2;
-    const double t7 = 0.2831 + t5*t6;
-    const double t8 = -1.6965 + 3.393*L1;
-    const double t9 = t8 + t0*t4 + t2*t5;
-    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
-    const double t11 = -1.6965 + 3.393*L2;
-    const double t12 = 0.2831 + t11*t6;
-    M[0] = t10;
-    M[1] = t7;
-    M[2] = t7;
-    M[3] = t12;
+    const double t0 = cos(q2);
+    const double t1 = 3.393*L2;
+    const double t2 = -1.6965 + t1;
+    const double t3 = -1.6965 + t0*t2;
+    const double t4 = t3 + 6.786*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 2.2626999999999997 - t1 + 3.393*L2*L2 + L1*t5;
+    const double t7 = -1.6965 + t2;
+    const double t8 = 1.1313499999999999 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    M[0] = t6;
+    M[1] = t10;
+    M[2] = t10;
+    M[3] = t8;
 }
 
 void planar_2r_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
@@ -392,24 +390,17 @@ void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const doub
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L1*t2;
-    const double t4 = L2 + t3;
-    const double t5 = 3.393*t1;
-    const double t6 = -1.6965 + 3.393*t4;
-    const double t7 = 0.5 - L2;
-    const double t8 = t5*t7;
-    const double t9 = 3.393*t3;
-    const double t10 = t9 - t6;
-    const double t11 = t0*t10;
-    const double t12 = t8 + L1*t11;
-    const double t13 = (1.0/2.0)*t12;
-    const double t14 = dq1*t13;
-    C[0] = dq2*t13;
-    C[1] = t14 + dq2*t8;
-    C[2] = -t14;
+    const double t0 = 3.393*L2;
+    const double t1 = -1.6965 + t0;
+    const double t2 = sin(q2);
+    const double t3 = -t1*t2;
+    const double t4 = 2*L1*t3;
+    const double t5 = L1*t3;
+    const double t6 = (1.0/2.0)*t4;
+    const double t7 = dq1*t6;
+    C[0] = dq2*t6;
+    C[1] = t7 + dq2*t5;
+    C[2] = -t7;
     C[3] = 0;
 }
 
@@ -428,34 +419,34 @@ void planar_2r_mass_matrix_bias(const double q[2], const double dq[2], const dou
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = 3.393*t1;
-    const double t5 = -1.6965 + 3.393*t3;
-    const double t6 = -0.5 + L2;
-    const double t7 = 0.2831 + t5*t6;
-    const double t8 = -1.6965 + 3.393*L1;
-    const double t9 = t8 + t0*t4 + t2*t5;
-    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
-    const double t11 = -1.6965 + 3.393*L2;
-    const double t12 = 0.2831 + t11*t6;
-    const double t13 = dq1*dq1;
-    const double t14 = L1*t13;
-    const double t15 = dq1 + dq2;
-    const double t16 = t15*t15;
-    const double t17 = L2*t16 + t14*t2;
-    const double t18 = t0*t14;
-    const double t19 = 1.6965*t16 - 3.393*t17;
-    const double t20 = 3.393*t18;
-    const double t21 = t20*t6;
-    const double t22 = t0*t19 + t2*t20;
+    const double t0 = cos(q2);
+    const double t1 = 3.393*L2;
+    const double t2 = -1.6965 + t1;
+    const double t3 = -1.6965 + t0*t2;
+    const double t4 = t3 + 6.786*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 2.2626999999999997 - t1 + 3.393*L2*L2 + L1*t5;
+    const double t7 = -1.6965 + t2;
+    const double t8 = 1.1313499999999999 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    const double t11 = dq1*dq1;
+    const double t12 = L1*t11;
+    const double t13 = dq1 + dq2;
+    const double t14 = t13*t13;
+    const double t15 = sin(q2);
+    const double t16 = L2*t14 + t0*t12;
+    const double t17 = t12*t15;
+    const double t18 = 1.6965*t14 - 3.393*t16;
+    const double t19 = 3.393*t17;
+    const double t20 = -0.5 + L2;
+    const double t21 = t19*t20;
+    const double t22 = t0*t19 + t15*t18;
     const double t23 = t21 + L1*t22;
-    M[0] = t10;
-    M[1] = t7;
-    M[2] = t7;
-    M[3] = t12;
+    M[0] = t6;
+    M[1] = t10;
+    M[2] = t10;
+    M[3] = t8;
     bias[0] = t23;
     bias[1] = t21;
 }
@@ -566,24 +557,22 @@ void planar_2r_energy(const double q[2], const double dq[2], const double *p, do
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = 3.393*t1;
-    const double t5 = -1.6965 + 3.393*t3;
-    const double t6 = -0.5 + L2;
-    const double t7 = 0.2831 + t5*t6;
-    const double t8 = -1.6965 + 3.393*L1;
-    const double t9 = t8 + t0*t4 + t2*t5;
-    const double t10 = 0.2831 + t7 - 0.5*t8 + L1*t9;
-    const double t11 = -1.6965 + 3.393*L2;
-    const double t12 = 0.2831 + t11*t6;
-    const double t13 = t10*dq1*dq1 + t12*dq2*dq2;
-    const double t14 = (1.0/2.0)*t13 + dq1*dq2*t7;
-    kinetic[0] = t14;
+    const double t0 = cos(q2);
+    const double t1 = 3.393*L2;
+    const double t2 = -1.6965 + t1;
+    const double t3 = -1.6965 + t0*t2;
+    const double t4 = t3 + 6.786*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 2.2626999999999997 - t1 + 3.393*L2*L2 + L1*t5;
+    const double t7 = -1.6965 + t2;
+    const double t8 = 1.1313499999999999 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    const double t11 = t6*dq1*dq1 + t8*dq2*dq2;
+    const double t12 = (1.0/2.0)*t11 + dq1*dq2*t10;
+    kinetic[0] = t12;
     potential[0] = 0;
-    lagrangian[0] = t14;
+    lagrangian[0] = t12;
 }
 
 void planar_2r_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)

@@ -10,15 +10,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
+ *   mass_matrix: 20 ops (10 additions, 8 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 40 ops (16 additions, 19 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
  *   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
- *   energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
+ *   energy: 29 ops (12 additions, 12 multiplications, 1 divisions, 1 trig, 3 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void planar_2r_manipulability(const double q[2], const double *p, double mu[SYMK
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (26 operations).
+/* Mass matrix (20 operations).
  * M[4]: M(q) (2x2)
  *   units: kg m^2
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void planar_2r_coriolis(const double q[2], const double dq[2], const double *p, 
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (21 operations).
+/* Coriolis matrix (christoffel symbols) (14 operations).
  * C[4]: C(q, dq) (2x2), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[2]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void planar_2r_coriolis_matrix(const double q[2], const double dq[2], const doub
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (44 operations).
+/* Mass matrix and bias torques (forward dynamics) (40 operations).
  * M[4]: M(q) (2x2)
  *   units: kg m^2
  * bias[2]: bias = C dq + G + F, the torques at ddq = 0 (2x1)
@@ -213,7 +213,7 @@ void planar_2r_static_torque(const double q[2], const double wrench[6], const do
 /* The same for count states: q is count x 2, each output count x its size. */
 void planar_2r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (35 operations).
+/* Kinetic and potential energy and the lagrangian (29 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

@@ -10,15 +10,15 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
+  mass_matrix: 20 ops (10 additions, 8 multiplications, 1 trig, 1 powers)
   gravity: 0 ops (none)
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
-  mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+  mass_matrix_bias: 40 ops (16 additions, 19 multiplications, 2 trig, 3 powers)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
-  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
+  energy: 29 ops (12 additions, 12 multiplications, 1 divisions, 1 trig, 3 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -233,7 +233,7 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (26 operations) as a casadi.Function.
+    """Mass matrix (20 operations) as a casadi.Function.
 
     Output M: M(q) (2x2).
     """
@@ -242,24 +242,22 @@ def mass_matrix_function(symbol_type=casadi.SX):
     q2 = q[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
+    t0 = casadi.cos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
     M = symbol_type.zeros(2, 2)
-    M[0, 0] = t10
-    M[0, 1] = t7
-    M[1, 0] = t7
-    M[1, 1] = t12
+    M[0, 0] = t6
+    M[0, 1] = t10
+    M[1, 0] = t10
+    M[1, 1] = t8
     return casadi.Function(
         "planar_2r_mass_matrix",
         [q, p],
@@ -326,7 +324,7 @@ def coriolis_function(symbol_type=casadi.SX):
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (21 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (14 operations) as a casadi.Function.
 
     Output C: C(q, dq) (2x2), dM/dt - 2C skew-symmetric.
     """
@@ -338,25 +336,18 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L1*t2
-    t4 = L2 + t3
-    t5 = 3.393*t1
-    t6 = -1.6965 + 3.393*t4
-    t7 = 0.5 - L2
-    t8 = t5*t7
-    t9 = 3.393*t3
-    t10 = t9 - t6
-    t11 = t0*t10
-    t12 = t8 + L1*t11
-    t13 = (1/2)*t12
-    t14 = dq1*t13
+    t0 = 3.393*L2
+    t1 = -1.6965 + t0
+    t2 = casadi.sin(q2)
+    t3 = -t1*t2
+    t4 = 2*L1*t3
+    t5 = L1*t3
+    t6 = (1/2)*t4
+    t7 = dq1*t6
     C = symbol_type.zeros(2, 2)
-    C[0, 0] = dq2*t13
-    C[0, 1] = t14 + dq2*t8
-    C[1, 0] = -t14
+    C[0, 0] = dq2*t6
+    C[0, 1] = t7 + dq2*t5
+    C[1, 0] = -t7
     return casadi.Function(
         "planar_2r_coriolis_matrix",
         [q, dq, p],
@@ -367,7 +358,7 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_bias_function(symbol_type=casadi.SX):
-    """Mass matrix and bias torques (forward dynamics) (44 operations) as a casadi.Function.
+    """Mass matrix and bias torques (forward dynamics) (40 operations) as a casadi.Function.
 
     Output M: M(q) (2x2).
     Output bias: bias = C dq + G + F, the torques at ddq = 0 (2x1).
@@ -380,35 +371,35 @@ def mass_matrix_bias_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
-    t13 = dq1**2
-    t14 = L1*t13
-    t15 = dq1 + dq2
-    t16 = t15**2
-    t17 = L2*t16 + t14*t2
-    t18 = t0*t14
-    t19 = 1.6965*t16 - 3.393*t17
-    t20 = 3.393*t18
-    t21 = t20*t6
-    t22 = t0*t19 + t2*t20
+    t0 = casadi.cos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = dq1**2
+    t12 = L1*t11
+    t13 = dq1 + dq2
+    t14 = t13**2
+    t15 = casadi.sin(q2)
+    t16 = L2*t14 + t0*t12
+    t17 = t12*t15
+    t18 = 1.6965*t14 - 3.393*t16
+    t19 = 3.393*t17
+    t20 = -0.5 + L2
+    t21 = t19*t20
+    t22 = t0*t19 + t15*t18
     t23 = t21 + L1*t22
     M = symbol_type.zeros(2, 2)
-    M[0, 0] = t10
-    M[0, 1] = t7
-    M[1, 0] = t7
-    M[1, 1] = t12
+    M[0, 0] = t6
+    M[0, 1] = t10
+    M[1, 0] = t10
+    M[1, 1] = t8
     bias = symbol_type.zeros(2, 1)
     bias[0, 0] = t23
     bias[1, 0] = t21
@@ -532,7 +523,7 @@ def static_torque_function(symbol_type=casadi.SX):
 
 
 def energy_function(symbol_type=casadi.SX):
-    """Kinetic and potential energy and the lagrangian (35 operations) as a casadi.Function.
+    """Kinetic and potential energy and the lagrangian (29 operations) as a casadi.Function.
 
     Output kinetic: kinetic energy T = 1/2 dq^T M dq.
     Output potential: potential energy V = -sum m_i g^T p_ci.
@@ -546,26 +537,24 @@ def energy_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
-    t13 = t10*dq1**2 + t12*dq2**2
-    t14 = (1/2)*t13 + dq1*dq2*t7
+    t0 = casadi.cos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = t6*dq1**2 + t8*dq2**2
+    t12 = (1/2)*t11 + dq1*dq2*t10
     kinetic = symbol_type.zeros(1, 1)
-    kinetic[0, 0] = t14
+    kinetic[0, 0] = t12
     potential = symbol_type.zeros(1, 1)
     lagrangian = symbol_type.zeros(1, 1)
-    lagrangian[0, 0] = t14
+    lagrangian[0, 0] = t12
     return casadi.Function(
         "planar_2r_energy",
         [q, dq, p],

@@ -10,15 +10,15 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 26 ops (12 additions, 12 multiplications, 2 trig)
+  mass_matrix: 20 ops (10 additions, 8 multiplications, 1 trig, 1 powers)
   gravity: 0 ops (none)
   coriolis: 21 ops (6 additions, 11 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 21 ops (6 additions, 12 multiplications, 1 divisions, 2 trig)
-  mass_matrix_bias: 44 ops (17 additions, 23 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+  mass_matrix_bias: 40 ops (16 additions, 19 multiplications, 2 trig, 3 powers)
   inverse_dynamics: 41 ops (16 additions, 21 multiplications, 2 trig, 2 powers)
   wrench_torque: 21 ops (7 additions, 10 multiplications, 4 trig)
   static_torque: 18 ops (6 additions, 8 multiplications, 4 trig)
-  energy: 35 ops (14 additions, 16 multiplications, 1 divisions, 2 trig, 2 powers)
+  energy: 29 ops (12 additions, 12 multiplications, 1 divisions, 1 trig, 3 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2
@@ -311,7 +311,7 @@ def _manipulability(q, p, mu):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
-    """Mass matrix: 26 operations.
+    """Mass matrix: 20 operations.
 
     q: joint positions (rad or m), 2 values per state.
     p: parameters (L1, L2; SI units, angles in rad), 2 values.
@@ -330,22 +330,21 @@ def _mass_matrix(q, p, M):
     q2 = q[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0, t2 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
-    M[..., 0, 0] = t10
-    M[..., 0, 1] = t7
-    M[..., 1, 0] = t7
-    M[..., 1, 1] = t12
+    _s0, t0 = _sincos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    M[..., 0, 0] = t6
+    M[..., 0, 1] = t10
+    M[..., 1, 0] = t10
+    M[..., 1, 1] = t8
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -409,7 +408,7 @@ def _coriolis(q, dq, p, c):
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
-    """Coriolis matrix (christoffel symbols): 21 operations.
+    """Coriolis matrix (christoffel symbols): 14 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
@@ -432,27 +431,21 @@ def _coriolis_matrix(q, dq, p, C):
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0, t2 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L1*t2
-    t4 = L2 + t3
-    t5 = 3.393*t1
-    t6 = -1.6965 + 3.393*t4
-    t7 = 0.5 - L2
-    t8 = t5*t7
-    t9 = 3.393*t3
-    t10 = t9 - t6
-    t11 = t0*t10
-    t12 = t8 + L1*t11
-    t13 = (1/2)*t12
-    t14 = dq1*t13
-    C[..., 0, 0] = dq2*t13
-    C[..., 0, 1] = t14 + dq2*t8
-    C[..., 1, 0] = -t14
+    t0 = 3.393*L2
+    t1 = -1.6965 + t0
+    t2, _c0 = _sincos(q2)
+    t3 = -t1*t2
+    t4 = 2*L1*t3
+    t5 = L1*t3
+    t6 = (1/2)*t4
+    t7 = dq1*t6
+    C[..., 0, 0] = dq2*t6
+    C[..., 0, 1] = t7 + dq2*t5
+    C[..., 1, 0] = -t7
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
-    """Mass matrix and bias torques (forward dynamics): 44 operations.
+    """Mass matrix and bias torques (forward dynamics): 40 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
@@ -477,33 +470,33 @@ def _mass_matrix_bias(q, dq, p, M, bias):
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0, t2 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
-    t13 = dq1**2
-    t14 = L1*t13
-    t15 = dq1 + dq2
-    t16 = t15**2
-    t17 = L2*t16 + t14*t2
-    t18 = t0*t14
-    t19 = 1.6965*t16 - 3.393*t17
-    t20 = 3.393*t18
-    t21 = t20*t6
-    t22 = t0*t19 + t2*t20
+    t15, t0 = _sincos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = dq1**2
+    t12 = L1*t11
+    t13 = dq1 + dq2
+    t14 = t13**2
+    t16 = L2*t14 + t0*t12
+    t17 = t12*t15
+    t18 = 1.6965*t14 - 3.393*t16
+    t19 = 3.393*t17
+    t20 = -0.5 + L2
+    t21 = t19*t20
+    t22 = t0*t19 + t15*t18
     t23 = t21 + L1*t22
-    M[..., 0, 0] = t10
-    M[..., 0, 1] = t7
-    M[..., 1, 0] = t7
-    M[..., 1, 1] = t12
+    M[..., 0, 0] = t6
+    M[..., 0, 1] = t10
+    M[..., 1, 0] = t10
+    M[..., 1, 1] = t8
     bias[..., 0] = t23
     bias[..., 1] = t21
 
@@ -629,7 +622,7 @@ def _static_torque(q, wrench, p, tau_s):
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
-    """Kinetic and potential energy and the lagrangian: 35 operations.
+    """Kinetic and potential energy and the lagrangian: 29 operations.
 
     q: joint positions (rad or m), 2 values per state.
     dq: joint velocities (rad/s or m/s), 2 values per state.
@@ -656,22 +649,21 @@ def _energy(q, dq, p, kinetic, potential, lagrangian):
     dq2 = dq[..., 1]
     L1 = p[..., 0]
     L2 = p[..., 1]
-    t0, t2 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t4 = 3.393*t1
-    t5 = -1.6965 + 3.393*t3
-    t6 = -0.5 + L2
-    t7 = 0.2831 + t5*t6
-    t8 = -1.6965 + 3.393*L1
-    t9 = t8 + t0*t4 + t2*t5
-    t10 = 0.2831 + t7 - 0.5*t8 + L1*t9
-    t11 = -1.6965 + 3.393*L2
-    t12 = 0.2831 + t11*t6
-    t13 = t10*dq1**2 + t12*dq2**2
-    t14 = (1/2)*t13 + dq1*dq2*t7
-    kinetic[...] = t14
-    lagrangian[...] = t14
+    _s0, t0 = _sincos(q2)
+    t1 = 3.393*L2
+    t2 = -1.6965 + t1
+    t3 = -1.6965 + t0*t2
+    t4 = t3 + 6.786*L1
+    t5 = t3 + t4
+    t6 = 2.2627 - t1 + 3.393*L2**2 + L1*t5
+    t7 = -1.6965 + t2
+    t8 = 1.13135 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = t6*dq1**2 + t8*dq2**2
+    t12 = (1/2)*t11 + dq1*dq2*t10
+    kinetic[...] = t12
+    lagrangian[...] = t12
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

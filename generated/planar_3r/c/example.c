@@ -11,15 +11,15 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
+ *   mass_matrix: 59 ops (25 additions, 28 multiplications, 4 trig, 2 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
- *   mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 84 ops (26 additions, 48 multiplications, 6 divisions, 4 trig)
+ *   mass_matrix_bias: 104 ops (42 additions, 53 multiplications, 4 trig, 5 powers)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
- *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
+ *   energy: 76 ops (30 additions, 36 multiplications, 1 divisions, 4 trig, 5 powers)
  */
 #include <stdio.h>
 

@@ -10,15 +10,15 @@
  *   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
  *   det: 4 ops (3 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
+ *   mass_matrix: 59 ops (25 additions, 28 multiplications, 4 trig, 2 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
- *   coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
- *   mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
+ *   coriolis_matrix: 84 ops (26 additions, 48 multiplications, 6 divisions, 4 trig)
+ *   mass_matrix_bias: 104 ops (42 additions, 53 multiplications, 4 trig, 5 powers)
  *   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
  *   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
  *   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
- *   energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
+ *   energy: 76 ops (30 additions, 36 multiplications, 1 divisions, 4 trig, 5 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void planar_3r_manipulability(const double q[3], const double *p, double mu[SYMK
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (70 operations).
+/* Mass matrix (59 operations).
  * M[9]: M(q) (3x3)
  *   units: kg m^2
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void planar_3r_coriolis(const double q[3], const double dq[3], const double *p, 
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (123 operations).
+/* Coriolis matrix (christoffel symbols) (84 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void planar_3r_coriolis_matrix(const double q[3], const double dq[3], const doub
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (114 operations).
+/* Mass matrix and bias torques (forward dynamics) (104 operations).
  * M[9]: M(q) (3x3)
  *   units: kg m^2
  * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
@@ -213,7 +213,7 @@ void planar_3r_static_torque(const double q[3], const double wrench[6], const do
 /* The same for count states: q is count x 3, each output count x its size. */
 void planar_3r_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (87 operations).
+/* Kinetic and potential energy and the lagrangian (76 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

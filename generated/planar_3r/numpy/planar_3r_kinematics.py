@@ -10,15 +10,15 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 22 ops (6 additions, 10 multiplications, 6 trig)
   det: 4 ops (3 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 70 ops (32 additions, 34 multiplications, 4 trig)
+  mass_matrix: 59 ops (25 additions, 28 multiplications, 4 trig, 2 powers)
   gravity: 0 ops (none)
   coriolis: 49 ops (17 additions, 25 multiplications, 4 trig, 3 powers)
-  coriolis_matrix: 123 ops (47 additions, 66 multiplications, 6 divisions, 4 trig)
-  mass_matrix_bias: 114 ops (48 additions, 59 multiplications, 4 trig, 3 powers)
+  coriolis_matrix: 84 ops (26 additions, 48 multiplications, 6 divisions, 4 trig)
+  mass_matrix_bias: 104 ops (42 additions, 53 multiplications, 4 trig, 5 powers)
   inverse_dynamics: 76 ops (31 additions, 38 multiplications, 4 trig, 3 powers)
   wrench_torque: 32 ops (12 additions, 14 multiplications, 6 trig)
   static_torque: 29 ops (10 additions, 13 multiplications, 6 trig)
-  energy: 87 ops (37 additions, 42 multiplications, 1 divisions, 4 trig, 3 powers)
+  energy: 76 ops (30 additions, 36 multiplications, 1 divisions, 4 trig, 5 powers)
 
 Every function takes one state or a batch: ``q`` of shape (n,) or (..., n), and returns
 arrays with the same leading batch dimensions.  ``p`` holds the parameters L1, L2, L3
@@ -345,7 +345,7 @@ def _manipulability(q, p, mu):
 
 
 def mass_matrix(q, p=DEFAULT_PARAMETERS):
-    """Mass matrix: 70 operations.
+    """Mass matrix: 59 operations.
 
     q: joint positions (rad or m), 3 values per state.
     p: parameters (L1, L2, L3; SI units, angles in rad), 3 values.
@@ -366,42 +366,44 @@ def _mass_matrix(q, p, M):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t2, t0 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t5, t4 = _sincos(q3)
-    t6 = t3*t5 - t1*t4
-    t7 = L3 + t1*t5 + t3*t4
-    t8 = 1.696*t6
-    t9 = -0.424 + 1.696*t7
-    t10 = -0.25 + L3
-    t11 = 0.03551 + t10*t9
-    t12 = -1.0856 + 2.714*t3
-    t13 = -2.714*t1 + t4*t8 - t5*t9
-    t14 = t12 + t4*t9 + t5*t8
-    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
-    t16 = -1.6965 + 3.393*L1
-    t17 = t16 + t14*t2 - t0*t13
-    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
-    t19 = L2*t5
-    t20 = L3 + L2*t4
-    t21 = 1.696*t19
-    t22 = -0.424 + 1.696*t20
-    t23 = 0.03551 + t10*t22
-    t24 = -1.0856 + 2.714*L2
-    t25 = t24 + t21*t5 + t22*t4
-    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
-    t27 = -0.424 + 1.696*L3
-    t28 = 0.03551 + t10*t27
-    M[..., 0, 0] = t18
-    M[..., 0, 1] = t15
-    M[..., 0, 2] = t11
-    M[..., 1, 0] = t15
-    M[..., 1, 1] = t26
-    M[..., 1, 2] = t23
-    M[..., 2, 0] = t11
-    M[..., 2, 1] = t23
-    M[..., 2, 2] = t28
+    t1, t0 = _sincos(q3)
+    t2 = 1.696*L3
+    t3 = -0.424 + t2
+    t4 = -1.0856 + t0*t3
+    t5 = t1*t3
+    t6 = 0.72075 + 1.696*L3**2 - 0.848*L3
+    t7, t8 = _sincos(q2)
+    t9 = t5*t8
+    t10 = t9 + t4*t7
+    t11 = 4.41*L2
+    t12 = -1.6965 + t10 + t11*t7
+    t13 = L2*t8
+    t14 = L2*t7
+    t15 = t4*t8 - t5*t7
+    t16 = t12 + 7.803*L1
+    t17 = t12 + t16
+    t18 = t10*t14 + t13*t15
+    t19 = 1.13135 + t6 + 2*t18 + 4.41*L2**2 + L1*t17
+    t20 = t11 + t4
+    t21 = t20 + t4
+    t22 = t6 + L2*t21
+    t23 = t9 + t20*t7
+    t24 = t22 + L1*t23
+    t25 = -0.424 + t3
+    t26 = 0.14151 + L3*t25
+    t27 = t0*t3
+    t28 = t26 + L2*t27
+    t29 = t27*t7 + t5*t8
+    t30 = t28 + L1*t29
+    M[..., 0, 0] = t19
+    M[..., 0, 1] = t24
+    M[..., 0, 2] = t30
+    M[..., 1, 0] = t24
+    M[..., 1, 1] = t22
+    M[..., 1, 2] = t28
+    M[..., 2, 0] = t30
+    M[..., 2, 1] = t28
+    M[..., 2, 2] = t26
 
 
 def gravity(q, p=DEFAULT_PARAMETERS):
@@ -478,7 +480,7 @@ def _coriolis(q, dq, p, c):
 
 
 def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
-    """Coriolis matrix (christoffel symbols): 123 operations.
+    """Coriolis matrix (christoffel symbols): 84 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -504,73 +506,56 @@ def _coriolis_matrix(q, dq, p, C):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t2, t0 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L1*t2
-    t4 = L2 + t3
-    t6, t5 = _sincos(q3)
-    t7 = t4*t6 - t1*t5
-    t8 = t1*t6
-    t9 = L3 + t8 + t4*t5
-    t10 = 1.696*t7
-    t11 = -0.424 + 1.696*t9
-    t12 = 2.714*t1
-    t13 = t10*t5 - t11*t6
-    t14 = t13 - t12
-    t15 = t10*t6 + t11*t5
-    t16 = -1.0856 + t15 + 2.714*t4
-    t17 = L2*t6
-    t18 = L2*t5
-    t19 = L3 + t18
-    t20 = 1.696*t17
-    t21 = -0.424 + 1.696*t19
-    t22 = t1*t5 - t3*t6
-    t23 = 1.696*t22
-    t24 = -0.25 + L3
-    t25 = t23*t24
-    t26 = t1*t6 + t3*t5
-    t27 = 1.696*t26
-    t28 = t12 + t23*t5 + t27*t6
-    t29 = t25 - 0.4*t12 + L2*t28
-    t30 = 2.714*t3 + t27*t5 - t23*t6
-    t31 = t14 + t28
-    t32 = t16 - t30
-    t33 = t0*t32 + t2*t31
-    t34 = t29 + L1*t33
-    t35 = t10*t24
-    t36 = t8 + t4*t5
-    t37 = 1.696*t36
-    t38 = t13 + t37*t6 - t10*t5
-    t39 = -t35 + L2*t38
-    t40 = -t15 + t10*t6 + t37*t5
-    t41 = t2*t38 - t0*t40
-    t42 = t39 + L1*t41
-    t43 = t20*t24
-    t44 = 1.696*t18
-    t45 = t44 - t21
-    t46 = t45*t6
-    t47 = -t43 + L2*t46
-    t48 = (1/2)*t34
-    t49 = (1/2)*dq3
-    t50 = dq1*t48
-    t51 = t25 + t39
-    t52 = (1/2)*dq1
-    t53 = t42*t52
-    t54 = (1/2)*dq2
-    t55 = t25 - t39
-    t56 = t47*t54
-    C[..., 0, 0] = dq2*t48 + t42*t49
-    C[..., 0, 1] = t50 + dq2*t29 + t49*t51
-    C[..., 0, 2] = t53 + t51*t54 - dq3*t35
-    C[..., 1, 0] = -t50 - 1/2*dq3*t55
-    C[..., 1, 1] = t47*t49
-    C[..., 1, 2] = t56 - dq3*t43 - t52*t55
-    C[..., 2, 0] = -t53 + (1/2)*dq2*t55
-    C[..., 2, 1] = -t56 + t52*t55
+    t2, t0 = _sincos(q3)
+    t1 = 0.424*t0
+    t3 = 0.424*t2
+    t4 = 1.696*L3
+    t5 = t0*t4
+    t6 = -1.0856 + t5 - t1
+    t7 = -t3 + t2*t4
+    t8 = 4.41*L2
+    t9 = t6 + t8
+    t10 = -0.424 + t4
+    t11 = t10*t2
+    t12 = t0*t10
+    t14, t13 = _sincos(q2)
+    t15 = t14*t7
+    t16 = -t15 + t13*t9
+    t17 = 2*L1
+    t18 = t16*t17
+    t19 = t5 - t1
+    t20 = t13*t19 - t14*t7
+    t21 = t13*t7 + t14*t19
+    t22 = t17 + 2*L2*t14
+    t23 = t20*t22 - 2*L2*t13*t21
+    t24 = L1*t16
+    t25 = 2*L2*t7
+    t26 = -t25 + L1*t20
+    t27 = t12*t13 - t11*t14
+    t28 = L1*t27
+    t29 = L2*t11
+    t30 = -t29 + L1*t27
+    t31 = (1/2)*t18
+    t32 = (1/2)*dq3
+    t33 = dq1*t31
+    t34 = t26 + t28
+    t35 = (1/2)*dq1
+    t36 = t23*t35
+    t37 = (1/2)*dq2
+    t38 = t26 - t28
+    t39 = t25*t37
+    C[..., 0, 0] = dq2*t31 + t23*t32
+    C[..., 0, 1] = t33 + dq2*t24 + t32*t34
+    C[..., 0, 2] = t36 + dq3*t30 + t34*t37
+    C[..., 1, 0] = -t33 + (1/2)*dq3*t38
+    C[..., 1, 1] = -t25*t32
+    C[..., 1, 2] = -t39 + t35*t38 - dq3*t29
+    C[..., 2, 0] = -t36 - 1/2*dq2*t38
+    C[..., 2, 1] = t39 - t35*t38
 
 
 def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
-    """Mass matrix and bias torques (forward dynamics): 114 operations.
+    """Mass matrix and bias torques (forward dynamics): 104 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -598,64 +583,67 @@ def _mass_matrix_bias(q, dq, p, M, bias):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t2, t0 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t5, t4 = _sincos(q3)
-    t6 = t3*t5 - t1*t4
-    t7 = L3 + t1*t5 + t3*t4
-    t8 = 1.696*t6
-    t9 = -0.424 + 1.696*t7
-    t10 = -0.25 + L3
-    t11 = 0.03551 + t10*t9
-    t12 = -1.0856 + 2.714*t3
-    t13 = -2.714*t1 + t4*t8 - t5*t9
-    t14 = t12 + t4*t9 + t5*t8
-    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
-    t16 = -1.6965 + 3.393*L1
-    t17 = t16 + t14*t2 - t0*t13
-    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
-    t19 = L2*t5
-    t20 = L3 + L2*t4
-    t21 = 1.696*t19
-    t22 = -0.424 + 1.696*t20
-    t23 = 0.03551 + t10*t22
-    t24 = -1.0856 + 2.714*L2
-    t25 = t24 + t21*t5 + t22*t4
-    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
-    t27 = -0.424 + 1.696*L3
-    t28 = 0.03551 + t10*t27
-    t29 = dq1**2
-    t30 = L1*t29
-    t31 = dq1 + dq2
-    t32 = t31**2
-    t33 = L2*t32 + t2*t30
-    t34 = t0*t30
-    t35 = dq3 + t31
-    t36 = t35**2
-    t37 = L3*t36 + t33*t4 + t34*t5
-    t38 = t33*t5 - t34*t4
-    t39 = 0.424*t36 - 1.696*t37
-    t40 = 1.696*t38
-    t41 = t10*t40
-    t42 = 2.714*t34
-    t43 = 1.0856*t32 - 2.714*t33 + t39*t4 - t40*t5
-    t44 = -t42 + t39*t5 + t4*t40
-    t45 = t41 + 0.4*t42 + L2*t44
-    t46 = t2*t44 - t0*t43
-    t47 = t45 + L1*t46
-    M[..., 0, 0] = t18
-    M[..., 0, 1] = t15
-    M[..., 0, 2] = t11
-    M[..., 1, 0] = t15
-    M[..., 1, 1] = t26
-    M[..., 1, 2] = t23
-    M[..., 2, 0] = t11
-    M[..., 2, 1] = t23
-    M[..., 2, 2] = t28
-    bias[..., 0] = t47
-    bias[..., 1] = t45
-    bias[..., 2] = t41
+    t1, t0 = _sincos(q3)
+    t2 = 1.696*L3
+    t3 = -0.424 + t2
+    t4 = -1.0856 + t0*t3
+    t5 = t1*t3
+    t6 = 0.72075 + 1.696*L3**2 - 0.848*L3
+    t7, t8 = _sincos(q2)
+    t9 = t5*t8
+    t10 = t9 + t4*t7
+    t11 = 4.41*L2
+    t12 = -1.6965 + t10 + t11*t7
+    t13 = L2*t8
+    t14 = L2*t7
+    t15 = t4*t8 - t5*t7
+    t16 = t12 + 7.803*L1
+    t17 = t12 + t16
+    t18 = t10*t14 + t13*t15
+    t19 = 1.13135 + t6 + 2*t18 + 4.41*L2**2 + L1*t17
+    t20 = t11 + t4
+    t21 = t20 + t4
+    t22 = t6 + L2*t21
+    t23 = t9 + t20*t7
+    t24 = t22 + L1*t23
+    t25 = -0.424 + t3
+    t26 = 0.14151 + L3*t25
+    t27 = t0*t3
+    t28 = t26 + L2*t27
+    t29 = t27*t7 + t5*t8
+    t30 = t28 + L1*t29
+    t31 = dq1**2
+    t32 = L1*t31
+    t33 = dq1 + dq2
+    t34 = t33**2
+    t35 = L2*t34 + t32*t7
+    t36 = t32*t8
+    t37 = dq3 + t33
+    t38 = t37**2
+    t39 = L3*t38 + t0*t35 + t1*t36
+    t40 = t1*t35 - t0*t36
+    t41 = 0.424*t38 - 1.696*t39
+    t42 = 1.696*t40
+    t43 = -0.25 + L3
+    t44 = t42*t43
+    t45 = 2.714*t36
+    t46 = 1.0856*t34 - 2.714*t35 + t0*t41 - t1*t42
+    t47 = -t45 + t0*t42 + t1*t41
+    t48 = t44 + 0.4*t45 + L2*t47
+    t49 = t47*t7 - t46*t8
+    t50 = t48 + L1*t49
+    M[..., 0, 0] = t19
+    M[..., 0, 1] = t24
+    M[..., 0, 2] = t30
+    M[..., 1, 0] = t24
+    M[..., 1, 1] = t22
+    M[..., 1, 2] = t28
+    M[..., 2, 0] = t30
+    M[..., 2, 1] = t28
+    M[..., 2, 2] = t26
+    bias[..., 0] = t50
+    bias[..., 1] = t48
+    bias[..., 2] = t44
 
 
 def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
@@ -809,7 +797,7 @@ def _static_torque(q, wrench, p, tau_s):
 
 
 def energy(q, dq, p=DEFAULT_PARAMETERS):
-    """Kinetic and potential energy and the lagrangian: 87 operations.
+    """Kinetic and potential energy and the lagrangian: 76 operations.
 
     q: joint positions (rad or m), 3 values per state.
     dq: joint velocities (rad/s or m/s), 3 values per state.
@@ -839,38 +827,40 @@ def _energy(q, dq, p, kinetic, potential, lagrangian):
     L1 = p[..., 0]
     L2 = p[..., 1]
     L3 = p[..., 2]
-    t2, t0 = _sincos(q2)
-    t1 = L1*t0
-    t3 = L2 + L1*t2
-    t5, t4 = _sincos(q3)
-    t6 = t3*t5 - t1*t4
-    t7 = L3 + t1*t5 + t3*t4
-    t8 = 1.696*t6
-    t9 = -0.424 + 1.696*t7
-    t10 = -0.25 + L3
-    t11 = 0.03551 + t10*t9
-    t12 = -1.0856 + 2.714*t3
-    t13 = -2.714*t1 + t4*t8 - t5*t9
-    t14 = t12 + t4*t9 + t5*t8
-    t15 = 0.145 + t11 - 0.4*t12 + L2*t14
-    t16 = -1.6965 + 3.393*L1
-    t17 = t16 + t14*t2 - t0*t13
-    t18 = 0.2831 + t15 - 0.5*t16 + L1*t17
-    t19 = L2*t5
-    t20 = L3 + L2*t4
-    t21 = 1.696*t19
-    t22 = -0.424 + 1.696*t20
-    t23 = 0.03551 + t10*t22
-    t24 = -1.0856 + 2.714*L2
-    t25 = t24 + t21*t5 + t22*t4
-    t26 = 0.145 + t23 - 0.4*t24 + L2*t25
-    t27 = -0.424 + 1.696*L3
-    t28 = 0.03551 + t10*t27
-    t29 = t18*dq1**2 + t26*dq2**2 + t28*dq3**2
-    t30 = dq1*t11 + dq2*t23
-    t31 = (1/2)*t29 + dq3*t30 + dq1*dq2*t15
-    kinetic[...] = t31
-    lagrangian[...] = t31
+    t1, t0 = _sincos(q3)
+    t2 = 1.696*L3
+    t3 = -0.424 + t2
+    t4 = -1.0856 + t0*t3
+    t5 = t1*t3
+    t6 = 0.72075 + 1.696*L3**2 - 0.848*L3
+    t7, t8 = _sincos(q2)
+    t9 = t5*t8
+    t10 = t9 + t4*t7
+    t11 = 4.41*L2
+    t12 = -1.6965 + t10 + t11*t7
+    t13 = L2*t8
+    t14 = L2*t7
+    t15 = t4*t8 - t5*t7
+    t16 = t12 + 7.803*L1
+    t17 = t12 + t16
+    t18 = t10*t14 + t13*t15
+    t19 = 1.13135 + t6 + 2*t18 + 4.41*L2**2 + L1*t17
+    t20 = t11 + t4
+    t21 = t20 + t4
+    t22 = t6 + L2*t21
+    t23 = t9 + t20*t7
+    t24 = t22 + L1*t23
+    t25 = -0.424 + t3
+    t26 = 0.14151 + L3*t25
+    t27 = t0*t3
+    t28 = t26 + L2*t27
+    t29 = t27*t7 + t5*t8
+    t30 = t28 + L1*t29
+    t31 = t19*dq1**2 + t22*dq2**2 + t26*dq3**2
+    t32 = dq1*t30 + dq2*t28
+    t33 = (1/2)*t31 + dq3*t32 + dq1*dq2*t24
+    kinetic[...] = t33
+    lagrangian[...] = t33
 
 
 def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):

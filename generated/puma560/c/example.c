@@ -11,15 +11,15 @@
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 489 ops (190 additions, 289 multiplications, 10 trig)
+ *   mass_matrix: 274 ops (111 additions, 145 multiplications, 8 trig, 10 powers)
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
- *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
- *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
+ *   coriolis_matrix: 857 ops (369 additions, 462 multiplications, 8 divisions, 8 trig, 10 powers)
+ *   mass_matrix_bias: 641 ops (264 additions, 347 multiplications, 10 trig, 20 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
- *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
+ *   energy: 351 ops (148 additions, 176 multiplications, 1 divisions, 10 trig, 16 powers)
  */
 #include <stdio.h>
 

@@ -10,15 +10,15 @@
  *   fk_jacobian: 135 ops (38 additions, 85 multiplications, 12 trig)
  *   det: 18 ops (4 additions, 8 multiplications, 6 trig)
  *   manipulability: 18 ops (4 additions, 8 multiplications, 6 trig)
- *   mass_matrix: 489 ops (190 additions, 289 multiplications, 10 trig)
+ *   mass_matrix: 274 ops (111 additions, 145 multiplications, 8 trig, 10 powers)
  *   gravity: 136 ops (46 additions, 80 multiplications, 10 trig)
  *   coriolis: 371 ops (151 additions, 200 multiplications, 10 trig, 10 powers)
- *   coriolis_matrix: 1825 ops (771 additions, 1037 multiplications, 7 divisions, 10 trig)
- *   mass_matrix_bias: 854 ops (343 additions, 491 multiplications, 10 trig, 10 powers)
+ *   coriolis_matrix: 857 ops (369 additions, 462 multiplications, 8 divisions, 8 trig, 10 powers)
+ *   mass_matrix_bias: 641 ops (264 additions, 347 multiplications, 10 trig, 20 powers)
  *   inverse_dynamics: 414 ops (180 additions, 214 multiplications, 10 trig, 10 powers)
  *   wrench_torque: 108 ops (35 additions, 63 multiplications, 10 trig)
  *   static_torque: 258 ops (91 additions, 153 multiplications, 14 trig)
- *   energy: 565 ops (230 additions, 316 multiplications, 1 divisions, 12 trig, 6 powers)
+ *   energy: 351 ops (148 additions, 176 multiplications, 1 divisions, 10 trig, 16 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void puma560_manipulability(const double q[6], const double *p, double mu[SYMKIN
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (489 operations).
+/* Mass matrix (274 operations).
  * M[36]: M(q) (6x6)
  *   units: kg m^2
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void puma560_coriolis(const double q[6], const double dq[6], const double *p, do
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (1825 operations).
+/* Coriolis matrix (christoffel symbols) (857 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void puma560_coriolis_matrix(const double q[6], const double dq[6], const double
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (854 operations).
+/* Mass matrix and bias torques (forward dynamics) (641 operations).
  * M[36]: M(q) (6x6)
  *   units: kg m^2
  * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
@@ -213,7 +213,7 @@ void puma560_static_torque(const double q[6], const double wrench[6], const doub
 /* The same for count states: q is count x 6, each output count x its size. */
 void puma560_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (565 operations).
+/* Kinetic and potential energy and the lagrangian (351 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

@@ -10,15 +10,15 @@
  *   fk_jacobian: 23 ops (1 additions, 18 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (10 additions, 10 multiplications, 2 trig, 4 powers)
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
- *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 32 ops (7 additions, 20 multiplications, 2 divisions, 2 trig, 1 powers)
+ *   mass_matrix_bias: 85 ops (29 additions, 47 multiplications, 2 trig, 7 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 29 ops (8 additions, 17 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
- *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 44 ops (16 additions, 18 multiplications, 1 divisions, 2 trig, 7 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -333,31 +333,27 @@ void rpr_mass_matrix(const double q[3], const double *p, double M[restrict 9])
     const double q2 = q[1];
     const double q3 = q[2];
     const double L3 = p[0];
-    const double t0 = cos(q3);
-    const double t1 = sin(q3);
-    const double t2 = q2 + L3*t1;
-    const double t3 = 3.393*t2 - 1.6965*t1;
-    const double t4 = 0.0006786*t0;
-    const double t5 = 0.5 - L3;
-    const double t6 = -0.2831*t1 + t3*t5;
-    const double t7 = -2.6505 + 5.301*q2;
-    const double t8 = t3 + t7;
-    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
-    const double t10 = 3.393*t1;
-    const double t11 = 3.393*t0;
-    const double t12 = -t11*t5;
-    const double t13 = 5.301 + t0*t11 + t1*t10;
-    const double t14 = -1.6965 + 3.393*L3;
-    const double t15 = 0.2831 - t14*t5;
-    M[0] = t9;
+    const double t0 = sin(q3);
+    const double t1 = cos(q3);
+    const double t2 = 1.1313499999999999 - 1.1306713999999998*t1*t1;
+    const double t3 = 3.393*L3;
+    const double t4 = -1.6965 + t3;
+    const double t5 = -2.6505 + t0*t4;
+    const double t6 = t0*t0;
+    const double t7 = -t3 + 3.393*L3*L3;
+    const double t8 = 1.7731510000000001 + t2 + 8.693999999999999*q2*q2 + t6*t7 + 2*q2*t5;
+    const double t9 = -1.6965 + t4;
+    const double t10 = 1.1313499999999999 + L3*t9;
+    const double t11 = t1*t4;
+    M[0] = t8;
     M[1] = 0;
     M[2] = 0;
     M[3] = 0;
-    M[4] = t13;
-    M[5] = t12;
+    M[4] = 8.693999999999999;
+    M[5] = t11;
     M[6] = 0;
-    M[7] = t12;
-    M[8] = t15;
+    M[7] = t11;
+    M[8] = t10;
 }
 
 void rpr_mass_matrix_batch(size_t count, const double *q, const double *p, double *restrict M)
@@ -451,36 +447,30 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double t0 = cos(q3);
-    const double t1 = sin(q3);
-    const double t2 = q2 + L3*t1;
-    const double t3 = 3.393*t2 - 1.6965*t1;
-    const double t4 = 0.0006786*t0;
-    const double t5 = 0.5 - L3;
-    const double t6 = -0.2831*t1 + t3*t5;
-    const double t7 = -2.6505 + 5.301*q2;
-    const double t8 = 3.393*t1;
-    const double t9 = 1.6965 - 3.393*L3;
-    const double t10 = -2.6505 + t3 + t7 + 8.693999999999999*q2 - t1*t9;
-    const double t11 = L3*t0;
-    const double t12 = 3.393*t11 - 1.6965*t0;
-    const double t13 = 0.0006786*t1;
-    const double t14 = -0.2831*t0 + t12*t5;
-    const double t15 = t14 + t4;
-    const double t16 = t13 + t6;
-    const double t17 = q2*t12 - t0*t16 - t1*t15;
-    const double t18 = t5*t8;
-    const double t19 = (1.0/2.0)*t10;
-    const double t20 = (1.0/2.0)*t17;
-    const double t21 = dq1*t19;
-    const double t22 = dq1*t20;
-    C[0] = dq2*t19 + dq3*t20;
-    C[1] = t21;
-    C[2] = t22;
-    C[3] = -t21;
+    const double t0 = sin(q3);
+    const double t1 = 3.393*L3;
+    const double t2 = -1.6965 + t1;
+    const double t3 = -2.6505 + t0*t2;
+    const double t4 = 2*t3 + 17.387999999999998*q2;
+    const double t5 = cos(q3);
+    const double t6 = t0*t5;
+    const double t7 = 2.2613427999999995*t6;
+    const double t8 = 6.786*t6;
+    const double t9 = t2*t5;
+    const double t10 = L3*L3 - L3;
+    const double t11 = t7 + t10*t8 + 2*q2*t9;
+    const double t12 = -t0*t2;
+    const double t13 = (1.0/2.0)*t4;
+    const double t14 = (1.0/2.0)*t11;
+    const double t15 = dq1*t13;
+    const double t16 = dq1*t14;
+    C[0] = dq2*t13 + dq3*t14;
+    C[1] = t15;
+    C[2] = t16;
+    C[3] = -t15;
     C[4] = 0;
-    C[5] = dq3*t18;
-    C[6] = -t22;
+    C[5] = dq3*t12;
+    C[6] = -t16;
     C[7] = 0;
     C[8] = 0;
 }
@@ -501,59 +491,56 @@ void rpr_mass_matrix_bias(const double q[3], const double dq[3], const double *p
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double t0 = cos(q3);
-    const double t1 = sin(q3);
-    const double t2 = q2 + L3*t1;
-    const double t3 = 3.393*t2 - 1.6965*t1;
-    const double t4 = 0.0006786*t0;
-    const double t5 = 0.5 - L3;
-    const double t6 = -0.2831*t1 + t3*t5;
-    const double t7 = -2.6505 + 5.301*q2;
-    const double t8 = t3 + t7;
-    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
-    const double t10 = 3.393*t1;
-    const double t11 = 3.393*t0;
-    const double t12 = t11*t5;
-    const double t13 = 5.301 + t0*t11 + t1*t10;
-    const double t14 = -1.6965 + 3.393*L3;
-    const double t15 = 0.2831 - t14*t5;
-    const double t16 = dq1*dq1;
-    const double t17 = q2*t16;
-    const double t18 = 2*dq1*dq2;
-    const double t19 = dq1*t0;
-    const double t20 = dq1*t1;
-    const double t21 = dq3*t20;
-    const double t22 = dq3*t19;
-    const double t23 = t20*t20;
-    const double t24 = dq3*dq3;
-    const double t25 = t19*t20;
-    const double t26 = t23 + t24;
-    const double t27 = 2*t22;
-    const double t28 = 9.81*t0 - L3*t26 - t1*t17;
-    const double t29 = 9.81*t1 + L3*t25 + t0*t17;
-    const double t30 = t18 + L3*t27;
-    const double t31 = 1.6965*t26 + 3.393*t28;
-    const double t32 = 1.6965*t25 - 3.393*t29;
-    const double t33 = 3.393*t30 - 1.6965*t27;
-    const double t34 = 0.0006786*t21;
-    const double t35 = -0.5655214000000001*t22 + t33*t5;
-    const double t36 = 0.28242140000000004*t25 + t32*t5;
-    const double t37 = 5.301*t18;
-    const double t38 = 2.6505*t16 - 5.301*t17 + t0*t32 + t1*t31;
-    const double t39 = t33 + t37;
-    const double t40 = -0.5*t37 + q2*t39 - t0*t34 - t1*t35;
-    M[0] = t9;
+    const double t0 = sin(q3);
+    const double t1 = cos(q3);
+    const double t2 = 1.1313499999999999 - 1.1306713999999998*t1*t1;
+    const double t3 = 3.393*L3;
+    const double t4 = -1.6965 + t3;
+    const double t5 = -2.6505 + t0*t4;
+    const double t6 = t0*t0;
+    const double t7 = -t3 + 3.393*L3*L3;
+    const double t8 = 1.7731510000000001 + t2 + 8.693999999999999*q2*q2 + t6*t7 + 2*q2*t5;
+    const double t9 = -1.6965 + t4;
+    const double t10 = 1.1313499999999999 + L3*t9;
+    const double t11 = t1*t4;
+    const double t12 = dq1*dq1;
+    const double t13 = q2*t12;
+    const double t14 = 2*dq1*dq2;
+    const double t15 = dq1*t1;
+    const double t16 = dq1*t0;
+    const double t17 = dq3*t16;
+    const double t18 = dq3*t15;
+    const double t19 = t16*t16;
+    const double t20 = dq3*dq3;
+    const double t21 = t15*t16;
+    const double t22 = t19 + t20;
+    const double t23 = 2*t18;
+    const double t24 = 9.81*t1 - L3*t22 - t0*t13;
+    const double t25 = 9.81*t0 + L3*t21 + t1*t13;
+    const double t26 = t14 + L3*t23;
+    const double t27 = 1.6965*t22 + 3.393*t24;
+    const double t28 = 1.6965*t21 - 3.393*t25;
+    const double t29 = 3.393*t26 - 1.6965*t23;
+    const double t30 = 0.0006786*t17;
+    const double t31 = 0.5 - L3;
+    const double t32 = -0.5655214000000001*t18 + t29*t31;
+    const double t33 = 0.28242140000000004*t21 + t28*t31;
+    const double t34 = 5.301*t14;
+    const double t35 = 2.6505*t12 - 5.301*t13 + t0*t27 + t1*t28;
+    const double t36 = t29 + t34;
+    const double t37 = -0.5*t34 + q2*t36 - t0*t32 - t1*t30;
+    M[0] = t8;
     M[1] = 0;
     M[2] = 0;
     M[3] = 0;
-    M[4] = t13;
-    M[5] = -t12;
+    M[4] = 8.693999999999999;
+    M[5] = t11;
     M[6] = 0;
-    M[7] = -t12;
-    M[8] = t15;
-    bias[0] = t40;
-    bias[1] = t38;
-    bias[2] = -t36;
+    M[7] = t11;
+    M[8] = t10;
+    bias[0] = t37;
+    bias[1] = t35;
+    bias[2] = -t33;
 }
 
 void rpr_mass_matrix_bias_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict M, double *restrict bias)
@@ -702,29 +689,25 @@ void rpr_energy(const double q[3], const double dq[3], const double *p, double k
     const double dq2 = dq[1];
     const double dq3 = dq[2];
     const double L3 = p[0];
-    const double t0 = cos(q3);
-    const double t1 = sin(q3);
-    const double t2 = q2 + L3*t1;
-    const double t3 = 3.393*t2 - 1.6965*t1;
-    const double t4 = 0.0006786*t0;
-    const double t5 = 0.5 - L3;
-    const double t6 = -0.2831*t1 + t3*t5;
-    const double t7 = -2.6505 + 5.301*q2;
-    const double t8 = t3 + t7;
-    const double t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6;
-    const double t10 = 3.393*t1;
-    const double t11 = 3.393*t0;
-    const double t12 = t11*t5;
-    const double t13 = 5.301 + t0*t11 + t1*t10;
-    const double t14 = -1.6965 + 3.393*L3;
-    const double t15 = 0.2831 - t14*t5;
-    const double t16 = t13*dq2*dq2 + t15*dq3*dq3 + t9*dq1*dq1;
-    const double t17 = (1.0/2.0)*t16 - dq2*dq3*t12;
-    const double t18 = 16.642665*t0;
-    const double t19 = 33.28533*L3*t0;
-    kinetic[0] = t17;
-    potential[0] = t19 - t18;
-    lagrangian[0] = t17 + t18 - t19;
+    const double t0 = sin(q3);
+    const double t1 = cos(q3);
+    const double t2 = 1.1313499999999999 - 1.1306713999999998*t1*t1;
+    const double t3 = 3.393*L3;
+    const double t4 = -1.6965 + t3;
+    const double t5 = -2.6505 + t0*t4;
+    const double t6 = t0*t0;
+    const double t7 = -t3 + 3.393*L3*L3;
+    const double t8 = 1.7731510000000001 + t2 + 8.693999999999999*q2*q2 + t6*t7 + 2*q2*t5;
+    const double t9 = -1.6965 + t4;
+    const double t10 = 1.1313499999999999 + L3*t9;
+    const double t11 = t1*t4;
+    const double t12 = t10*dq3*dq3 + t8*dq1*dq1;
+    const double t13 = (1.0/2.0)*t12 + 4.3469999999999995*dq2*dq2 + dq2*dq3*t11;
+    const double t14 = 16.642665*t1;
+    const double t15 = 33.28533*L3*t1;
+    kinetic[0] = t13;
+    potential[0] = t15 - t14;
+    lagrangian[0] = t13 + t14 - t15;
 }
 
 void rpr_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)

@@ -10,15 +10,15 @@
  *   fk_jacobian: 23 ops (1 additions, 18 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (10 additions, 10 multiplications, 2 trig, 4 powers)
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
- *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 32 ops (7 additions, 20 multiplications, 2 divisions, 2 trig, 1 powers)
+ *   mass_matrix_bias: 85 ops (29 additions, 47 multiplications, 2 trig, 7 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 29 ops (8 additions, 17 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
- *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 44 ops (16 additions, 18 multiplications, 1 divisions, 2 trig, 7 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void rpr_manipulability(const double q[3], const double *p, double mu[SYMKIN_RES
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (35 operations).
+/* Mass matrix (26 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void rpr_coriolis(const double q[3], const double dq[3], const double *p, double
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (49 operations).
+/* Coriolis matrix (christoffel symbols) (32 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void rpr_coriolis_matrix(const double q[3], const double dq[3], const double *p,
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (94 operations).
+/* Mass matrix and bias torques (forward dynamics) (85 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
@@ -213,7 +213,7 @@ void rpr_static_torque(const double q[3], const double wrench[6], const double *
 /* The same for count states: q is count x 3, each output count x its size. */
 void rpr_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (52 operations).
+/* Kinetic and potential energy and the lagrangian (44 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

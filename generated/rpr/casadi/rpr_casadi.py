@@ -10,15 +10,15 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 23 ops (1 additions, 18 multiplications, 4 trig)
   det: 4 ops (1 additions, 2 multiplications, 1 trig)
   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
-  mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+  mass_matrix: 26 ops (10 additions, 10 multiplications, 2 trig, 4 powers)
   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
-  coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
-  mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
+  coriolis_matrix: 32 ops (7 additions, 20 multiplications, 2 divisions, 2 trig, 1 powers)
+  mass_matrix_bias: 85 ops (29 additions, 47 multiplications, 2 trig, 7 powers)
   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
   wrench_torque: 29 ops (8 additions, 17 multiplications, 4 trig)
   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
-  energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
+  energy: 44 ops (16 additions, 18 multiplications, 1 divisions, 2 trig, 7 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L3) and named outputs; build it once
@@ -262,7 +262,7 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (35 operations) as a casadi.Function.
+    """Mass matrix (26 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     """
@@ -271,28 +271,24 @@ def mass_matrix_function(symbol_type=casadi.SX):
     q2 = q[1]
     q3 = q[2]
     L3 = p[0]
-    t0 = casadi.cos(q3)
-    t1 = casadi.sin(q3)
-    t2 = q2 + L3*t1
-    t3 = 3.393*t2 - 1.6965*t1
-    t4 = 0.0006786*t0
-    t5 = 0.5 - L3
-    t6 = -0.2831*t1 + t3*t5
-    t7 = -2.6505 + 5.301*q2
-    t8 = t3 + t7
-    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
-    t10 = 3.393*t1
-    t11 = 3.393*t0
-    t12 = -t11*t5
-    t13 = 5.301 + t0*t11 + t1*t10
-    t14 = -1.6965 + 3.393*L3
-    t15 = 0.2831 - t14*t5
+    t0 = casadi.sin(q3)
+    t1 = casadi.cos(q3)
+    t2 = 1.13135 - 1.1306714*t1**2
+    t3 = 3.393*L3
+    t4 = -1.6965 + t3
+    t5 = -2.6505 + t0*t4
+    t6 = t0**2
+    t7 = -t3 + 3.393*L3**2
+    t8 = 1.773151 + t2 + 8.694*q2**2 + t6*t7 + 2*q2*t5
+    t9 = -1.6965 + t4
+    t10 = 1.13135 + L3*t9
+    t11 = t1*t4
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t9
-    M[1, 1] = t13
-    M[1, 2] = t12
-    M[2, 1] = t12
-    M[2, 2] = t15
+    M[0, 0] = t8
+    M[1, 1] = 8.69400000000000
+    M[1, 2] = t11
+    M[2, 1] = t11
+    M[2, 2] = t10
     return casadi.Function(
         "rpr_mass_matrix",
         [q, p],
@@ -388,7 +384,7 @@ def coriolis_function(symbol_type=casadi.SX):
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (49 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (32 operations) as a casadi.Function.
 
     Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
     """
@@ -401,36 +397,30 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    t0 = casadi.cos(q3)
-    t1 = casadi.sin(q3)
-    t2 = q2 + L3*t1
-    t3 = 3.393*t2 - 1.6965*t1
-    t4 = 0.0006786*t0
-    t5 = 0.5 - L3
-    t6 = -0.2831*t1 + t3*t5
-    t7 = -2.6505 + 5.301*q2
-    t8 = 3.393*t1
-    t9 = 1.6965 - 3.393*L3
-    t10 = -2.6505 + t3 + t7 + 8.694*q2 - t1*t9
-    t11 = L3*t0
-    t12 = 3.393*t11 - 1.6965*t0
-    t13 = 0.0006786*t1
-    t14 = -0.2831*t0 + t12*t5
-    t15 = t14 + t4
-    t16 = t13 + t6
-    t17 = q2*t12 - t0*t16 - t1*t15
-    t18 = t5*t8
-    t19 = (1/2)*t10
-    t20 = (1/2)*t17
-    t21 = dq1*t19
-    t22 = dq1*t20
+    t0 = casadi.sin(q3)
+    t1 = 3.393*L3
+    t2 = -1.6965 + t1
+    t3 = -2.6505 + t0*t2
+    t4 = 2*t3 + 17.388*q2
+    t5 = casadi.cos(q3)
+    t6 = t0*t5
+    t7 = 2.2613428*t6
+    t8 = 6.786*t6
+    t9 = t2*t5
+    t10 = L3**2 - L3
+    t11 = t7 + t10*t8 + 2*q2*t9
+    t12 = -t0*t2
+    t13 = (1/2)*t4
+    t14 = (1/2)*t11
+    t15 = dq1*t13
+    t16 = dq1*t14
     C = symbol_type.zeros(3, 3)
-    C[0, 0] = dq2*t19 + dq3*t20
-    C[0, 1] = t21
-    C[0, 2] = t22
-    C[1, 0] = -t21
-    C[1, 2] = dq3*t18
-    C[2, 0] = -t22
+    C[0, 0] = dq2*t13 + dq3*t14
+    C[0, 1] = t15
+    C[0, 2] = t16
+    C[1, 0] = -t15
+    C[1, 2] = dq3*t12
+    C[2, 0] = -t16
     return casadi.Function(
         "rpr_coriolis_matrix",
         [q, dq, p],
@@ -441,7 +431,7 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_bias_function(symbol_type=casadi.SX):
-    """Mass matrix and bias torques (forward dynamics) (94 operations) as a casadi.Function.
+    """Mass matrix and bias torques (forward dynamics) (85 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     Output bias: bias = C dq + G + F, the torques at ddq = 0 (3x1).
@@ -455,57 +445,54 @@ def mass_matrix_bias_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    t0 = casadi.cos(q3)
-    t1 = casadi.sin(q3)
-    t2 = q2 + L3*t1
-    t3 = 3.393*t2 - 1.6965*t1
-    t4 = 0.0006786*t0
-    t5 = 0.5 - L3
-    t6 = -0.2831*t1 + t3*t5
-    t7 = -2.6505 + 5.301*q2
-    t8 = t3 + t7
-    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
-    t10 = 3.393*t1
-    t11 = 3.393*t0
-    t12 = t11*t5
-    t13 = 5.301 + t0*t11 + t1*t10
-    t14 = -1.6965 + 3.393*L3
-    t15 = 0.2831 - t14*t5
-    t16 = dq1**2
-    t17 = q2*t16
-    t18 = 2*dq1*dq2
-    t19 = dq1*t0
-    t20 = dq1*t1
-    t21 = dq3*t20
-    t22 = dq3*t19
-    t23 = t20**2
-    t24 = dq3**2
-    t25 = t19*t20
-    t26 = t23 + t24
-    t27 = 2*t22
-    t28 = 9.81*t0 - L3*t26 - t1*t17
-    t29 = 9.81*t1 + L3*t25 + t0*t17
-    t30 = t18 + L3*t27
-    t31 = 1.6965*t26 + 3.393*t28
-    t32 = 1.6965*t25 - 3.393*t29
-    t33 = 3.393*t30 - 1.6965*t27
-    t34 = 0.0006786*t21
-    t35 = -0.5655214*t22 + t33*t5
-    t36 = 0.2824214*t25 + t32*t5
-    t37 = 5.301*t18
-    t38 = 2.6505*t16 - 5.301*t17 + t0*t32 + t1*t31
-    t39 = t33 + t37
-    t40 = -0.5*t37 + q2*t39 - t0*t34 - t1*t35
+    t0 = casadi.sin(q3)
+    t1 = casadi.cos(q3)
+    t2 = 1.13135 - 1.1306714*t1**2
+    t3 = 3.393*L3
+    t4 = -1.6965 + t3
+    t5 = -2.6505 + t0*t4
+    t6 = t0**2
+    t7 = -t3 + 3.393*L3**2
+    t8 = 1.773151 + t2 + 8.694*q2**2 + t6*t7 + 2*q2*t5
+    t9 = -1.6965 + t4
+    t10 = 1.13135 + L3*t9
+    t11 = t1*t4
+    t12 = dq1**2
+    t13 = q2*t12
+    t14 = 2*dq1*dq2
+    t15 = dq1*t1
+    t16 = dq1*t0
+    t17 = dq3*t16
+    t18 = dq3*t15
+    t19 = t16**2
+    t20 = dq3**2
+    t21 = t15*t16
+    t22 = t19 + t20
+    t23 = 2*t18
+    t24 = 9.81*t1 - L3*t22 - t0*t13
+    t25 = 9.81*t0 + L3*t21 + t1*t13
+    t26 = t14 + L3*t23
+    t27 = 1.6965*t22 + 3.393*t24
+    t28 = 1.6965*t21 - 3.393*t25
+    t29 = 3.393*t26 - 1.6965*t23
+    t30 = 0.0006786*t17
+    t31 = 0.5 - L3
+    t32 = -0.5655214*t18 + t29*t31
+    t33 = 0.2824214*t21 + t28*t31
+    t34 = 5.301*t14
+    t35 = 2.6505*t12 - 5.301*t13 + t0*t27 + t1*t28
+    t36 = t29 + t34
+    t37 = -0.5*t34 + q2*t36 - t0*t32 - t1*t30
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t9
-    M[1, 1] = t13
-    M[1, 2] = -t12
-    M[2, 1] = -t12
-    M[2, 2] = t15
+    M[0, 0] = t8
+    M[1, 1] = 8.69400000000000
+    M[1, 2] = t11
+    M[2, 1] = t11
+    M[2, 2] = t10
     bias = symbol_type.zeros(3, 1)
-    bias[0, 0] = t40
-    bias[1, 0] = t38
-    bias[2, 0] = -t36
+    bias[0, 0] = t37
+    bias[1, 0] = t35
+    bias[2, 0] = -t33
     return casadi.Function(
         "rpr_mass_matrix_bias",
         [q, dq, p],
@@ -665,7 +652,7 @@ def static_torque_function(symbol_type=casadi.SX):
 
 
 def energy_function(symbol_type=casadi.SX):
-    """Kinetic and potential energy and the lagrangian (52 operations) as a casadi.Function.
+    """Kinetic and potential energy and the lagrangian (44 operations) as a casadi.Function.
 
     Output kinetic: kinetic energy T = 1/2 dq^T M dq.
     Output potential: potential energy V = -sum m_i g^T p_ci.
@@ -680,32 +667,28 @@ def energy_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     dq3 = dq[2]
     L3 = p[0]
-    t0 = casadi.cos(q3)
-    t1 = casadi.sin(q3)
-    t2 = q2 + L3*t1
-    t3 = 3.393*t2 - 1.6965*t1
-    t4 = 0.0006786*t0
-    t5 = 0.5 - L3
-    t6 = -0.2831*t1 + t3*t5
-    t7 = -2.6505 + 5.301*q2
-    t8 = t3 + t7
-    t9 = 0.447901 - 0.5*t7 + q2*t8 + t0*t4 - t1*t6
-    t10 = 3.393*t1
-    t11 = 3.393*t0
-    t12 = t11*t5
-    t13 = 5.301 + t0*t11 + t1*t10
-    t14 = -1.6965 + 3.393*L3
-    t15 = 0.2831 - t14*t5
-    t16 = t13*dq2**2 + t15*dq3**2 + t9*dq1**2
-    t17 = (1/2)*t16 - dq2*dq3*t12
-    t18 = 16.642665*t0
-    t19 = 33.28533*L3*t0
+    t0 = casadi.sin(q3)
+    t1 = casadi.cos(q3)
+    t2 = 1.13135 - 1.1306714*t1**2
+    t3 = 3.393*L3
+    t4 = -1.6965 + t3
+    t5 = -2.6505 + t0*t4
+    t6 = t0**2
+    t7 = -t3 + 3.393*L3**2
+    t8 = 1.773151 + t2 + 8.694*q2**2 + t6*t7 + 2*q2*t5
+    t9 = -1.6965 + t4
+    t10 = 1.13135 + L3*t9
+    t11 = t1*t4
+    t12 = t10*dq3**2 + t8*dq1**2
+    t13 = (1/2)*t12 + 4.347*dq2**2 + dq2*dq3*t11
+    t14 = 16.642665*t1
+    t15 = 33.28533*L3*t1
     kinetic = symbol_type.zeros(1, 1)
-    kinetic[0, 0] = t17
+    kinetic[0, 0] = t13
     potential = symbol_type.zeros(1, 1)
-    potential[0, 0] = t19 - t18
+    potential[0, 0] = t15 - t14
     lagrangian = symbol_type.zeros(1, 1)
-    lagrangian[0, 0] = t17 + t18 - t19
+    lagrangian[0, 0] = t13 + t14 - t15
     return casadi.Function(
         "rpr_energy",
         [q, dq, p],

@@ -10,15 +10,15 @@
  *   fk_jacobian: 23 ops (1 additions, 18 multiplications, 4 trig)
  *   det: 4 ops (1 additions, 2 multiplications, 1 trig)
  *   manipulability: 4 ops (1 additions, 2 multiplications, 1 trig)
- *   mass_matrix: 35 ops (14 additions, 19 multiplications, 2 trig)
+ *   mass_matrix: 26 ops (10 additions, 10 multiplications, 2 trig, 4 powers)
  *   gravity: 12 ops (2 additions, 8 multiplications, 2 trig)
  *   coriolis: 57 ops (17 additions, 35 multiplications, 2 trig, 3 powers)
- *   coriolis_matrix: 49 ops (17 additions, 28 multiplications, 2 divisions, 2 trig)
- *   mass_matrix_bias: 94 ops (32 additions, 57 multiplications, 2 trig, 3 powers)
+ *   coriolis_matrix: 32 ops (7 additions, 20 multiplications, 2 divisions, 2 trig, 1 powers)
+ *   mass_matrix_bias: 85 ops (29 additions, 47 multiplications, 2 trig, 7 powers)
  *   inverse_dynamics: 77 ops (29 additions, 43 multiplications, 2 trig, 3 powers)
  *   wrench_torque: 29 ops (8 additions, 17 multiplications, 4 trig)
  *   static_torque: 48 ops (16 additions, 28 multiplications, 4 trig)
- *   energy: 52 ops (20 additions, 26 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 44 ops (16 additions, 18 multiplications, 1 divisions, 2 trig, 7 powers)
  *
  * CPython extension 'rpr_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau

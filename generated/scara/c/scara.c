@@ -10,15 +10,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   mass_matrix: 21 ops (10 additions, 9 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 22 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
- *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 37 ops (16 additions, 15 multiplications, 1 divisions, 1 trig, 4 powers)
  */
 #include <math.h>
 #include <stddef.h>
@@ -327,25 +327,22 @@ void scara_mass_matrix(const double q[3], const double *p, double M[restrict 9])
     const double q2 = q[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = -0.1342125 + 1.193*t3;
-    const double t5 = 1.6862000000000001*t1;
-    const double t6 = t4 + 0.4932*t3;
-    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
-    const double t8 = -0.4031625 + 2.481*L1;
-    const double t9 = t8 + t0*t5 + t2*t6;
-    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
-    const double t11 = -0.1342125 + 1.193*L2;
-    const double t12 = t11 + 0.4932*L2;
-    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
-    M[0] = t10;
-    M[1] = t7;
+    const double t0 = cos(q2);
+    const double t1 = 1.6862000000000001*L2;
+    const double t2 = -0.1342125 + t1;
+    const double t3 = -0.4031625 + t0*t2;
+    const double t4 = t3 + 4.1672*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 0.1082564725 + 1.6862000000000001*L2*L2 - 0.268425*L2 + L1*t5;
+    const double t7 = -0.1342125 + t2;
+    const double t8 = 0.020342566250000003 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    M[0] = t6;
+    M[1] = t10;
     M[2] = 0;
-    M[3] = t7;
-    M[4] = t13;
+    M[3] = t10;
+    M[4] = t8;
     M[5] = 0;
     M[6] = 0;
     M[7] = 0;
@@ -418,25 +415,18 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L1*t2;
-    const double t4 = L2 + t3;
-    const double t5 = 1.193*t1;
-    const double t6 = t5 + 0.4932*t1;
-    const double t7 = -0.1342125 + 1.6862000000000001*t4;
-    const double t8 = 0.1125*t5 - L2*t6;
-    const double t9 = 1.6862000000000001*t3;
-    const double t10 = t9 - t7;
-    const double t11 = t0*t10;
-    const double t12 = t8 + L1*t11;
-    const double t13 = (1.0/2.0)*t12;
-    const double t14 = dq1*t13;
-    C[0] = dq2*t13;
-    C[1] = t14 + dq2*t8;
+    const double t0 = 1.6862000000000001*L2;
+    const double t1 = -0.1342125 + t0;
+    const double t2 = sin(q2);
+    const double t3 = -t1*t2;
+    const double t4 = 2*L1*t3;
+    const double t5 = L1*t3;
+    const double t6 = (1.0/2.0)*t4;
+    const double t7 = dq1*t6;
+    C[0] = dq2*t6;
+    C[1] = t7 + dq2*t5;
     C[2] = 0;
-    C[3] = -t14;
+    C[3] = -t7;
     C[4] = 0;
     C[5] = 0;
     C[6] = 0;
@@ -459,43 +449,41 @@ void scara_mass_matrix_bias(const double q[3], const double dq[3], const double 
     const double dq2 = dq[1];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = -0.1342125 + 1.193*t3;
-    const double t5 = 1.6862000000000001*t1;
-    const double t6 = t4 + 0.4932*t3;
-    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
-    const double t8 = -0.4031625 + 2.481*L1;
-    const double t9 = t8 + t0*t5 + t2*t6;
-    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
-    const double t11 = -0.1342125 + 1.193*L2;
-    const double t12 = t11 + 0.4932*L2;
-    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
-    const double t14 = dq1*dq1;
-    const double t15 = L1*t14;
-    const double t16 = dq1 + dq2;
-    const double t17 = t16*t16;
-    const double t18 = L2*t17 + t15*t2;
-    const double t19 = t0*t15;
-    const double t20 = 1.193*t19;
-    const double t21 = 0.1342125*t17 - 1.6862000000000001*t18;
-    const double t22 = t20 + 0.4932*t19;
-    const double t23 = -0.1125*t20 + L2*t22;
-    const double t24 = t0*t21 + t2*t22;
-    const double t25 = t23 + L1*t24;
-    M[0] = t10;
-    M[1] = t7;
+    const double t0 = cos(q2);
+    const double t1 = 1.6862000000000001*L2;
+    const double t2 = -0.1342125 + t1;
+    const double t3 = -0.4031625 + t0*t2;
+    const double t4 = t3 + 4.1672*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 0.1082564725 + 1.6862000000000001*L2*L2 - 0.268425*L2 + L1*t5;
+    const double t7 = -0.1342125 + t2;
+    const double t8 = 0.020342566250000003 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    const double t11 = dq1*dq1;
+    const double t12 = L1*t11;
+    const double t13 = dq1 + dq2;
+    const double t14 = t13*t13;
+    const double t15 = sin(q2);
+    const double t16 = L2*t14 + t0*t12;
+    const double t17 = t12*t15;
+    const double t18 = 1.193*t17;
+    const double t19 = 0.1342125*t14 - 1.6862000000000001*t16;
+    const double t20 = t18 + 0.4932*t17;
+    const double t21 = -0.1125*t18 + L2*t20;
+    const double t22 = t0*t20 + t15*t19;
+    const double t23 = t21 + L1*t22;
+    M[0] = t6;
+    M[1] = t10;
     M[2] = 0;
-    M[3] = t7;
-    M[4] = t13;
+    M[3] = t10;
+    M[4] = t8;
     M[5] = 0;
     M[6] = 0;
     M[7] = 0;
     M[8] = 0.4932;
-    bias[0] = t25;
-    bias[1] = t23;
+    bias[0] = t23;
+    bias[1] = t21;
     bias[2] = 4.838292000000001;
 }
 
@@ -616,26 +604,23 @@ void scara_energy(const double q[3], const double dq[3], const double *p, double
     const double dq3 = dq[2];
     const double L1 = p[0];
     const double L2 = p[1];
-    const double t0 = sin(q2);
-    const double t1 = L1*t0;
-    const double t2 = cos(q2);
-    const double t3 = L2 + L1*t2;
-    const double t4 = -0.1342125 + 1.193*t3;
-    const double t5 = 1.6862000000000001*t1;
-    const double t6 = t4 + 0.4932*t3;
-    const double t7 = 0.00524366 - 0.1125*t4 + L2*t6;
-    const double t8 = -0.4031625 + 2.481*L1;
-    const double t9 = t8 + t0*t5 + t2*t6;
-    const double t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9;
-    const double t11 = -0.1342125 + 1.193*L2;
-    const double t12 = t11 + 0.4932*L2;
-    const double t13 = 0.00524366 - 0.1125*t11 + L2*t12;
-    const double t14 = t10*dq1*dq1 + t13*dq2*dq2;
-    const double t15 = (1.0/2.0)*t14 + 0.2466*dq3*dq3 + dq1*dq2*t7;
-    const double t16 = 4.838292000000001*q3;
-    kinetic[0] = t15;
-    potential[0] = 0.48382920000000007 + t16;
-    lagrangian[0] = -0.48382920000000007 + t15 - t16;
+    const double t0 = cos(q2);
+    const double t1 = 1.6862000000000001*L2;
+    const double t2 = -0.1342125 + t1;
+    const double t3 = -0.4031625 + t0*t2;
+    const double t4 = t3 + 4.1672*L1;
+    const double t5 = t3 + t4;
+    const double t6 = 0.1082564725 + 1.6862000000000001*L2*L2 - 0.268425*L2 + L1*t5;
+    const double t7 = -0.1342125 + t2;
+    const double t8 = 0.020342566250000003 + L2*t7;
+    const double t9 = t0*t2;
+    const double t10 = t8 + L1*t9;
+    const double t11 = t6*dq1*dq1 + t8*dq2*dq2;
+    const double t12 = (1.0/2.0)*t11 + 0.2466*dq3*dq3 + dq1*dq2*t10;
+    const double t13 = 4.838292000000001*q3;
+    kinetic[0] = t12;
+    potential[0] = 0.48382920000000007 + t13;
+    lagrangian[0] = -0.48382920000000007 + t12 - t13;
 }
 
 void scara_energy_batch(size_t count, const double *q, const double *dq, const double *p, double *restrict kinetic, double *restrict potential, double *restrict lagrangian)

@@ -10,15 +10,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   mass_matrix: 21 ops (10 additions, 9 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 22 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
- *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 37 ops (16 additions, 15 multiplications, 1 divisions, 1 trig, 4 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void scara_manipulability(const double q[3], const double *p, double mu[SYMKIN_R
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (33 operations).
+/* Mass matrix (21 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void scara_coriolis(const double q[3], const double dq[3], const double *p, doub
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (24 operations).
+/* Coriolis matrix (christoffel symbols) (14 operations).
  * C[9]: C(q, dq) (3x3), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[3]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void scara_coriolis_matrix(const double q[3], const double dq[3], const double *
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (55 operations).
+/* Mass matrix and bias torques (forward dynamics) (44 operations).
  * M[9]: M(q) (3x3)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * bias[3]: bias = C dq + G + F, the torques at ddq = 0 (3x1)
@@ -213,7 +213,7 @@ void scara_static_torque(const double q[3], const double wrench[6], const double
 /* The same for count states: q is count x 3, each output count x its size. */
 void scara_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (49 operations).
+/* Kinetic and potential energy and the lagrangian (37 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

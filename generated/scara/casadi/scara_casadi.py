@@ -10,15 +10,15 @@ Operation counts after common-subexpression elimination:
   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
   det: 3 ops (2 multiplications, 1 trig)
   manipulability: 3 ops (2 multiplications, 1 trig)
-  mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+  mass_matrix: 21 ops (10 additions, 9 multiplications, 1 trig, 1 powers)
   gravity: 0 ops (none)
   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
-  coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
-  mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
+  coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+  mass_matrix_bias: 44 ops (17 additions, 22 multiplications, 2 trig, 3 powers)
   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
-  energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
+  energy: 37 ops (16 additions, 15 multiplications, 1 divisions, 1 trig, 4 powers)
 
 Each ``*_function()`` returns a ``casadi.Function`` with named inputs ``q`` (and ``p``, the
 parameters L1, L2) and named outputs; build it once
@@ -242,7 +242,7 @@ def manipulability_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_function(symbol_type=casadi.SX):
-    """Mass matrix (33 operations) as a casadi.Function.
+    """Mass matrix (21 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     """
@@ -251,25 +251,22 @@ def mass_matrix_function(symbol_type=casadi.SX):
     q2 = q[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = -0.1342125 + 1.193*t3
-    t5 = 1.6862*t1
-    t6 = t4 + 0.4932*t3
-    t7 = 0.00524366 - 0.1125*t4 + L2*t6
-    t8 = -0.4031625 + 2.481*L1
-    t9 = t8 + t0*t5 + t2*t6
-    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
-    t11 = -0.1342125 + 1.193*L2
-    t12 = t11 + 0.4932*L2
-    t13 = 0.00524366 - 0.1125*t11 + L2*t12
+    t0 = casadi.cos(q2)
+    t1 = 1.6862*L2
+    t2 = -0.1342125 + t1
+    t3 = -0.4031625 + t0*t2
+    t4 = t3 + 4.1672*L1
+    t5 = t3 + t4
+    t6 = 0.1082564725 + 1.6862*L2**2 - 0.268425*L2 + L1*t5
+    t7 = -0.1342125 + t2
+    t8 = 0.02034256625 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t10
-    M[0, 1] = t7
-    M[1, 0] = t7
-    M[1, 1] = t13
+    M[0, 0] = t6
+    M[0, 1] = t10
+    M[1, 0] = t10
+    M[1, 1] = t8
     M[2, 2] = 0.493200000000000
     return casadi.Function(
         "scara_mass_matrix",
@@ -338,7 +335,7 @@ def coriolis_function(symbol_type=casadi.SX):
 
 
 def coriolis_matrix_function(symbol_type=casadi.SX):
-    """Coriolis matrix (christoffel symbols) (24 operations) as a casadi.Function.
+    """Coriolis matrix (christoffel symbols) (14 operations) as a casadi.Function.
 
     Output C: C(q, dq) (3x3), dM/dt - 2C skew-symmetric.
     """
@@ -350,25 +347,18 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L1*t2
-    t4 = L2 + t3
-    t5 = 1.193*t1
-    t6 = t5 + 0.4932*t1
-    t7 = -0.1342125 + 1.6862*t4
-    t8 = 0.1125*t5 - L2*t6
-    t9 = 1.6862*t3
-    t10 = t9 - t7
-    t11 = t0*t10
-    t12 = t8 + L1*t11
-    t13 = (1/2)*t12
-    t14 = dq1*t13
+    t0 = 1.6862*L2
+    t1 = -0.1342125 + t0
+    t2 = casadi.sin(q2)
+    t3 = -t1*t2
+    t4 = 2*L1*t3
+    t5 = L1*t3
+    t6 = (1/2)*t4
+    t7 = dq1*t6
     C = symbol_type.zeros(3, 3)
-    C[0, 0] = dq2*t13
-    C[0, 1] = t14 + dq2*t8
-    C[1, 0] = -t14
+    C[0, 0] = dq2*t6
+    C[0, 1] = t7 + dq2*t5
+    C[1, 0] = -t7
     return casadi.Function(
         "scara_coriolis_matrix",
         [q, dq, p],
@@ -379,7 +369,7 @@ def coriolis_matrix_function(symbol_type=casadi.SX):
 
 
 def mass_matrix_bias_function(symbol_type=casadi.SX):
-    """Mass matrix and bias torques (forward dynamics) (55 operations) as a casadi.Function.
+    """Mass matrix and bias torques (forward dynamics) (44 operations) as a casadi.Function.
 
     Output M: M(q) (3x3).
     Output bias: bias = C dq + G + F, the torques at ddq = 0 (3x1).
@@ -392,41 +382,39 @@ def mass_matrix_bias_function(symbol_type=casadi.SX):
     dq2 = dq[1]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = -0.1342125 + 1.193*t3
-    t5 = 1.6862*t1
-    t6 = t4 + 0.4932*t3
-    t7 = 0.00524366 - 0.1125*t4 + L2*t6
-    t8 = -0.4031625 + 2.481*L1
-    t9 = t8 + t0*t5 + t2*t6
-    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
-    t11 = -0.1342125 + 1.193*L2
-    t12 = t11 + 0.4932*L2
-    t13 = 0.00524366 - 0.1125*t11 + L2*t12
-    t14 = dq1**2
-    t15 = L1*t14
-    t16 = dq1 + dq2
-    t17 = t16**2
-    t18 = L2*t17 + t15*t2
-    t19 = t0*t15
-    t20 = 1.193*t19
-    t21 = 0.1342125*t17 - 1.6862*t18
-    t22 = t20 + 0.4932*t19
-    t23 = -0.1125*t20 + L2*t22
-    t24 = t0*t21 + t2*t22
-    t25 = t23 + L1*t24
+    t0 = casadi.cos(q2)
+    t1 = 1.6862*L2
+    t2 = -0.1342125 + t1
+    t3 = -0.4031625 + t0*t2
+    t4 = t3 + 4.1672*L1
+    t5 = t3 + t4
+    t6 = 0.1082564725 + 1.6862*L2**2 - 0.268425*L2 + L1*t5
+    t7 = -0.1342125 + t2
+    t8 = 0.02034256625 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = dq1**2
+    t12 = L1*t11
+    t13 = dq1 + dq2
+    t14 = t13**2
+    t15 = casadi.sin(q2)
+    t16 = L2*t14 + t0*t12
+    t17 = t12*t15
+    t18 = 1.193*t17
+    t19 = 0.1342125*t14 - 1.6862*t16
+    t20 = t18 + 0.4932*t17
+    t21 = -0.1125*t18 + L2*t20
+    t22 = t0*t20 + t15*t19
+    t23 = t21 + L1*t22
     M = symbol_type.zeros(3, 3)
-    M[0, 0] = t10
-    M[0, 1] = t7
-    M[1, 0] = t7
-    M[1, 1] = t13
+    M[0, 0] = t6
+    M[0, 1] = t10
+    M[1, 0] = t10
+    M[1, 1] = t8
     M[2, 2] = 0.493200000000000
     bias = symbol_type.zeros(3, 1)
-    bias[0, 0] = t25
-    bias[1, 0] = t23
+    bias[0, 0] = t23
+    bias[1, 0] = t21
     bias[2, 0] = 4.83829200000000
     return casadi.Function(
         "scara_mass_matrix_bias",
@@ -557,7 +545,7 @@ def static_torque_function(symbol_type=casadi.SX):
 
 
 def energy_function(symbol_type=casadi.SX):
-    """Kinetic and potential energy and the lagrangian (49 operations) as a casadi.Function.
+    """Kinetic and potential energy and the lagrangian (37 operations) as a casadi.Function.
 
     Output kinetic: kinetic energy T = 1/2 dq^T M dq.
     Output potential: potential energy V = -sum m_i g^T p_ci.
@@ -573,29 +561,26 @@ def energy_function(symbol_type=casadi.SX):
     dq3 = dq[2]
     L1 = p[0]
     L2 = p[1]
-    t0 = casadi.sin(q2)
-    t1 = L1*t0
-    t2 = casadi.cos(q2)
-    t3 = L2 + L1*t2
-    t4 = -0.1342125 + 1.193*t3
-    t5 = 1.6862*t1
-    t6 = t4 + 0.4932*t3
-    t7 = 0.00524366 - 0.1125*t4 + L2*t6
-    t8 = -0.4031625 + 2.481*L1
-    t9 = t8 + t0*t5 + t2*t6
-    t10 = 0.0224 + t7 - 0.1625*t8 + L1*t9
-    t11 = -0.1342125 + 1.193*L2
-    t12 = t11 + 0.4932*L2
-    t13 = 0.00524366 - 0.1125*t11 + L2*t12
-    t14 = t10*dq1**2 + t13*dq2**2
-    t15 = (1/2)*t14 + 0.2466*dq3**2 + dq1*dq2*t7
-    t16 = 4.838292*q3
+    t0 = casadi.cos(q2)
+    t1 = 1.6862*L2
+    t2 = -0.1342125 + t1
+    t3 = -0.4031625 + t0*t2
+    t4 = t3 + 4.1672*L1
+    t5 = t3 + t4
+    t6 = 0.1082564725 + 1.6862*L2**2 - 0.268425*L2 + L1*t5
+    t7 = -0.1342125 + t2
+    t8 = 0.02034256625 + L2*t7
+    t9 = t0*t2
+    t10 = t8 + L1*t9
+    t11 = t6*dq1**2 + t8*dq2**2
+    t12 = (1/2)*t11 + 0.2466*dq3**2 + dq1*dq2*t10
+    t13 = 4.838292*q3
     kinetic = symbol_type.zeros(1, 1)
-    kinetic[0, 0] = t15
+    kinetic[0, 0] = t12
     potential = symbol_type.zeros(1, 1)
-    potential[0, 0] = 0.4838292 + t16
+    potential[0, 0] = 0.4838292 + t13
     lagrangian = symbol_type.zeros(1, 1)
-    lagrangian[0, 0] = -0.4838292 + t15 - t16
+    lagrangian[0, 0] = -0.4838292 + t12 - t13
     return casadi.Function(
         "scara_energy",
         [q, dq, p],

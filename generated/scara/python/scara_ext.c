@@ -10,15 +10,15 @@
  *   fk_jacobian: 14 ops (3 additions, 7 multiplications, 4 trig)
  *   det: 3 ops (2 multiplications, 1 trig)
  *   manipulability: 3 ops (2 multiplications, 1 trig)
- *   mass_matrix: 33 ops (15 additions, 16 multiplications, 2 trig)
+ *   mass_matrix: 21 ops (10 additions, 9 multiplications, 1 trig, 1 powers)
  *   gravity: 0 ops (none)
  *   coriolis: 24 ops (7 additions, 13 multiplications, 2 trig, 2 powers)
- *   coriolis_matrix: 24 ops (7 additions, 14 multiplications, 1 divisions, 2 trig)
- *   mass_matrix_bias: 55 ops (22 additions, 29 multiplications, 2 trig, 2 powers)
+ *   coriolis_matrix: 14 ops (2 additions, 10 multiplications, 1 divisions, 1 trig)
+ *   mass_matrix_bias: 44 ops (17 additions, 22 multiplications, 2 trig, 3 powers)
  *   inverse_dynamics: 46 ops (18 additions, 24 multiplications, 2 trig, 2 powers)
  *   wrench_torque: 22 ops (7 additions, 11 multiplications, 4 trig)
  *   static_torque: 19 ops (7 additions, 8 multiplications, 4 trig)
- *   energy: 49 ops (21 additions, 22 multiplications, 1 divisions, 2 trig, 3 powers)
+ *   energy: 37 ops (16 additions, 15 multiplications, 1 divisions, 1 trig, 4 powers)
  *
  * CPython extension 'scara_ext': the generated C kernels callable from Python with far
  * less overhead than ctypes. Each function takes its state inputs (q, and dq, ddq or tau

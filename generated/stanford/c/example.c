@@ -11,15 +11,15 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 334 ops (118 additions, 208 multiplications, 8 trig)
+ *   mass_matrix: 129 ops (46 additions, 72 multiplications, 6 trig, 5 powers)
  *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
- *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
- *   mass_matrix_bias: 571 ops (210 additions, 348 multiplications, 8 trig, 5 powers)
+ *   coriolis_matrix: 380 ops (148 additions, 213 multiplications, 7 divisions, 6 trig, 6 powers)
+ *   mass_matrix_bias: 369 ops (139 additions, 212 multiplications, 8 trig, 10 powers)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
  *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
- *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
+ *   energy: 187 ops (78 additions, 91 multiplications, 1 divisions, 6 trig, 11 powers)
  */
 #include <stdio.h>
 

@@ -10,15 +10,15 @@
  *   fk_jacobian: 112 ops (29 additions, 73 multiplications, 10 trig)
  *   det: 5 ops (2 multiplications, 2 trig, 1 powers)
  *   manipulability: 5 ops (2 multiplications, 2 trig, 1 powers)
- *   mass_matrix: 334 ops (118 additions, 208 multiplications, 8 trig)
+ *   mass_matrix: 129 ops (46 additions, 72 multiplications, 6 trig, 5 powers)
  *   gravity: 98 ops (31 additions, 59 multiplications, 8 trig)
  *   coriolis: 234 ops (87 additions, 134 multiplications, 8 trig, 5 powers)
- *   coriolis_matrix: 1266 ops (518 additions, 731 multiplications, 9 divisions, 8 trig)
- *   mass_matrix_bias: 571 ops (210 additions, 348 multiplications, 8 trig, 5 powers)
+ *   coriolis_matrix: 380 ops (148 additions, 213 multiplications, 7 divisions, 6 trig, 6 powers)
+ *   mass_matrix_bias: 369 ops (139 additions, 212 multiplications, 8 trig, 10 powers)
  *   inverse_dynamics: 289 ops (119 additions, 157 multiplications, 8 trig, 5 powers)
  *   wrench_torque: 122 ops (39 additions, 75 multiplications, 8 trig)
  *   static_torque: 220 ops (76 additions, 134 multiplications, 10 trig)
- *   energy: 400 ops (153 additions, 232 multiplications, 1 divisions, 8 trig, 6 powers)
+ *   energy: 187 ops (78 additions, 91 multiplications, 1 divisions, 6 trig, 11 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void stanford_manipulability(const double q[6], const double *p, double mu[SYMKI
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (334 operations).
+/* Mass matrix (129 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void stanford_coriolis(const double q[6], const double dq[6], const double *p, d
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (1266 operations).
+/* Coriolis matrix (christoffel symbols) (380 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: entry (i, j): kg m^2/s, kg m/s or kg/s when two, one or none of joints i and j are revolute
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void stanford_coriolis_matrix(const double q[6], const double dq[6], const doubl
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (571 operations).
+/* Mass matrix and bias torques (forward dynamics) (369 operations).
  * M[36]: M(q) (6x6)
  *   units: entry (i, j): kg m^2, kg m or kg when two, one or none of joints i and j are revolute
  * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
@@ -213,7 +213,7 @@ void stanford_static_torque(const double q[6], const double wrench[6], const dou
 /* The same for count states: q is count x 6, each output count x its size. */
 void stanford_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (400 operations).
+/* Kinetic and potential energy and the lagrangian (187 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

@@ -11,15 +11,15 @@
  *   fk_jacobian: 138 ops (43 additions, 83 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 523 ops (211 additions, 302 multiplications, 10 trig)
+ *   mass_matrix: 295 ops (121 additions, 157 multiplications, 8 trig, 9 powers)
  *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
- *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
- *   mass_matrix_bias: 911 ops (376 additions, 511 multiplications, 10 trig, 14 powers)
+ *   coriolis_matrix: 815 ops (347 additions, 442 multiplications, 8 divisions, 8 trig, 10 powers)
+ *   mass_matrix_bias: 686 ops (287 additions, 366 multiplications, 10 trig, 23 powers)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
  *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
- *   energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
+ *   energy: 376 ops (162 additions, 187 multiplications, 1 divisions, 11 trig, 15 powers)
  */
 #include <stdio.h>
 

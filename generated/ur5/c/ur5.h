@@ -10,15 +10,15 @@
  *   fk_jacobian: 138 ops (43 additions, 83 multiplications, 12 trig)
  *   det: 16 ops (4 additions, 7 multiplications, 5 trig)
  *   manipulability: 16 ops (4 additions, 7 multiplications, 5 trig)
- *   mass_matrix: 523 ops (211 additions, 302 multiplications, 10 trig)
+ *   mass_matrix: 295 ops (121 additions, 157 multiplications, 8 trig, 9 powers)
  *   gravity: 144 ops (51 additions, 83 multiplications, 10 trig)
  *   coriolis: 395 ops (164 additions, 207 multiplications, 10 trig, 14 powers)
- *   coriolis_matrix: 1863 ops (805 additions, 1038 multiplications, 10 divisions, 10 trig)
- *   mass_matrix_bias: 911 ops (376 additions, 511 multiplications, 10 trig, 14 powers)
+ *   coriolis_matrix: 815 ops (347 additions, 442 multiplications, 8 divisions, 8 trig, 10 powers)
+ *   mass_matrix_bias: 686 ops (287 additions, 366 multiplications, 10 trig, 23 powers)
  *   inverse_dynamics: 441 ops (192 additions, 225 multiplications, 10 trig, 14 powers)
  *   wrench_torque: 132 ops (48 additions, 74 multiplications, 10 trig)
  *   static_torque: 229 ops (84 additions, 131 multiplications, 14 trig)
- *   energy: 605 ops (255 additions, 330 multiplications, 1 divisions, 13 trig, 6 powers)
+ *   energy: 376 ops (162 additions, 187 multiplications, 1 divisions, 11 trig, 15 powers)
  *
  * Conventions: C99, double precision, all matrices row-major (element (i, j) of an
  * R x C matrix is at index i*C + j). Inputs are const; outputs are written in full into
@@ -124,7 +124,7 @@ void ur5_manipulability(const double q[6], const double *p, double mu[SYMKIN_RES
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_manipulability_batch(size_t count, const double *q, const double *p, double *SYMKIN_RESTRICT mu);
 
-/* Mass matrix (523 operations).
+/* Mass matrix (295 operations).
  * M[36]: M(q) (6x6)
  *   units: kg m^2
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -155,7 +155,7 @@ void ur5_coriolis(const double q[6], const double dq[6], const double *p, double
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT c);
 
-/* Coriolis matrix (christoffel symbols) (1863 operations).
+/* Coriolis matrix (christoffel symbols) (815 operations).
  * C[36]: C(q, dq) (6x6), dM/dt - 2C skew-symmetric
  *   units: kg m^2/s
  * q[6]: joint positions (rad or m) (one row per state in the batch call)
@@ -166,7 +166,7 @@ void ur5_coriolis_matrix(const double q[6], const double dq[6], const double *p,
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_coriolis_matrix_batch(size_t count, const double *q, const double *dq, const double *p, double *SYMKIN_RESTRICT C);
 
-/* Mass matrix and bias torques (forward dynamics) (911 operations).
+/* Mass matrix and bias torques (forward dynamics) (686 operations).
  * M[36]: M(q) (6x6)
  *   units: kg m^2
  * bias[6]: bias = C dq + G + F, the torques at ddq = 0 (6x1)
@@ -213,7 +213,7 @@ void ur5_static_torque(const double q[6], const double wrench[6], const double *
 /* The same for count states: q is count x 6, each output count x its size. */
 void ur5_static_torque_batch(size_t count, const double *q, const double *wrench, const double *p, double *SYMKIN_RESTRICT tau_s);
 
-/* Kinetic and potential energy and the lagrangian (605 operations).
+/* Kinetic and potential energy and the lagrangian (376 operations).
  * kinetic[1]: kinetic energy T = 1/2 dq^T M dq
  *   units: J
  * potential[1]: potential energy V = -sum m_i g^T p_ci

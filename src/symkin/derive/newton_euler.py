@@ -1,6 +1,7 @@
-"""Recursive Newton–Euler dynamics: ``M``, ``c``, ``G`` and ``C`` from the pass in
-:mod:`symkin.derive.recursion` (its docstring states the equations), run on the base
-parameters of :mod:`symkin.derive.base_parameters`.
+"""Recursive Newton–Euler dynamics: ``c``, ``G`` from the pass in
+:mod:`symkin.derive.recursion` (its docstring states the equations), ``M`` by the
+composite-rigid-body algorithm and ``C`` from ``M``'s derivatives, run on the base
+parameters of :mod:`symkin.derive.base_parameters` where the robot is numeric.
 """
 
 from __future__ import annotations
@@ -10,9 +11,16 @@ from collections.abc import Sequence
 import sympy as sp
 
 from symkin.derive.base_parameters import base_parameters
-from symkin.derive.dynamics import Dynamics, friction_vector, motor_inertia_matrix
+from symkin.derive.dynamics import (
+    Dynamics,
+    friction_vector,
+    link_inertial_data,
+    motor_inertia_matrix,
+)
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import Recorder, joint_torques
+from symkin.derive.recursion import BarycentricParameters, Recorder, joint_torques
+from symkin.derive.regressor import barycentric_definitions
+from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.robot import Robot
 
 
@@ -31,16 +39,7 @@ def newton_euler_dynamics(
     inertial = base_parameters(robot, kinematics)
     gravity = joint_torques(robot, kinematics, recorder, zeros, zeros, robot.gravity, inertial)
     coriolis = joint_torques(robot, kinematics, recorder, dq, zeros, no_gravity, inertial)
-    columns = []
-    for j in range(n):
-        unit = [sp.Integer(1 if k == j else 0) for k in range(n)]
-        columns.append(
-            joint_torques(robot, kinematics, recorder, zeros, unit, no_gravity, inertial)
-        )
-    mass = sp.Matrix(n, n, lambda r, c: columns[c][r]) + motor_inertia_matrix(robot)
-    # M is symmetric in exact arithmetic; use its lower triangle for both halves so the
-    # generated code computes each entry once and the matrix is symmetric to the last bit.
-    mass = sp.Matrix(n, n, lambda r, c: mass[max(r, c), min(r, c)])
+    mass = mass_matrix(robot, kinematics, inertial, recorder)
     christoffel = None
     if coriolis_matrix:
         christoffel = coriolis_from_mass_matrix(mass, kinematics.q, dq, recorder)
@@ -56,6 +55,32 @@ def newton_euler_dynamics(
         coriolis_matrix=christoffel,
         assignments=tuple(recorder.assignments),
     )
+
+
+def mass_matrix(
+    robot: Robot,
+    kinematics: Kinematics,
+    inertial: Sequence[BarycentricParameters] | None,
+    recorder: Recorder,
+) -> sp.Matrix:
+    """``M(q)`` with the rotor inertias, by the composite-rigid-body algorithm of
+    :mod:`symkin.derive.regressor_mass` (Featherstone, *Rigid Body Dynamics Algorithms*,
+    Sec. 6.2), symmetric with each entry computed once.
+
+    The links' barycentric parameters are ``inertial`` (the base parameters, say), or else the
+    file's data moved to each frame origin by the parallel-axis theorem (Khalil & Dombre eq.
+    9.4), named once.  Forming the composite inertias once costs fewer operations than ``n``
+    unit-acceleration passes of the recursion (PUMA 560: 290 against 489).
+    """
+    if inertial is None:
+        inertial = tuple(
+            BarycentricParameters.from_values(
+                {k: recorder.name(v) for k, v in barycentric_definitions(link).items()}
+            )
+            for link in (link_inertial_data(robot, i) for i in range(robot.dof))
+        )
+    links = composite_mass_matrix(robot, kinematics, inertial, recorder)
+    return links + motor_inertia_matrix(robot)
 
 
 def coriolis_from_mass_matrix(

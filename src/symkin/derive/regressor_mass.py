@@ -32,6 +32,7 @@ from collections.abc import Sequence
 import sympy as sp
 
 from symkin.derive.kinematics import Kinematics
+from symkin.derive.pythagorean import fold_matrix
 from symkin.derive.recursion import BarycentricParameters, Recorder
 from symkin.derive.recursion import _joint_geometry as joint_geometry
 from symkin.robot import Robot
@@ -62,9 +63,14 @@ def composite_inertias(
     for i in range(robot.dof - 2, -1, -1):
         rotation, p = geometry[i + 1].rotation, geometry[i + 1].translation
         mass, first, inertia = composite[-1]
-        turned = recorder.vector(rotation * first)
-        shift = -mass * _skew(p) * _skew(p) - _skew(p) * _skew(turned) - _skew(turned) * _skew(p)
-        turned_inertia = _symmetric(rotation * inertia * rotation.T, recorder)
+        unnamed = rotation * first  # the shift's products of p and R h fold before naming
+        turned = recorder.vector(unnamed)
+        shift = fold_matrix(
+            -mass * _skew(p) * _skew(p) - _skew(p) * _skew(unnamed) - _skew(unnamed) * _skew(p)
+        )
+        # An inertia symmetric about the joint axis turns into J (cos^2 + sin^2), and the
+        # shift holds p.p = a^2 (cos^2 + sin^2): folded here, or the code evaluates the identity.
+        turned_inertia = _symmetric(fold_matrix(rotation * inertia * rotation.T), recorder)
         composite.append(
             (
                 recorder.name(links[i].mass + mass),

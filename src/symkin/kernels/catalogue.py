@@ -312,14 +312,14 @@ def _mass_matrix_bias(model: Model, mass_unit: str, force_unit: str) -> Kernel:
     )
 
 
-def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel, ...]:
-    """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
-    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler;
-    ``coriolis_matrix=False`` leaves out ``C``, the longest kernel, which the solvers never use."""
+def _dynamics_steps(
+    model: Model,
+) -> list[tuple[str, str, tuple[str, ...], str, sp.MatrixBase, str]]:
+    """``(kernel, description, rates, output, matrix, output description)`` of the kernels
+    read off the Newton–Euler dynamics."""
     n = model.robot.dof
     dynamics = model.newton_euler
-    torque_assignments, torque = model.inverse_dynamics_recursion
-    steps = [
+    return [
         ("mass_matrix", "mass matrix", ("",), "M", dynamics.mass_matrix, f"M(q) ({n}x{n})"),
         ("gravity", "gravity torques", ("",), "G", dynamics.gravity_vector, f"G(q) ({n}x1)"),
         (
@@ -339,6 +339,16 @@ def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel
             f"C(q, dq) ({n}x{n}), dM/dt - 2C skew-symmetric",
         ),
     ]
+
+
+def dynamics_kernels(model: Model, coriolis_matrix: bool = True) -> tuple[Kernel, ...]:
+    """``mass_matrix``, ``gravity``, ``coriolis`` (c = C dq), ``coriolis_matrix`` and
+    ``inverse_dynamics`` (tau, with friction and rotor inertia) from recursive Newton–Euler;
+    ``coriolis_matrix=False`` leaves out ``C``, the longest kernel, which the solvers never use."""
+    n = model.robot.dof
+    dynamics = model.newton_euler
+    torque_assignments, torque = model.inverse_dynamics_recursion
+    steps = _dynamics_steps(model)
     force = units.generalized_force(model.robot)
     unit = {"M": units.mass_matrix(model.robot), "G": force, "c": force}
     unit["C"] = units.coriolis_matrix(model.robot)
