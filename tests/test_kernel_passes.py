@@ -28,15 +28,19 @@ def kernel(assignments, outputs, engine="sympy"):
     return kernel_from_assignments("k", "test", INPUTS, assignments, spec, engine)
 
 
+DIGITS = 40
+
+
 def evaluate(assignments, outputs, values: dict) -> list[float]:
-    """The outputs with each intermediate evaluated in order; an intermediate used before its
-    definition is an error (KeyError on the missing symbol)."""
-    known = dict(values)
+    """The outputs with each intermediate evaluated in order, in 40-digit arithmetic (so the
+    rounding of a regrouped sum, amplified by ``sin`` of a large argument, cannot pass for a
+    wrong rewrite); an intermediate used before its definition is an error."""
+    known = {k: sp.Float(v, DIGITS) for k, v in values.items()}
     for symbol, expr in assignments:
         missing = expr.free_symbols - known.keys()
         assert not missing, f"{symbol} uses {missing} before their definition"
-        known[symbol] = sp.Float(expr.xreplace(known))
-    return [float(e.xreplace(known)) for e in outputs]
+        known[symbol] = expr.xreplace(known).evalf(DIGITS)
+    return [float(e.xreplace(known).evalf(DIGITS)) for e in outputs]
 
 
 def magnitude(assignments, outputs, values: dict) -> float:

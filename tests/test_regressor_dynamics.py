@@ -3,13 +3,14 @@
 parameter vector ``delta``.
 
 Expected values come from outside these kernels: the generated file-form dynamics (the robot
-file's mass, centre of mass and inertia about it; a separate recursion on the numeric base
-parameters) with the file's data converted here by the parallel-axis theorem; the generated
-regressor (``tau = Y delta`` for any ``delta``); finite differences of ``tau`` in ``ddq``
-(``M``); Robotics Toolbox's ``inertia`` and ``rne`` (tests marked ``oracle``); and the
-operation count SymPyBotics' mass matrix has for the PUMA 560 (``bench/inertial_parameters.py``
-runs it).  Every backend (NumPy, C through gcc and ctypes, CasADi, the CPython extension)
-must give the same numbers.
+file's mass, centre of mass and inertia about it) with the file's data converted here by the
+parallel-axis theorem (its tau is a separate recursion; its M uses the same
+composite-rigid-body algorithm, so ``tests/test_mass_matrix_methods.py`` checks that M against
+Lagrange's); the generated regressor (``tau = Y delta`` for any ``delta``); finite differences
+of ``tau`` in ``ddq`` (``M``); Robotics Toolbox's ``inertia`` and ``rne`` (tests marked
+``oracle``); and the operation count SymPyBotics' mass matrix has for the PUMA 560
+(``bench/inertial_parameters.py`` runs it). Every backend (NumPy, C through gcc and ctypes,
+CasADi, the CPython extension) must give the same numbers.
 """
 
 from __future__ import annotations

@@ -38,3 +38,20 @@ def test_shared_memo_and_matrices():
     # The shared sum is rebuilt once and reused.
     assert actual[0, 0] is actual[1, 0].args[0]
     assert renamed(q1 * q2, RENAMING, memo) == q1 * q2
+
+
+def test_odd_function_of_a_renamed_difference_keeps_the_product_canonical():
+    # The renaming swaps r0 and r1 in SymPy's order: sin(r0 - r1) becomes -sin(t4 - z9), whose
+    # sign must merge into the product's coefficient, as SymPy's constructors merge it.
+    r0, r1, *_ = OLD
+    q1, q2 = Q
+    for expr in (
+        2 * q1 * sp.sin(r0 - r1),
+        q1 * sp.sin(r0 - r1),
+        2 * q1 * sp.cos(r0 - r1) - sp.sin(r0 - r1),
+        sp.sin(r0 - r1) * q2 + q2,
+        3 * sp.sign(r1 - r0) * sp.tanh(r0 - r1),
+    ):
+        expected = expr.xreplace(RENAMING)
+        actual = renamed(expr, RENAMING, {})
+        assert sp.srepr(actual) == sp.srepr(expected), expr

@@ -70,7 +70,7 @@ def mass_matrix(
     The links' barycentric parameters are ``inertial`` (the base parameters, say), or else the
     file's data moved to each frame origin by the parallel-axis theorem (Khalil & Dombre eq.
     9.4), named once.  Forming the composite inertias once costs fewer operations than ``n``
-    unit-acceleration passes of the recursion (PUMA 560: 290 against 489).
+    unit-acceleration passes of the recursion (PUMA 560: 274 against 489).
     """
     if inertial is None:
         inertial = tuple(

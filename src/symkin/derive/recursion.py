@@ -176,7 +176,7 @@ class _JointGeometry:
 
 
 @lru_cache(maxsize=16)
-def _joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometry, ...]:
+def joint_geometry(robot: Robot, kinematics: Kinematics) -> tuple[_JointGeometry, ...]:
     """Per-joint geometry, simplified once and shared by every recursion of one robot."""
     geometry = []
     for joint, link in zip(robot.joints, kinematics.link_transforms, strict=True):
@@ -324,7 +324,7 @@ def joint_torques(
     surroundings (frame-n axes), the outer boundary condition ``f_{n+1}, m_{n+1}`` of the
     inward pass (zero when None; see :mod:`symkin.derive.wrench`).
     """
-    geometry = _joint_geometry(robot, kinematics)
+    geometry = joint_geometry(robot, kinematics)
     base_rotation = sp.Matrix(robot.base[:3, :3])
     dv = recorder.vector(-base_rotation.T * sp.Matrix(gravity))
     states = _outward(geometry, recorder, dq, ddq, dv)
@@ -402,7 +402,7 @@ def point_motion_recursion(
     are carried to the base one link transform at a time, ``x <- R_k x (+ p_k)``, k = link..1.
     """
     r = sp.Matrix(point)
-    geometry = _joint_geometry(robot, kinematics)[:link]
+    geometry = joint_geometry(robot, kinematics)[:link]
     position = r
     velocity = acceleration = sp.zeros(3, 1)
     if link:

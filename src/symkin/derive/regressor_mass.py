@@ -20,8 +20,8 @@ origin (at ``e`` from that point) accelerates by ``s x e`` (a prismatic joint: `
 its point (a prismatic joint: with the force), the wrench carried inward as in
 :func:`symkin.derive.recursion.joint_torques`.
 
-For the PUMA 560 with symbolic inertia and numeric geometry this is 405 operations against
-772 for ``n`` unit-acceleration passes of the recursion (Panda: 453 against 1267): the
+For the PUMA 560 with symbolic inertia and numeric geometry this is 411 operations against
+772 for ``n`` unit-acceleration passes of the recursion (Panda: 443 against 1267): the
 composite inertias are formed once instead of every outer link's wrench once per column.
 """
 
@@ -33,13 +33,9 @@ import sympy as sp
 
 from symkin.derive.kinematics import Kinematics
 from symkin.derive.pythagorean import fold_matrix
-from symkin.derive.recursion import BarycentricParameters, Recorder
-from symkin.derive.recursion import _joint_geometry as joint_geometry
+from symkin.derive.recursion import BarycentricParameters, Recorder, joint_geometry
 from symkin.robot import Robot
-
-
-def _skew(v: sp.MatrixBase) -> sp.Matrix:
-    return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+from symkin.spatial.lie import skew
 
 
 def _symmetric(matrix: sp.MatrixBase, recorder: Recorder) -> sp.Matrix:
@@ -66,7 +62,7 @@ def composite_inertias(
         unnamed = rotation * first  # the shift's products of p and R h fold before naming
         turned = recorder.vector(unnamed)
         shift = fold_matrix(
-            -mass * _skew(p) * _skew(p) - _skew(p) * _skew(unnamed) - _skew(unnamed) * _skew(p)
+            -mass * skew(p) * skew(p) - skew(p) * skew(unnamed) - skew(unnamed) * skew(p)
         )
         # An inertia symmetric about the joint axis turns into J (cos^2 + sin^2), and the
         # shift holds p.p = a^2 (cos^2 + sin^2): folded here, or the code evaluates the identity.

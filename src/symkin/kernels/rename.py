@@ -54,7 +54,14 @@ def renamed_matrix(
 
 def _sorted(kind: type, args: list[sp.Basic]) -> sp.Basic:
     """An ``Add`` or ``Mul`` of canonical arguments in the order its constructor gives them:
-    the numeric coefficient (only ever first) first, the others by ``Basic.compare``."""
+    the numeric coefficient (only ever first) first, the others by ``Basic.compare``.
+
+    A renamed argument that is no longer a plain term or factor (an odd function of a
+    difference turns its sign over when the renaming swaps the order: ``sin(t4 - z9)`` is
+    ``-sin(z9 - t4)``, a product with a coefficient) goes through the constructor instead,
+    which merges the coefficient as ``xreplace`` would."""
     head = args[:1] if args[0].is_Number else []
-    rest = sorted(args[len(head) :], key=_args_sortkey)
-    return kind._from_args(head + rest, True)
+    rest = args[len(head) :]
+    if any(a.is_Number or isinstance(a, kind) for a in rest):
+        return kind(*args)
+    return kind._from_args(head + sorted(rest, key=_args_sortkey), True)
