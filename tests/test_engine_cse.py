@@ -1,7 +1,8 @@
 """``symkin.kernels.engine_cse``: SymEngine's CSE with SymPy's calling convention.  Its
-conversion back to SymPy gives what SymEngine's own converter (``sympy.sympify``, which
-re-evaluates every sum and product in SymPy) gives, argument order included, and the
-replacements rebuild the original expressions."""
+conversion back to SymPy (``symkin.derive.simplify.sympy_from_symengine``) gives what
+SymEngine's own converter (``sympy.sympify``, which re-evaluates every sum and product in
+SymPy) gives, argument order included, and the replacements rebuild the original
+expressions."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from expression_strategies import expressions
-from symkin.kernels.engine_cse import _converted, symengine_cse
+from symkin.derive.simplify import sympy_from_symengine
+from symkin.kernels.engine_cse import symengine_cse
 
 SYMBOLS = sp.symbols("a b c q1 x0")  # x0: a name SymEngine's CSE also uses
 
@@ -21,7 +23,7 @@ SYMBOLS = sp.symbols("a b c q1 x0")  # x0: a name SymEngine's CSE also uses
 def test_conversion_is_sympys_own_argument_for_argument(expr):
     converted = se.sympify(expr)
     expected = sp.sympify(converted)
-    actual = _converted(converted, {s.name: s for s in SYMBOLS}, {})
+    actual = sympy_from_symengine(converted, {s.name: s for s in SYMBOLS}, {})
     assert sp.srepr(actual) == sp.srepr(expected)
 
 

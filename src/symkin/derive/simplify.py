@@ -14,6 +14,7 @@ symkin uses two targeted steps instead:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -72,9 +73,10 @@ def sympy_from_symengine(
     SymEngine drops SymPy's assumptions (``q1`` is real); rebuilding sums and products with
     our symbols in place costs half of converting and then substituting them.  ``seen``
     (SymEngine subexpression -> SymPy) may be shared by the entries of one matrix: their
-    sines, cosines and products of them repeat.  A sum or product whose terms or factors are
-    all plain (:func:`_plain_product`) is assembled in SymPy's canonical order directly
-    (:func:`_canonical`), skipping a collection of like terms SymEngine has done already.
+    sines, cosines and products of them repeat.  Sums and products are assembled in SymPy's
+    canonical order directly where that is all SymPy would do
+    (:func:`canonical_sum_or_product`), skipping a collection of like terms SymEngine has
+    done already.
     """
     if seen is None:
         seen = {}
@@ -91,7 +93,7 @@ def _rebuilt(expr: se.Basic, symbols: dict[str, sp.Symbol], seen: dict) -> sp.Ex
         if isinstance(expr, symengine_type):
             args = [sympy_from_symengine(a, symbols, seen) for a in expr.args]
             if sympy_type in (sp.Add, sp.Mul):
-                fast = _canonical(sympy_type, args)
+                fast = canonical_sum_or_product(sympy_type, args)
                 if fast is not None:
                     return fast
             return sympy_type(*args)
@@ -101,41 +103,33 @@ def _rebuilt(expr: se.Basic, symbols: dict[str, sp.Symbol], seen: dict) -> sp.Ex
     return converted
 
 
-def _plain_factor(e: sp.Basic) -> bool:
-    """A symbol, a sine or cosine, or one of them to an integer power."""
-    if e.is_Pow:
-        if not e.exp.is_Integer:
-            return False
-        e = e.base
-    return e.is_Symbol or isinstance(e, sp.sin | sp.cos)
-
-
-def _plain_product(e: sp.Basic) -> bool:
-    """A plain factor, or a product of plain factors with at most a numeric coefficient."""
-    if e.is_Mul:
-        factors = e.args[1:] if e.args[0].is_Number else e.args
-        return all(_plain_factor(f) for f in factors)
-    return _plain_factor(e)
-
-
-def _canonical(kind: type, args: list[sp.Expr]) -> sp.Expr | None:
-    """``kind(*args)`` for the args of a SymEngine sum or product (like terms collected, like
-    factors merged, numbers folded into one coefficient) when every other arg is plain: the
-    args in SymPy's canonical order (``Basic.compare``), the number first unless it is the
-    identity; ``None`` otherwise (SymPy's own constructor then decides)."""
+def canonical_sum_or_product(kind: type, args: list[sp.Expr]) -> sp.Expr | None:
+    """``kind(*args)`` (``kind`` is ``sp.Add`` or ``sp.Mul``) built without SymPy's
+    constructor, when that constructor would only order the arguments: like terms and like
+    factors already collected (SymEngine's output, or a renaming to distinct symbols), at most
+    one finite non-zero number, no nested sum or product, no number times a sum (SymPy
+    distributes it), no power of a number.  The number goes first unless it is the identity,
+    the rest in ``Basic.compare`` order, as SymPy's constructors leave them; ``None`` when the
+    constructor must decide."""
     numbers = [a for a in args if a.is_Number]
     rest = [a for a in args if not a.is_Number]
-    plain = _plain_product if kind is sp.Add else _plain_factor
-    if len(numbers) > 1 or len(rest) < 2 or not all(plain(a) for a in rest):
+    if len(numbers) > 1 or not rest or any(isinstance(a, kind) for a in rest):
         return None
-    if kind is sp.Mul and any(a.is_Mul for a in rest):
+    if kind is sp.Mul and (
+        (numbers and len(rest) == 1 and rest[0].is_Add)
+        or any(a.is_Pow and a.base.is_Number for a in rest)
+    ):
+        return None
+    if numbers:
+        value = float(numbers[0])
+        if value == 0.0 or not math.isfinite(value):
+            return None
+        if numbers[0] == kind.identity:
+            numbers = []
+    if len(numbers) + len(rest) < 2:
         return None
     rest.sort(key=_args_sortkey)
-    if numbers and numbers[0] is not kind.identity:
-        if numbers[0].is_zero or not numbers[0].is_finite:
-            return None  # SymPy's constructor decides what 0 * x or oo + x are
-        rest.insert(0, numbers[0])
-    return kind._from_args(rest, True)
+    return kind._from_args(numbers + rest, True)
 
 
 def derivative_matrix(column: sp.MatrixBase, variables: Sequence[sp.Symbol]) -> sp.Matrix:

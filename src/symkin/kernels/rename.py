@@ -15,7 +15,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import sympy as sp
-from sympy.core.basic import _args_sortkey
+
+from symkin.derive.simplify import canonical_sum_or_product
 
 
 def renamed(expr: sp.Basic, renaming: Mapping[sp.Symbol, sp.Symbol], memo: dict) -> sp.Basic:
@@ -53,15 +54,11 @@ def renamed_matrix(
 
 
 def _sorted(kind: type, args: list[sp.Basic]) -> sp.Basic:
-    """An ``Add`` or ``Mul`` of canonical arguments in the order its constructor gives them:
-    the numeric coefficient (only ever first) first, the others by ``Basic.compare``.
+    """An ``Add`` or ``Mul`` of renamed arguments in the order its constructor gives them.
 
     A renamed argument that is no longer a plain term or factor (an odd function of a
     difference turns its sign over when the renaming swaps the order: ``sin(t4 - z9)`` is
     ``-sin(z9 - t4)``, a product with a coefficient) goes through the constructor instead,
     which merges the coefficient as ``xreplace`` would."""
-    head = args[:1] if args[0].is_Number else []
-    rest = args[len(head) :]
-    if any(a.is_Number or isinstance(a, kind) for a in rest):
-        return kind(*args)
-    return kind._from_args(head + sorted(rest, key=_args_sortkey), True)
+    assembled = canonical_sum_or_product(kind, args)
+    return kind(*args) if assembled is None else assembled
