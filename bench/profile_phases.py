@@ -41,12 +41,8 @@ def _alarm(signum: int, frame: Any) -> None:
 
 def robot_from_spec(spec: str) -> symkin.Robot:
     """A catalogue name, ``jaco``, or ``random:N:SEED:TWISTS:LENGTHS`` (with dynamics)."""
-    if spec == "jaco":
-        text = random_arms.jaco_like_toml()
-    elif spec.startswith("random:"):
-        _, n, seed, twists, lengths = spec.split(":")
-        text = random_arms.random_arm_toml(int(n), int(seed), twists, lengths, dynamics=True)
-    else:
+    text = random_arms.toml_from_spec(spec)
+    if text is None:
         return symkin.load_robot(spec)
     path = Path("/tmp") / f"profile_{abs(hash(spec))}.toml"
     path.write_text(text)

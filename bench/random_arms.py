@@ -116,3 +116,14 @@ def jaco_like_toml() -> str:
             "",
         ]
     return "\n".join(rows)
+
+
+def toml_from_spec(spec: str) -> str | None:
+    """The robot file of ``random:N:SEED:TWISTS:LENGTHS`` (with dynamics) or ``jaco`` (the
+    benches' command-line shorthand); ``None`` for anything else (a path or catalogue name)."""
+    if spec == "jaco":
+        return jaco_like_toml()
+    if spec.startswith("random:"):
+        _, n, seed, twists, lengths = spec.split(":")
+        return random_arm_toml(int(n), int(seed), twists, lengths, dynamics=True)
+    return None
