@@ -26,16 +26,17 @@ from symkin.derive.dynamics import (
     motor_inertia_matrix,
 )
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.simplify import exact_from_floats, floats_from_exact, reduce_trig
+from symkin.derive.simplify import (
+    exact_from_floats,
+    floats_from_exact,
+    reduce_trig,
+    symengine_matrix,
+)
 from symkin.robot import Robot
 from symkin.symbols import unused_prefix
 
 # Up to this many joints the results are expanded and contracted into readable sums.
 READABLE_DOF = 3
-
-
-def _to_symengine(matrix: sp.MatrixBase) -> se.DenseMatrix:
-    return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
 
 
 def lagrange_dynamics(
@@ -104,7 +105,7 @@ def _mass_and_potential(
     ``exact`` first; and the SymPy symbols they contain (to restore assumptions later)."""
     n = robot.dof
     q = [se.sympify(s) for s in kinematics.q]
-    gravity = _to_symengine(gravity_vector)
+    gravity = symengine_matrix(gravity_vector)
     mass = se.zeros(n, n)
     potential = se.Integer(0)
     free_symbols: set[sp.Symbol] = set()
@@ -112,11 +113,11 @@ def _mass_and_potential(
         data = link_inertial_data(robot, i)
         frame = exact(kinematics.frame_transforms[i + 1])
         com = sp.Matrix(frame[:3, :3]) * exact(sp.Matrix(data.com)) + sp.Matrix(frame[:3, 3])
-        rotation = _to_symengine(sp.Matrix(frame[:3, :3]))
-        inertia = _to_symengine(exact(sp.Matrix(data.inertia_matrix)))
+        rotation = symengine_matrix(sp.Matrix(frame[:3, :3]))
+        inertia = symengine_matrix(exact(sp.Matrix(data.inertia_matrix)))
         free_symbols |= com.free_symbols | data.inertia_matrix.free_symbols
         free_symbols |= sp.sympify(data.mass).free_symbols
-        com_se = _to_symengine(com)
+        com_se = symengine_matrix(com)
         linear = com_se.jacobian(se.DenseMatrix(q))
         angular = se.zeros(3, n)
         for j, joint_frame in enumerate(kinematics.joint_frames[: i + 1]):
@@ -127,7 +128,7 @@ def _mass_and_potential(
         mass_i = se.sympify(exact(sp.sympify(data.mass)))
         mass += mass_i * linear.T * linear + angular.T * world_inertia * angular
         potential -= mass_i * (gravity.T * com_se)[0, 0]
-    mass += _to_symengine(exact(motor_inertia_matrix(robot)))
+    mass += symengine_matrix(exact(motor_inertia_matrix(robot)))
     free_symbols |= motor_inertia_matrix(robot).free_symbols
     return mass, potential, free_symbols
 

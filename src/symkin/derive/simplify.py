@@ -199,6 +199,7 @@ def _longer_than(expr: se.Basic, terms: int) -> bool:
 
 
 def symengine_matrix(matrix: sp.MatrixBase) -> se.DenseMatrix:
+    """``matrix`` as a SymEngine matrix, entry by entry."""
     return se.DenseMatrix(matrix.rows, matrix.cols, [se.sympify(e) for e in matrix])
 
 
