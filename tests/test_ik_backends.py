@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 
 import numpy as np
 import pytest
@@ -187,3 +188,14 @@ def test_the_extension_checks_its_arguments_and_batches(model_of) -> None:
         extension.ik(poses, seeds[:2], None, lower, upper, *settings)
     with pytest.raises(TypeError, match="expected ik"):
         extension.ik(poses, seeds)
+
+
+def test_a_child_forked_during_a_compile_gets_a_free_lock() -> None:
+    """A fork while another thread compiles (the lock held) must not leave the child waiting
+    for a thread it does not have."""
+    with compiled_ik._LOCK:  # as while a compile runs
+        pid = os.fork()
+        if pid == 0:  # the child: exit 0 when the lock can be taken
+            os._exit(0 if compiled_ik._LOCK.acquire(timeout=5) else 1)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0

@@ -160,6 +160,19 @@ def test_a_start_in_reach_of_the_ball_is_said(arm) -> None:
     assert report.note.startswith("the start is within")
 
 
+def test_a_single_knot_reports_its_own_clearance(arm) -> None:
+    """One knot (no piece to sweep) is checked where it stands: a finite clearance, the hand
+    distance to the ball less the reach, so the JSON report never holds an infinity."""
+    problem = swing()
+    knot = [(0.0, np.array([0.3, 0.5]))]
+    knots, report = clear_knots(robot_functions(arm), problem, knot, search=False)
+    reach = BALL.radius + problem.clearance
+    expected = closest(arm_points, [knot[0][1]], BALL) - reach
+    assert len(knots) == 1 and math.isfinite(report.min_clearance)
+    assert report.min_clearance == pytest.approx(expected, abs=1e-12)
+    json.dumps(report.min_clearance, allow_nan=False)
+
+
 @pytest.mark.slow
 def test_the_detour_keeps_the_puma560_out_of_the_ball() -> None:
     model = symkin.derive(symkin.load_robot("puma560"))

@@ -12,6 +12,7 @@ so the caller falls back to NumPy without trying again.
 from __future__ import annotations
 
 import hashlib
+import os
 import threading
 from functools import lru_cache
 from types import ModuleType
@@ -24,6 +25,16 @@ from symkin.runtime.modules import module_directory, remembered
 # One build at a time: two threads asking for the same robot must not compile into the same
 # folder at once (the second finds the first's result in the cache).
 _LOCK = threading.Lock()
+
+
+def _unlocked_after_fork() -> None:
+    """A child forked while another thread compiles would inherit ``_LOCK`` held, by a thread
+    that does not exist in the child, and wait on it forever; it gets a fresh lock instead."""
+    global _LOCK
+    _LOCK = threading.Lock()
+
+
+os.register_at_fork(after_in_child=_unlocked_after_fork)
 
 
 def ik_extension(model: Model) -> ModuleType:

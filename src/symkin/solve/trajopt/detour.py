@@ -117,9 +117,12 @@ def clear_knots(
 
 
 def _smallest(checker: _Checker, knots: Sequence[tuple[float, np.ndarray]]) -> float:
-    """The smallest clearance (beyond the reach and the margin) along the polyline."""
+    """The smallest clearance (beyond the reach and the margin) along the polyline (a single
+    knot: at that configuration, a line of length zero)."""
     q = np.array([values for _, values in knots], dtype=float)
-    return float(checker.lines(q[:-1], q[1:]).min()) if len(q) > 1 else math.inf
+    if len(q) == 1:
+        q = np.vstack([q, q])
+    return float(checker.lines(q[:-1], q[1:]).min())
 
 
 def _line_report(checker: _Checker, knots, note: str) -> GuessReport:
