@@ -99,6 +99,7 @@ def test_extension_matches_numpy_in_double_and_float(built):
 
 def test_casadi_matches_numpy_and_its_own_automatic_derivative(built):
     import casadi
+
     name, _, modules = built
     reference, generated = modules["numpy"], modules["casadi"]
     dof = reference.DOF
