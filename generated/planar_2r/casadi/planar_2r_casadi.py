@@ -572,8 +572,7 @@ def forward_dynamics_function(symbol_type=casadi.SX):
     p = symbol_type.sym("p", 2)
     inputs = [q, dq, tau, p]
     extra = []
-    mass = mass_matrix_function(symbol_type)(q, p, *extra)
-    bias = inverse_dynamics_function(symbol_type)(q, dq, symbol_type.zeros(2), p, *extra)
+    mass, bias = mass_matrix_bias_function(symbol_type)(q, dq, p, *extra)
     ddq = casadi.solve(mass, tau - bias)
     return casadi.Function(
         "planar_2r_forward_dynamics",

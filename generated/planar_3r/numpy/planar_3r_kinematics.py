@@ -870,7 +870,6 @@ def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
     """
     q = numpy.asarray(q, dtype=float)
     extra = {}
-    mass = mass_matrix(q, p, **extra)
-    bias = inverse_dynamics(q, dq, numpy.zeros_like(q), p, **extra)
+    mass, bias = mass_matrix_bias(q, dq, p, **extra)
     rhs = numpy.asarray(tau, dtype=float) - bias
     return numpy.linalg.solve(mass, rhs[..., None])[..., 0]
