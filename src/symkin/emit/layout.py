@@ -76,6 +76,16 @@ class InputLayout:
 
 
 @dataclass(frozen=True)
+class Statement:
+    """One line of a kernel whose outputs are stored early: ``const real target = code;``
+    when ``defines``, else the store ``target = code;`` (``target`` like ``"tau[3]"``)."""
+
+    target: str
+    code: str
+    defines: bool
+
+
+@dataclass(frozen=True)
 class KernelLayout:
     name: str
     description: str
@@ -85,6 +95,9 @@ class KernelLayout:
     unused_inputs: tuple[str, ...]
     assignments: tuple[tuple[str, str], ...]
     outputs: tuple[OutputLayout, ...]
+    # A kernel with ``early_stores``: assignments and output stores in one sequence, each
+    # entry right after the last intermediate it reads (entries reading none come first).
+    statements: tuple[Statement, ...] = ()
 
 
 def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> OutputLayout:
@@ -145,6 +158,8 @@ def kernel_layout(
         if symbol in used
     )
     read = {u.input for u in unpack}
+    assignments = tuple((symbol.name, printer(expr)) for symbol, expr in kernel.assignments)
+    outputs = tuple(_output_layout(o, printer) for o in kernel.outputs)
     return KernelLayout(
         name=kernel.name,
         description=kernel.description,
@@ -152,6 +167,23 @@ def kernel_layout(
         counts=kernel.operation_counts if counts is None else counts,
         unpack=unpack,
         unused_inputs=tuple(i.name for i in kernel.inputs if i.name not in read),
-        assignments=tuple((symbol.name, printer(expr)) for symbol, expr in kernel.assignments),
-        outputs=tuple(_output_layout(o, printer) for o in kernel.outputs),
+        assignments=assignments,
+        outputs=outputs,
+        statements=_interleaved(kernel, assignments, outputs) if kernel.early_stores else (),
     )
+
+
+def _interleaved(
+    kernel: Kernel, assignments: tuple[tuple[str, str], ...], outputs: tuple[OutputLayout, ...]
+) -> tuple[Statement, ...]:
+    """Assignments and output stores, each store right after the last assignment it reads."""
+    position = {symbol: k for k, (symbol, _) in enumerate(kernel.assignments)}
+    after: list[list[Statement]] = [[] for _ in range(len(assignments) + 1)]
+    for output, layout in zip(kernel.outputs, outputs, strict=True):
+        for expr, entry in zip(output.matrix, layout.entries, strict=True):
+            last = max((position[s] for s in expr.free_symbols if s in position), default=-1)
+            after[last + 1].append(Statement(f"{layout.name}[{entry.flat}]", entry.code, False))
+    lines = list(after[0])
+    for (name, code), stores in zip(assignments, after[1:], strict=True):
+        lines += [Statement(name, code, True), *stores]
+    return tuple(lines)

@@ -16,6 +16,7 @@ from symkin.derive.derivatives import time_derivative
 from symkin.kernels import units
 from symkin.kernels.catalogue import dynamics_inputs, pose_kernels, state_inputs
 from symkin.kernels.passes import kernel_from_assignments
+from symkin.kernels.schedule import scheduled
 from symkin.kernels.spec import Kernel
 
 # Kernel names, in the order they are generated.
@@ -23,12 +24,13 @@ DERIVATIVE_KERNELS = ("inverse_dynamics_derivatives", "jacobian_derivative")
 
 
 def inverse_dynamics_derivatives_kernel(model: Model) -> Kernel:
-    """``tau``, ``dtau/dq`` and ``dtau/ddq`` (entry (i, j) = d tau_i / d x_j)."""
+    """``tau``, ``dtau/dq`` and ``dtau/ddq`` (entry (i, j) = d tau_i / d x_j), in the order of
+    :func:`~symkin.kernels.schedule.scheduled` (the sweeps' columns stored as they finish)."""
     n = model.robot.dof
     derivatives = model.inverse_dynamics_derivatives
     force = units.generalized_force(model.robot)
     per_joint = f"row i in the unit of tau_i ({force}) per unit of joint j"
-    return kernel_from_assignments(
+    kernel = kernel_from_assignments(
         "inverse_dynamics_derivatives",
         "inverse dynamics and its partial derivatives",
         dynamics_inputs(model, "dq", "ddq"),
@@ -51,6 +53,7 @@ def inverse_dynamics_derivatives_kernel(model: Model) -> Kernel:
             ),
         ],
     )
+    return scheduled(kernel)
 
 
 def jacobian_derivative_kernel(model: Model) -> Kernel:

@@ -69,6 +69,9 @@ class Kernel:
     inputs: tuple[KernelInput, ...]
     outputs: tuple[KernelOutput, ...]
     assignments: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    # Compiled backends store each output entry right after the last intermediate it reads
+    # (set by kernels.schedule.scheduled, whose order assumes it), not all at the end.
+    early_stores: bool = False
 
     def __post_init__(self) -> None:
         """Every symbol used is an input or an intermediate defined before its use, and each
