@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from symkin.emit.layout import kernel_layout
 from symkin.emit.render import forward_dynamics_context, preamble_lines, render
+from symkin.errors import SymkinError
 from symkin.kernels import Kernel
 from symkin.robot import Robot
 
@@ -60,7 +61,14 @@ def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
     for kernel in kernels:
         # Printing is not needed for the binding; the layout only supplies names and shapes.
         layout = kernel_layout(kernel, lambda e: "")
-        vector = next((i for i in layout.inputs if not i.per_state and i.name != "p"), None)
+        vectors = [i for i in layout.inputs if not i.per_state and i.name != "p"]
+        if len(vectors) > 1:  # the binding's signature has room for one vector after p
+            names = ", ".join(i.name for i in vectors)
+            raise SymkinError(
+                f"kernel {kernel.name} takes {len(vectors)} vectors besides p ({names}); the "
+                "Python extension binds one"
+            )
+        vector = vectors[0] if vectors else None
         result.append(
             Binding(
                 name=layout.name,
