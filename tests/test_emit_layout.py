@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import gc
-
 import sympy as sp
 
-from symkin.emit.layout import _USED, kernel_layout, used_symbols
+from symkin.emit.layout import kernel_layout
 from symkin.kernels import Kernel, KernelInput, KernelOutput
 
 q1, q2, q3, p1, t0 = sp.symbols("q1 q2 q3 p1 t0")
@@ -32,17 +30,13 @@ def test_layout_reads_only_the_symbols_the_kernel_uses() -> None:
     assert [(e.flat, e.code, e.is_zero) for e in entries] == [(0, "q1*t0", False), (1, "2", False)]
 
 
-def test_the_symbols_read_are_found_once_per_kernel_and_forgotten_with_it() -> None:
+def test_the_symbols_read_are_found_once_per_kernel() -> None:
     kernel = small_kernel()
-    assert used_symbols(kernel) == {q1, q3, t0}
-    assert kernel in _USED
-    assert used_symbols(kernel) is used_symbols(kernel)
-    del kernel
-    gc.collect()
-    assert small_kernel() not in _USED
+    assert kernel.symbols_read == {q1, q3, t0}
+    assert kernel.symbols_read is kernel.symbols_read
 
 
 def test_a_kernel_that_cannot_be_hashed_still_gets_its_layout() -> None:
     kernel = small_kernel(description=["not", "hashable"])
-    assert used_symbols(kernel) == {q1, q3, t0}
+    assert kernel.symbols_read == {q1, q3, t0}
     assert [u.symbol for u in kernel_layout(kernel, str).unpack] == ["q1", "q3"]

@@ -14,10 +14,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import sympy as sp
 
 import symkin
 from numeric_dh import without_inertials
 from symkin.cli import main
+from symkin.emit.python_ext import bindings
+from symkin.errors import SymkinError
+from symkin.kernels.passes import kernel_from_assignments
+from symkin.kernels.spec import KernelInput
 from symkin.runtime.extension import load_extension
 
 pytestmark = pytest.mark.needs_cc
@@ -247,3 +252,20 @@ def test_inertial_parameters_positional_or_by_keyword(built):
         extension.fk(q, pi=extra["pi"])
     with pytest.raises(ValueError, match=r"the same for all"):
         extension.coriolis(q, np.zeros((2, robot.dof)), **extra)
+
+
+def test_a_kernel_with_two_vectors_besides_p_is_refused():
+    """The binding's signature is ``(states..., p=None, <vector>=None)``: a second vector would
+    be left unbound, so it is an error, not a silently unfilled input."""
+    q, a, b, c = sp.symbols("q1 a b c", real=True)
+    inputs = [
+        KernelInput("q", (q,), "joint positions"),
+        KernelInput("p", (a,), "parameters"),
+        KernelInput("pi", (b,), "inertial parameters"),
+        KernelInput("delta", (c,), "barycentric parameters"),
+    ]
+    kernel = kernel_from_assignments(
+        "odd", "two vectors", inputs, [], [("y", sp.Matrix([q * a * b * c]), "y")]
+    )
+    with pytest.raises(SymkinError, match="odd takes 2 vectors besides p"):
+        bindings(symkin.load_robot("planar_2r"), (kernel,))

@@ -29,7 +29,7 @@ from symkin.derive.kinematics import Kinematics
 from symkin.derive.recursion import (
     BarycentricParameters,
     Recorder,
-    barycentric_from_link,
+    barycentric_definitions,
     joint_torques,
 )
 from symkin.robot import Robot
@@ -177,7 +177,7 @@ def base_parameters(
         return None
     delta = np.array(
         [
-            barycentric_from_link(link_inertial_data(robot, i))[name]
+            float(barycentric_definitions(link_inertial_data(robot, i))[name])
             for i in range(robot.dof)
             for name in PARAMETER_NAMES
         ]

@@ -18,8 +18,12 @@ from symkin.derive.dynamics import (
     motor_inertia_matrix,
 )
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import BarycentricParameters, Recorder, joint_torques
-from symkin.derive.regressor import barycentric_definitions
+from symkin.derive.recursion import (
+    BarycentricParameters,
+    Recorder,
+    barycentric_definitions,
+    joint_torques,
+)
 from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.robot import Robot
 

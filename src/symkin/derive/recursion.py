@@ -44,7 +44,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-import numpy as np
 import sympy as sp
 
 from symkin.derive.dynamics import link_inertial_data
@@ -76,17 +75,19 @@ class BarycentricParameters:
         )
 
 
-def barycentric_from_link(link: Link) -> dict[str, float]:
-    """Parallel-axis theorem: ``I_o = I_c + m (c.c E - c c^T)``, ``m c``, ``m`` (floats)."""
-    mass = float(link.mass)
-    com = np.array([float(c) for c in link.com])
-    inertia = np.array(link.inertia_matrix, dtype=float)
-    inertia = inertia + mass * (com @ com * np.eye(3) - np.outer(com, com))
-    first = mass * com
+def barycentric_definitions(link: Link) -> dict[str, sp.Expr]:
+    """Parallel-axis theorem (Khalil & Dombre eq. 9.4): the inertia about the frame origin
+    ``I_o = I_c + m (c.c E - c c^T)``, the first moment ``m c`` and ``m``, from the centre-of-mass
+    form of ``link`` (tensor elements: ``xy`` is the (1,2) element).  Symbolic or numeric, as
+    the link's data are."""
+    m = link.mass
+    cx, cy, cz = link.com
+    ixx, iyy, izz, ixy, ixz, iyz = link.inertia
     return {
-        "xx": inertia[0, 0], "yy": inertia[1, 1], "zz": inertia[2, 2],
-        "xy": inertia[0, 1], "xz": inertia[0, 2], "yz": inertia[1, 2],
-        "mx": first[0], "my": first[1], "mz": first[2], "m": mass,
+        "xx": ixx + m * (cy**2 + cz**2), "yy": iyy + m * (cx**2 + cz**2),
+        "zz": izz + m * (cx**2 + cy**2), "xy": ixy - m * cx * cy,
+        "xz": ixz - m * cx * cz, "yz": iyz - m * cy * cz,
+        "mx": m * cx, "my": m * cy, "mz": m * cz, "m": m,
     }  # fmt: skip
 
 

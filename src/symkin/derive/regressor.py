@@ -35,7 +35,7 @@ from symkin.derive.base_parameters import (
 )
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import Recorder, joint_torques
+from symkin.derive.recursion import Recorder, barycentric_definitions, joint_torques
 from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.errors import RobotError
 from symkin.robot import Link, Robot
@@ -65,21 +65,6 @@ class Regressor:
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(s.name for s in self.symbols)
-
-
-def barycentric_definitions(link: Link) -> dict[str, sp.Expr]:
-    """Parallel-axis theorem (Khalil & Dombre eq. 9.4): the inertia about the frame origin
-    ``I_o = I_c + m (c.c E - c c^T)``, the first moment ``m c`` and ``m``, from the centre-of-mass
-    form of ``link`` (tensor elements: ``xy`` is the (1,2) element)."""
-    m = link.mass
-    cx, cy, cz = link.com
-    ixx, iyy, izz, ixy, ixz, iyz = link.inertia
-    return {
-        "xx": ixx + m * (cy**2 + cz**2), "yy": iyy + m * (cx**2 + cz**2),
-        "zz": izz + m * (cx**2 + cy**2), "xy": ixy - m * cx * cy,
-        "xz": ixz - m * cx * cz, "yz": iyz - m * cy * cz,
-        "mx": m * cx, "my": m * cy, "mz": m * cz, "m": m,
-    }  # fmt: skip
 
 
 def _drive_columns(

@@ -6,7 +6,6 @@ the pieces out.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -118,30 +117,6 @@ def _output_layout(output: KernelOutput, printer: Callable[[sp.Expr], str]) -> O
     )
 
 
-# The symbols each kernel reads, kept while the kernel lives: every backend lays out the same
-# kernels, and the walk over all their expressions is as long as printing a small one.
-_USED: weakref.WeakKeyDictionary[Kernel, frozenset[sp.Symbol]] = weakref.WeakKeyDictionary()
-
-
-def used_symbols(kernel: Kernel) -> frozenset[sp.Symbol]:
-    """Every symbol the kernel's assignments and outputs read."""
-    try:
-        return _USED[kernel]
-    except KeyError:
-        pass
-    except TypeError:  # a kernel built with a list somewhere cannot be a key: no memo
-        return _symbols_read(kernel)
-    used = _USED[kernel] = _symbols_read(kernel)
-    return used
-
-
-def _symbols_read(kernel: Kernel) -> frozenset[sp.Symbol]:
-    return frozenset().union(
-        *(e.free_symbols for _, e in kernel.assignments),
-        *(o.matrix.free_symbols for o in kernel.outputs),
-    )
-
-
 def kernel_layout(
     kernel: Kernel,
     printer: Callable[[sp.Expr], str],
@@ -150,7 +125,7 @@ def kernel_layout(
     """What the templates need from ``kernel``, each expression printed by ``printer``;
     ``counts``: the operation counts to report (the kernel's own when ``None``; a backend
     that rewrites a kernel reports the counts of the kernel it was given)."""
-    used = used_symbols(kernel)
+    used = kernel.symbols_read
     unpack = tuple(
         Unpack(symbol.name, kernel_input.name, index)
         for kernel_input in kernel.inputs

@@ -10,8 +10,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from symkin.emit.layout import kernel_layout
+from symkin.emit.layout import InputLayout, kernel_layout
 from symkin.emit.render import forward_dynamics_context, preamble_lines, render
+from symkin.errors import SymkinError
 from symkin.kernels import Kernel
 from symkin.robot import Robot
 
@@ -54,13 +55,26 @@ def extension_name(robot: Robot) -> str:
     return f"{robot.name}_ext"
 
 
+def _vector_after_p(name: str, inputs: Sequence[InputLayout]) -> InputLayout | None:
+    """The one shared input besides ``p`` (``pi`` or ``delta``), if any: the binding's
+    signature has room for one, so a kernel with two is refused, not half bound."""
+    vectors = [i for i in inputs if not i.per_state and i.name != "p"]
+    if len(vectors) > 1:
+        names = ", ".join(i.name for i in vectors)
+        raise SymkinError(
+            f"kernel {name} takes {len(vectors)} vectors besides p ({names}); the Python "
+            "extension binds one"
+        )
+    return vectors[0] if vectors else None
+
+
 def bindings(robot: Robot, kernels: tuple[Kernel, ...]) -> list[Binding]:
     """The functions of the extension, in the order of the kernels."""
     result = []
     for kernel in kernels:
         # Printing is not needed for the binding; the layout only supplies names and shapes.
         layout = kernel_layout(kernel, lambda e: "")
-        vector = next((i for i in layout.inputs if not i.per_state and i.name != "p"), None)
+        vector = _vector_after_p(kernel.name, layout.inputs)
         result.append(
             Binding(
                 name=layout.name,

@@ -53,8 +53,9 @@ def parameter_context(
 def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] | None:
     """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
 
-    Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels;
-    ``pi`` is the number of inertial symbols they take (0: the file gives all the data);
+    Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels
+    (or from ``mass_matrix_bias``, see ``bias``); ``pi`` is the number of inertial symbols
+    they take (0: the file gives all the data);
     ``derivatives`` is 1 when the ``inverse_dynamics_derivatives`` kernel is there too, so
     the forward dynamics' derivatives are composed as well (``-M^-1 dtau/dx``, ``M^-1``).
     ``elastic``: 0-based indices of the elastic joints, whose 2n-state forward dynamics also

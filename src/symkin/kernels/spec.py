@@ -87,6 +87,15 @@ class Kernel:
                 _check_defined(self.name, output.name, expr, known)
 
     @cached_property
+    def symbols_read(self) -> frozenset[sp.Symbol]:
+        """Every symbol the assignments and outputs read (found once: each backend lays out
+        the same kernels, and the walk is as long as printing a small one)."""
+        return frozenset().union(
+            *(e.free_symbols for _, e in self.assignments),
+            *(output.matrix.free_symbols for output in self.outputs),
+        )
+
+    @cached_property
     def operation_counts(self) -> dict[str, int]:
         """Operations by kind over all assignments and outputs, plus ``total``."""
         expressions = [e for _, e in self.assignments]
