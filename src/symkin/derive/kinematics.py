@@ -25,6 +25,7 @@ import itertools
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.core.parameters import distribute
 
 from symkin.derive.pythagorean import fold_pythagorean
 from symkin.derive.simplify import contract_matrix, contract_product
@@ -155,7 +156,10 @@ class Kinematics:
     def contract_product(self, left: sp.MatrixBase, right: sp.MatrixBase) -> sp.ImmutableMatrix:
         """``contract(left * right)``, the product formed in SymEngine when simplified."""
         if not self.simplified:
-            return sp.ImmutableMatrix(left * right)
+            # SymPy would distribute each numeric factor over the sum it multiplies, rebuilding
+            # the whole tree of T_0_{k-1} at every link (a generic 12R: 4.9 s, 0.7 s without).
+            with distribute(False):
+                return sp.ImmutableMatrix(left * right)
         return contract_product(left, right, self.angle_sums)
 
     @property
