@@ -15,7 +15,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.cli.report import json_text, progress
-from symkin.cli.values import limit_values, parameter_overrides, robot_from_args
+from symkin.cli.values import limit_values, parameter_overrides, robot_from_args, sampled_rows
 from symkin.derive import derive
 from symkin.derive.regressor_base import base_regressor
 from symkin.errors import RobotError, SymkinError
@@ -151,6 +151,9 @@ def _excite(args: argparse.Namespace, model) -> None:
     robot = model.robot
     if args.out is None:
         raise SymkinError("--excite writes the trajectory to --out FILE.csv")
+    sampled_rows(args.rate, args.period, "--rate", "--period")
+    if args.simulate and not (np.isfinite(args.noise) and args.noise >= 0):
+        raise SymkinError(f"--noise: a standard deviation >= 0 (N m, N), got {args.noise:g}")
     velocity = limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True)
     progress(f"optimising a {args.harmonics}-harmonic motion of period {args.period:g} s ...")
     excitation = exciting_trajectory(

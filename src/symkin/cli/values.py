@@ -20,6 +20,9 @@ from symkin.robot import Robot
 # takes well under a minute, a generic 6R arm about five.
 DEFAULT_TIME_LIMIT = 900.0
 MAX_TIME_LIMIT = 1e7
+# Rows of a sampled table (identify --excite, trajopt --rate): held in memory as numbers and
+# as CSV text, about 1 KiB a row for a 7-joint arm; a million rows is 2.8 hours at 100 Hz.
+MAX_ROWS = 1_000_000
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
 VALUE_OPTIONS = frozenset(
     {
@@ -204,6 +207,22 @@ def seconds_from_text(text: str, option: str) -> float:
     if text.strip().endswith("deg"):
         raise SymkinError(f"{option}: a time in seconds, got {text!r}")
     return number_from_text(text, option)
+
+
+def sampled_rows(rate: float, seconds: float, rate_option: str, time_option: str) -> int:
+    """The rows of a table sampled at ``rate`` Hz over ``seconds`` (both ends: ``seconds *
+    rate + 1``); a :class:`SymkinError` naming the options when either is not a positive
+    finite number or the table would exceed :data:`MAX_ROWS`."""
+    for value, option in ((rate, rate_option), (seconds, time_option)):
+        if not (math.isfinite(value) and value > 0):
+            raise SymkinError(f"{option}: expected a positive finite number, got {value:g}")
+    rows = math.floor(seconds * rate) + 1
+    if rows > MAX_ROWS:
+        raise SymkinError(
+            f"{rate_option} {rate:g} over {time_option} {seconds:g} s gives {rows:.3g} rows; "
+            f"at most {MAX_ROWS:,} rows (lower {rate_option} or {time_option})"
+        )
+    return rows
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:
