@@ -3,7 +3,8 @@
 Found by a red-team run: ``--data /dev/zero`` read until the OOM killer, a FIFO blocked, a
 repeated CSV column was silently read as its first copy, ``--rate``/``--period``/``--samples``
 asked for tables that cannot fit in memory (exit 3 or killed), and a negative ``--noise`` was
-accepted.  The limits are the documented caps: 256 MiB of data file
+accepted; so was ``--harmonics`` above what the optimiser's instants resolve.  The limits are
+the documented caps: 256 MiB of data file
 (:data:`symkin.solve.identify_data.MAX_DATA_BYTES`), 10^6 sampled rows
 (:data:`symkin.cli.values.MAX_ROWS`), 10^6 configurations a workspace chunk and 10^5 chunks.
 """
@@ -90,11 +91,23 @@ def test_braces_in_a_header_are_data_not_a_message_template(tmp_path, capsys):
         (("--rate", "1e12"), ("--rate 1e+12 over --period 10 s", "1,000,000 rows")),
         (("--period", "1e12"), ("--rate 100 over --period 1e+12 s", "1,000,000 rows")),
         (("--rate", "0"), ("--rate: expected a positive finite number",)),
-        (("--period", "-1"), ("--period: expected a positive finite number",)),
+        (("--period", "-1"), ("--period: a positive number of seconds", "got -1")),
         (("--simulate", "--noise", "-1"), ("--noise", ">= 0", "got -1")),
         (("--simulate", "--noise", "nan"), ("--noise", ">= 0", "got nan")),
+        # 60 optimiser instants a period resolve 30 harmonics (Nyquist).
+        (("--harmonics", "31"), ("--harmonics: 1 to 30", "got 31")),
+        (("--harmonics", "0"), ("--harmonics: 1 to 30", "got 0")),
     ],
-    ids=["rate", "period", "zero-rate", "negative-period", "negative-noise", "nan-noise"],
+    ids=[
+        "rate",
+        "period",
+        "zero-rate",
+        "negative-period",
+        "negative-noise",
+        "nan-noise",
+        "harmonics",
+        "no-harmonics",
+    ],
 )
 def test_excitation_sizes_and_noise_are_checked_first(tmp_path, capsys, options, words):
     out = tmp_path / "ex.csv"

@@ -23,7 +23,12 @@ from symkin.output_folder import replace_file
 from symkin.solve.identify import Identification, identify
 from symkin.solve.identify_consistency import Consistency, physical_consistency
 from symkin.solve.identify_data import FILTER_ORDER, filtered_samples, logged_samples
-from symkin.solve.identify_excite import Excitation, exciting_trajectory, simulated_torques
+from symkin.solve.identify_excite import (
+    Excitation,
+    check_excitation,
+    exciting_trajectory,
+    simulated_torques,
+)
 
 
 def command_identify(args: argparse.Namespace) -> None:
@@ -151,6 +156,7 @@ def _excite(args: argparse.Namespace, model) -> None:
     robot = model.robot
     if args.out is None:
         raise SymkinError("--excite writes the trajectory to --out FILE.csv")
+    check_excitation(args.harmonics, args.period)
     sampled_rows(args.rate, args.period, "--rate", "--period")
     if args.simulate and not (np.isfinite(args.noise) and args.noise >= 0):
         raise SymkinError(f"--noise: a standard deviation >= 0 (N m, N), got {args.noise:g}")
