@@ -34,7 +34,7 @@ from symkin.solve.identify_excite import (
 def command_identify(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     # The geometry's parameters become numbers: the base parameters need numeric geometry.
-    robot = robot.with_parameter_values(parameter_overrides(args.set))
+    robot = robot.with_parameter_values(parameter_overrides(args.set, robot))
     if (args.data is None) == (not args.excite):
         raise SymkinError("identify needs --data FILE.csv (a fit) or --excite (a trajectory)")
     model = derive(robot)

@@ -167,7 +167,7 @@ def problem_from_args(args: argparse.Namespace, robot: Robot) -> TrajectoryProbl
         method="inverse-dynamics" if args.transcription == "inverse" else args.method,
         velocity_limits=limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True),
         torque_limits=limit_values(args.torque_limit, "--torque-limit", robot, rates=False),
-        overrides=parameter_overrides(args.set),
+        overrides=parameter_overrides(args.set, robot),
         tolerance=args.tolerance,
         max_refinements=args.max_refinements,
         waypoints=tuple(sorted(waypoints, key=lambda w: (w.time is None, w.time or 0.0))),
