@@ -91,3 +91,32 @@ def test_braces_in_a_section_name_are_text(tmp_path: Path, capsys, text: str) ->
 )
 def test_flag_spellings(parameter: str, command: str, spelled: str) -> None:
     assert flag(parameter, command) == spelled
+
+
+ANGLE_PARAMETER_ARM = """name = "angp"
+angles = "rad"
+[parameters]
+L1 = 0.5
+beta = 0.3
+[[joints]]
+type = "revolute"
+a = "L1"
+alpha = "beta"
+[[joints]]
+type = "revolute"
+a = 0.5
+"""
+
+
+def test_set_takes_deg_for_an_angle_parameter_only(tmp_path: Path, capsys) -> None:
+    """``--set L1=30deg`` on a length was silently 0.5236 m; on the twist ``beta`` it is the
+    angle, as ``--set beta=0.5235987755982988`` (30 degrees by hand, in radians)."""
+    robot = tmp_path / "angp.toml"
+    robot.write_text(ANGLE_PARAMETER_ARM, encoding="utf-8")
+    assert main(["eval", str(robot), "--q", "0,0", "--set", "L1=30deg"]) == 2
+    assert "--set L1: 'deg' is for a parameter that is an angle" in capsys.readouterr().err
+    assert main(["eval", str(robot), "--q", "0.2,0.4", "--set", "beta=30deg", "--json"]) == 0
+    in_degrees = capsys.readouterr().out
+    radians = str(30 * 3.141592653589793 / 180)
+    assert main(["eval", str(robot), "--q", "0.2,0.4", "--set", f"beta={radians}", "--json"]) == 0
+    assert capsys.readouterr().out == in_degrees

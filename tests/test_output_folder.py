@@ -206,3 +206,29 @@ def test_time_limit_must_be_a_finite_number_of_seconds(value, capsys):
         main(["--time-limit", value, "list"])
     assert raised.value.code == 2
     assert "--time-limit" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind", ["fifo", "link to a fifo"])
+def test_a_pipe_or_a_link_to_one_is_not_replaced_by_a_file(tmp_path, kind, capsys):
+    """``-o /dev/null`` or ``--csv /dev/stdout`` as root would rename a regular file over the
+    device or its link; a FIFO stands in for them here (no privileges needed)."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    target = fifo if kind == "fifo" else tmp_path / "link"
+    if target != fifo:
+        target.symlink_to(fifo)
+    assert main(["workspace", "planar_2r", "--samples", "100", "--csv", str(target)]) == 2
+    err = capsys.readouterr().err
+    assert "not a regular file" in err and str(target) in err
+    assert target.is_symlink() == (kind != "fifo") and fifo.is_fifo()
+    with pytest.raises(SymkinError, match="not a regular file"):
+        output_folder.replace_file(tmp_path, target.name, "text\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted({"pipe", target.name})
+
+
+@pytest.mark.parametrize("command", [["derive", "planar_2r", "--emit", "c"], ["urdf", "planar_2r"]])
+def test_the_file_system_root_is_refused_as_an_output_folder(command, capsys):
+    option = ["--out", "/"] if command[0] == "derive" else ["-o", "/planar_2r.urdf"]
+    assert main([*command, *option]) == 2
+    assert "file system's root" in capsys.readouterr().err
+    assert not Path("/planar_2r.urdf").exists() and not Path("/c").exists()

@@ -182,3 +182,21 @@ def test_velocity_and_effort_limits_are_read_and_checked():
     assert (joint.max_velocity, joint.max_effort) == (2.5, 40.0)
     with pytest.raises(RobotError, match=r"joint 1: 'max_effort' must be > 0, got -1"):
         symkin.robot_from_toml(text + "max_effort = -1\n", "arm.toml")
+
+
+@pytest.mark.parametrize("scale", [1e200, 1e-200])
+def test_a_huge_or_tiny_axis_is_the_same_direction(scale):
+    """Normalised without squaring its entries (1e200 squared overflows, 1e-200 underflows):
+    the joint turns about the same tilted axis as ``[1, 1, 0]``."""
+
+    def placed(axis: str) -> sp.Matrix:
+        text = HEADER + f"[[joints]]\ntype = 'revolute'\naxis = {axis}\n"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RobotWarning)
+            return symkin.robot_from_toml(text, "arm.toml").joints[0].placement
+
+    expected = np.array(placed("[1, 1, 0]").evalf(), dtype=float)
+    found = np.array(placed(f"[{scale!r}, {scale!r}, 0]").evalf(), dtype=float)
+    np.testing.assert_allclose(found, expected, atol=1e-12)
+    # z of the placement is the axis: (1, 1, 0) / sqrt(2), by hand
+    np.testing.assert_allclose(expected[:3, 2], [2**-0.5, 2**-0.5, 0.0], atol=1e-12)

@@ -24,6 +24,7 @@ from __future__ import annotations
 import os
 import secrets
 import shutil
+import stat
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path, PurePosixPath
 
@@ -90,6 +91,36 @@ def check_no_symlink(root: Path, relative: PurePosixPath) -> None:
             raise SymkinError(f"cannot write into {folder}: it is a file, not a folder")
 
 
+def check_output_root(root: Path) -> None:
+    """Refuse the file system's root as an output folder: a run would scatter its files
+    there (and, as root, among the system's own), and there is no sibling to stage in."""
+    resolved = root.resolve()
+    if resolved == resolved.parent:
+        raise SymkinError(
+            f"refusing to write into {root}: it is the file system's root; choose a folder"
+        )
+
+
+def _check_regular(target: Path) -> None:
+    """Refuse to replace a device, a pipe or a socket, or a link to one (``/dev/null``,
+    ``/dev/stdout``): symkin writes regular files, and renaming over such a node would put a
+    plain file in its place."""
+    try:
+        mode = target.lstat().st_mode
+    except FileNotFoundError:
+        return
+    if stat.S_ISLNK(mode):
+        try:
+            mode = target.stat().st_mode
+        except OSError:  # a dangling link: replaced by the file, as any link
+            return
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise SymkinError(
+            f"refusing to write {target}: it is a device, pipe or socket (or a link to one), "
+            "not a regular file; give a file name"
+        )
+
+
 def _write_new(path: Path, content: str | bytes) -> None:
     """Create ``path`` (which must not exist: O_EXCL, so no link is followed)."""
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -106,6 +137,7 @@ def _replace_file(source: Path, root: Path, relative: str) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     if target.is_dir() and not target.is_symlink():
         raise SymkinError(f"cannot write {target}: a folder of that name is in the way")
+    _check_regular(target)
     os.replace(source, target)
 
 
@@ -153,6 +185,7 @@ def write_folder(
     root = Path(root)
     relatives = {check_relative(r).as_posix(): text for r, text in files.items()}
     own = manifest_name(document)
+    check_output_root(root)
     check_no_symlink(root, PurePosixPath("x"))
     parent = root.parent
     try:
@@ -200,8 +233,10 @@ def replace_file(root: Path, relative: str, content: str | bytes) -> Path:
     """Write one file that no manifest tracks (a PDF and its log beside the document): to a
     temporary name, then renamed into place, never through a link."""
     check_relative(relative)
+    check_output_root(root)
     check_no_symlink(root, PurePosixPath(relative))
     target = root / relative
+    _check_regular(target)  # before the content is written beside it
     temporary = target.with_name(f".{target.name}.symkin-{secrets.token_hex(4)}")
     try:
         _write_new(temporary, content)

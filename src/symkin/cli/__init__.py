@@ -6,6 +6,7 @@ status 2; they never show a traceback.  Ctrl-C exits with 130, a bug in symkin w
 
 from __future__ import annotations
 
+import errno
 import os
 import signal
 import sys
@@ -23,6 +24,14 @@ from symkin.progress import reporting
 from symkin.text import printable
 
 
+def _is_output_failure(error: Exception) -> bool:
+    """A write to standard output that the system refused (a full disk, a quota, an I/O
+    error): files symkin writes name themselves in a SymkinError instead."""
+    return isinstance(error, OSError) and error.filename is None and error.errno in (
+        errno.ENOSPC, errno.EDQUOT, errno.EIO,
+    )  # fmt: skip
+
+
 class TimeLimitReached(BaseException):
     """Raised by the alarm; a BaseException, so SymPy's ``except Exception`` cannot swallow it."""
 
@@ -37,8 +46,18 @@ def _stop_at_time_limit(seconds: float) -> None:
         signal.setitimer(signal.ITIMER_REAL, seconds)
 
 
+def _tolerant_output() -> None:
+    """A title in a script the terminal's encoding lacks (``PYTHONIOENCODING=ascii``) is
+    printed as ``\\u`` escapes rather than failing the command after its work is done."""
+    for stream in (sys.stdout, sys.stderr):
+        if hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one command (``argv`` defaults to ``sys.argv[1:]``); the exit status."""
+    if argv is None:  # the command line's own streams (a caller's are left as they are)
+        _tolerant_output()
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
     status = 0
@@ -49,6 +68,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         with warnings.catch_warnings(), reporting(reporter), closing(reporter):
             warnings.showwarning = show_warning
             status = args.run(args) or 0  # ik: 1 when the target is not reached
+            sys.stdout.flush()  # a full disk is said here, not at the interpreter's exit
     except SymkinError as error:
         print(error_text(error, args.command), file=sys.stderr)
         return 2
@@ -68,6 +88,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as error:
         if os.environ.get("SYMKIN_TRACEBACK"):
             raise
+        if _is_output_failure(error):
+            print(f"symkin: error: {subject}: cannot write the output: {error.strerror}",
+                  file=sys.stderr)  # fmt: skip
+            return 2
         print(
             f"symkin: internal error: {subject}: {type(error).__name__}: "
             f"{printable(str(error))[:300]} (a bug in symkin: please report it with the robot "

@@ -107,7 +107,7 @@ def command_show(args: argparse.Namespace) -> None:
 def command_eval(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot)
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     if not (args.dynamics or args.derivatives):
         robot.parameter_values(overrides)  # reject unknown names and missing values first
     dq = joint_values(args.dq, "--dq", robot) if args.dq else None
@@ -224,7 +224,7 @@ def command_derive(args: argparse.Namespace) -> None:
     backends = check_backends(args.emit.split(","))
     robot = robot_from_args(args)
     if args.numeric_parameters:
-        robot = robot.with_parameter_values(parameter_overrides(args.set))
+        robot = robot.with_parameter_values(parameter_overrides(args.set, robot))
     elif args.set:
         raise SymkinError(
             "--set puts parameter values into the code: use it with --numeric-parameters"
@@ -290,7 +290,7 @@ def command_latex(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     sections = check_sections(args.sections.split(","))
     q = joint_values(args.q, "--q", robot) if args.q else None
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     budget, closed_forms, _ = derivation_options(args)
     files = dict(
         remembered(

@@ -150,7 +150,9 @@ def numeric_source(args: argparse.Namespace) -> Robot:
     """The robot with its parameters replaced by their values (``--set`` first): extraction
     and export work on numbers."""
     robot = robot_from_args(args)
-    return robot.with_parameter_values(parameter_overrides(args.set)) if robot.parameters else robot
+    if not robot.parameters:
+        return robot
+    return robot.with_parameter_values(parameter_overrides(args.set, robot))
 
 
 def command_dh(args: argparse.Namespace) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 import sympy as sp
 
 from symkin.cli.report import json_text, progress
-from symkin.cli.values import limit_values, parameter_overrides, robot_from_args
+from symkin.cli.values import limit_values, parameter_overrides, robot_from_args, sampled_rows
 from symkin.derive import derive
 from symkin.derive.regressor_base import base_regressor
 from symkin.errors import RobotError, SymkinError
@@ -23,13 +23,18 @@ from symkin.output_folder import replace_file
 from symkin.solve.identify import Identification, identify
 from symkin.solve.identify_consistency import Consistency, physical_consistency
 from symkin.solve.identify_data import FILTER_ORDER, filtered_samples, logged_samples
-from symkin.solve.identify_excite import Excitation, exciting_trajectory, simulated_torques
+from symkin.solve.identify_excite import (
+    Excitation,
+    check_excitation,
+    exciting_trajectory,
+    simulated_torques,
+)
 
 
 def command_identify(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     # The geometry's parameters become numbers: the base parameters need numeric geometry.
-    robot = robot.with_parameter_values(parameter_overrides(args.set))
+    robot = robot.with_parameter_values(parameter_overrides(args.set, robot))
     if (args.data is None) == (not args.excite):
         raise SymkinError("identify needs --data FILE.csv (a fit) or --excite (a trajectory)")
     model = derive(robot)
@@ -151,6 +156,10 @@ def _excite(args: argparse.Namespace, model) -> None:
     robot = model.robot
     if args.out is None:
         raise SymkinError("--excite writes the trajectory to --out FILE.csv")
+    check_excitation(args.harmonics, args.period)
+    sampled_rows(args.rate, args.period, "--rate", "--period")
+    if args.simulate and not (np.isfinite(args.noise) and args.noise >= 0):
+        raise SymkinError(f"--noise: a standard deviation >= 0 (N m, N), got {args.noise:g}")
     velocity = limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True)
     progress(f"optimising a {args.harmonics}-harmonic motion of period {args.period:g} s ...")
     excitation = exciting_trajectory(

@@ -174,7 +174,7 @@ def command_ik(args: argparse.Namespace) -> int:
     """Exit status 0 when the target (or every waypoint) is reached, else 1."""
     robot = robot_from_args(args)
     model = derive(robot)
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     robot.parameter_values(overrides)  # reject unknown names and missing values first
     q0 = joint_values(args.q0, "--q0", robot) if args.q0 else None
     if args.restarts is not None and args.restarts < 0:

@@ -11,6 +11,7 @@ from symkin.cli.values import (
     limit_values,
     parameter_overrides,
     robot_from_args,
+    sampled_rows,
     seconds_from_text,
     target_from_text,
 )
@@ -110,7 +111,7 @@ def _add_path_options(trajopt: argparse.ArgumentParser) -> None:
         type=float,
         metavar="HZ",
         help="with --out: also write trajectory_resampled.csv and .json at HZ samples per "
-        "second (states, accelerations, feedforward torques)",
+        "second (states, accelerations, feedforward torques); T x HZ at most 10^6 samples",
     )
 
 
@@ -166,7 +167,7 @@ def problem_from_args(args: argparse.Namespace, robot: Robot) -> TrajectoryProbl
         method="inverse-dynamics" if args.transcription == "inverse" else args.method,
         velocity_limits=limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True),
         torque_limits=limit_values(args.torque_limit, "--torque-limit", robot, rates=False),
-        overrides=parameter_overrides(args.set),
+        overrides=parameter_overrides(args.set, robot),
         tolerance=args.tolerance,
         max_refinements=args.max_refinements,
         waypoints=tuple(sorted(waypoints, key=lambda w: (w.time is None, w.time or 0.0))),
@@ -183,6 +184,8 @@ def command_trajopt(args: argparse.Namespace) -> None:
     if args.rate is not None and (args.out is None or not args.rate > 0):
         raise SymkinError("--rate needs --out DIR and a positive number of samples per second")
     problem = problem_from_args(args, robot)
+    if args.rate is not None and problem.final_time is not None:
+        sampled_rows(args.rate, problem.final_time, "--rate", "--time")
     model = derive(robot)
     check_problem(model, problem)  # input mistakes before the progress line
     progress(f"setting up and solving the {problem.method} problem with IPOPT ...")
@@ -197,6 +200,7 @@ def command_trajopt(args: argparse.Namespace) -> None:
         )
         paths = write_trajectory(trajectory, args.out, plot=args.plot, functions=functions)
         if args.rate is not None:
+            sampled_rows(args.rate, trajectory.final_time, "--rate", "the optimal time")
             paths += write_resampled(resampled(trajectory, functions, args.rate), args.out)
         if not args.json:
             print(f"wrote {', '.join(str(path) for path in paths)}")

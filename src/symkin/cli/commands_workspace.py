@@ -121,7 +121,7 @@ def _write(path: str, data: bytes | str) -> None:
 def command_workspace(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot, closed_forms=False)
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     robot.parameter_values(overrides)  # unknown names and missing values first
     options = {"samples": args.samples, "plane": args.plane, "seed": args.seed}
     options |= {"chunk": args.chunk, "overrides": overrides}
@@ -170,7 +170,7 @@ def ellipsoid_text(ellipsoids: Ellipsoids) -> str:
 def command_ellipsoid(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot, closed_forms=False)
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     q = configuration_from_args(args, robot)
     ellipsoids = ellipsoids_at(model, q, overrides)
     if args.plot:
@@ -184,7 +184,7 @@ def command_ellipsoid(args: argparse.Namespace) -> None:
 def command_draw(args: argparse.Namespace) -> None:
     robot = robot_from_args(args)
     model = derive(robot, closed_forms=False)
-    overrides = parameter_overrides(args.set)
+    overrides = parameter_overrides(args.set, robot)
     q = configuration_from_args(args, robot)
     path = draw_arm(model, q, args.out, frames=args.frames, labels=args.labels, overrides=overrides)
     print(f"wrote {path}", file=sys.stderr)

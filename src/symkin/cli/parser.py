@@ -488,8 +488,8 @@ def add_identify(commands: Commands) -> None:
     identify.add_argument(
         "--data",
         metavar="FILE.csv",
-        help="columns q1..qn, dq1..dqn, ddq1..ddqn, tau1..taun by header name (with --filter: "
-        "t, q1..qn, tau1..taun)",
+        help="columns q1..qn, dq1..dqn, ddq1..ddqn, tau1..taun by header name, each once (with "
+        "--filter: t, q1..qn, tau1..taun); a regular file of at most 256 MiB",
     )
     identify.add_argument(
         "--filter",
@@ -508,26 +508,29 @@ def add_identify(commands: Commands) -> None:
     identify.add_argument(
         "--excite", action="store_true", help="write an exciting trajectory instead of fitting"
     )
-    identify.add_argument("--harmonics", type=int, default=5, help="Fourier harmonics (default 5)")
     identify.add_argument(
-        "--period", type=float, default=10.0, metavar="SECONDS", help="period (default 10)"
+        "--harmonics", type=int, default=5, help="Fourier harmonics, 1 to 30 (default 5)"
     )
     identify.add_argument(
-        "--rate", type=float, default=100.0, metavar="HZ", help="samples per second (default 100)"
-    )
+        "--period", type=float, default=10.0, metavar="SECONDS",
+        help="period (default 10; --period x --rate at most 10^6 samples)",
+    )  # fmt: skip
     identify.add_argument(
-        "--velocity-limit",
-        metavar="V[,V2,...]",
+        "--rate", type=float, default=100.0, metavar="HZ",
+        help="samples per second (default 100; --period x --rate at most 10^6 samples)",
+    )  # fmt: skip
+    identify.add_argument(
+        "--velocity-limit", metavar="V[,V2,...]",
         help="|dq| limit (default: the robot file's max_velocity, else 1 rad/s or m/s)",
-    )
+    )  # fmt: skip
     identify.add_argument(
-        "--simulate",
-        action="store_true",
+        "--simulate", action="store_true",
         help="also columns tau1..taun from the robot file's model (simulated measurements)",
-    )
+    )  # fmt: skip
     identify.add_argument(
-        "--noise", type=float, default=0.0, metavar="SIGMA", help="with --simulate: torque noise"
-    )
+        "--noise", type=float, default=0.0, metavar="SIGMA",
+        help="with --simulate: standard deviation of the torque noise, >= 0 (default 0)",
+    )  # fmt: skip
     identify.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     identify.add_argument("--out", metavar="FILE.csv", help="with --excite: the trajectory file")
     add_set_option(identify)

@@ -6,7 +6,7 @@ import argparse
 
 from symkin.cli.commands_workspace import command_draw, command_ellipsoid, command_workspace
 from symkin.cli.values import seed_from_text
-from symkin.solve.workspace import DEFAULT_CHUNK, DEFAULT_SAMPLES, PLANES
+from symkin.solve.workspace import DEFAULT_CHUNK, DEFAULT_SAMPLES, MAX_CHUNK, MAX_CHUNKS, PLANES
 from symkin.spatial import ORIENTATIONS
 
 # argparse's (private) type of the object that add_subparsers returns
@@ -53,13 +53,14 @@ def add_workspace_commands(commands: Commands, add_robot_argument) -> None:
     add_robot_argument(workspace)
     workspace.add_argument(
         "--samples", type=positive_count, default=DEFAULT_SAMPLES, metavar="N",
-        help=f"configurations to sample (default {DEFAULT_SAMPLES:,}; 1e8 ok)",
+        help=f"configurations to sample (default {DEFAULT_SAMPLES:,}; 1e8 ok; at most "
+        f"{MAX_CHUNKS:,} chunks, so at most {MAX_CHUNKS * MAX_CHUNK:.0e})",
     )  # fmt: skip
     workspace.add_argument("--plane", choices=tuple(PLANES), default="xy", help="default xy")
     workspace.add_argument("--seed", type=seed_from_text, default=0, metavar="N")
     workspace.add_argument(
         "--chunk", type=positive_count, default=DEFAULT_CHUNK, metavar="N",
-        help=f"configurations per chunk (memory; default {DEFAULT_CHUNK:,})",
+        help=f"configurations per chunk (memory; default {DEFAULT_CHUNK:,}, at most {MAX_CHUNK:,})",
     )  # fmt: skip
     workspace.add_argument("--plot", metavar="FILE.png", help="write the three-panel figure")
     workspace.add_argument("--csv", metavar="FILE", help="write the boundary table as CSV")

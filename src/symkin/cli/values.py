@@ -12,14 +12,21 @@ import math
 import re
 from collections.abc import Sequence
 
+import sympy as sp
+
+from symkin.derive.kinematics import link_transform
 from symkin.errors import SymkinError
 from symkin.io import load_robot
 from symkin.robot import Robot
+from symkin.symbols import joint_symbols
 
 # Every command stops with an error past this (no hang); the largest catalogue derivation
 # takes well under a minute, a generic 6R arm about five.
 DEFAULT_TIME_LIMIT = 900.0
 MAX_TIME_LIMIT = 1e7
+# Rows of a sampled table (identify --excite, trajopt --rate): held in memory as numbers and
+# as CSV text, about 1 KiB a row for a 7-joint arm; a million rows is 2.8 hours at 100 Hz.
+MAX_ROWS = 1_000_000
 # Options whose values may start with a minus sign ("--q -30deg,45deg").
 VALUE_OPTIONS = frozenset(
     {
@@ -116,15 +123,44 @@ def joint_values(text: str, option: str, robot: Robot) -> list[float]:
     return values
 
 
-def parameter_overrides(items: Sequence[str]) -> dict[str, float]:
-    """``["L1=0.3", ...]`` as a dict."""
+def parameter_overrides(items: Sequence[str], robot: Robot) -> dict[str, float]:
+    """``["L1=0.3", ...]`` as a dict; ``deg`` only for a parameter that is an angle of the
+    robot (inside a sine or cosine of its transforms: an ``alpha``, a ``theta``, an ``rpy``),
+    so ``--set L1=30deg`` is not silently 0.52 m."""
     overrides = {}
+    angles: frozenset[str] | None = None
     for item in items:
         name, sep, value = item.partition("=")
-        if not sep or not name.strip():
+        name = name.strip()
+        if not sep or not name:
             raise SymkinError(f"--set: expected NAME=VALUE, got {item!r}")
-        overrides[name.strip()] = number_from_text(value, f"--set {name.strip()}")
+        if value.strip().endswith("deg"):
+            angles = angle_parameters(robot) if angles is None else angles
+            if name not in angles:
+                raise SymkinError(
+                    f"--set {name}: 'deg' is for a parameter that is an angle of the robot "
+                    f"(alpha, theta, rpy); {name} is not one: give its value in SI units"
+                )
+        overrides[name] = number_from_text(value, f"--set {name}")
     return overrides
+
+
+def angle_parameters(robot: Robot) -> frozenset[str]:
+    """The parameters that appear in the argument of a sine or cosine of a joint's transform
+    or of the base or tool transform."""
+    matrices = [robot.base, robot.tool]
+    q = joint_symbols(robot.dof)
+    matrices += [
+        link_transform(joint, qi, robot.convention)
+        for joint, qi in zip(robot.joints, q, strict=True)
+    ]
+    inside = {
+        symbol.name
+        for matrix in matrices
+        for trig in sp.Matrix(matrix).atoms(sp.sin, sp.cos)
+        for symbol in trig.free_symbols
+    }
+    return frozenset(name for name, _ in robot.parameters if name in inside)
 
 
 def wrench_from_text(text: str) -> list[float]:
@@ -204,6 +240,22 @@ def seconds_from_text(text: str, option: str) -> float:
     if text.strip().endswith("deg"):
         raise SymkinError(f"{option}: a time in seconds, got {text!r}")
     return number_from_text(text, option)
+
+
+def sampled_rows(rate: float, seconds: float, rate_option: str, time_option: str) -> int:
+    """The rows of a table sampled at ``rate`` Hz over ``seconds`` (both ends: ``seconds *
+    rate + 1``); a :class:`SymkinError` naming the options when either is not a positive
+    finite number or the table would exceed :data:`MAX_ROWS`."""
+    for value, option in ((rate, rate_option), (seconds, time_option)):
+        if not (math.isfinite(value) and value > 0):
+            raise SymkinError(f"{option}: expected a positive finite number, got {value:g}")
+    rows = math.floor(seconds * rate) + 1
+    if rows > MAX_ROWS:
+        raise SymkinError(
+            f"{rate_option} {rate:g} over {time_option} {seconds:g} s gives {rows:.3g} rows; "
+            f"at most {MAX_ROWS:,} rows (lower {rate_option} or {time_option})"
+        )
+    return rows
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:

@@ -61,7 +61,7 @@ def unit_axis(axis: Sequence[float], where: str) -> tuple[tuple[sp.Expr, ...], b
     ``where`` starts the error message (``"arm.urdf: joint 'elbow'"``).
     """
     values = [float(v) for v in axis]
-    norm = math.sqrt(sum(v * v for v in values))
+    norm = math.hypot(*values)  # scaled: squares of 1e200 overflow, of 1e-200 underflow
     if not all(math.isfinite(v) for v in values) or norm == 0.0:
         raise RobotError(f"{where}: 'axis' must be a nonzero direction, got {list(axis)}")
     unit = [v / norm for v in values]

@@ -62,6 +62,7 @@ CATALOGUE_DIR = "robots"
 MAX_FILE_BYTES = 1024 * 1024
 # URDFs carry visuals, collisions and simulator tags besides the chain (a humanoid: ~1 MiB).
 MAX_URDF_BYTES = 16 * 1024 * 1024
+ROBOT_FILE_KIND = "a robot file is a short .toml or .urdf text"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -125,7 +126,7 @@ def _is_urdf(path: Path) -> bool:
 def _load_path(path: Path, shown: str, tip: str | None = None, base: str | None = None) -> Robot:
     limit = MAX_URDF_BYTES if _is_urdf(path) else MAX_FILE_BYTES
     try:
-        data = _read_limited(path, shown, limit)
+        data = read_limited(path, shown, limit)
     except OSError as exc:
         hint = ""
         if path.stem in catalogue_names() and not path.exists():
@@ -140,18 +141,19 @@ def _load_path(path: Path, shown: str, tip: str | None = None, base: str | None 
     return robot_from_toml(text, shown)
 
 
-def _read_limited(path: Path, shown: str, limit: int = MAX_FILE_BYTES) -> bytes:
+def read_limited(
+    path: Path, shown: str, limit: int = MAX_FILE_BYTES, kind: str = ROBOT_FILE_KIND
+) -> bytes:
     """The bytes of a regular file of at most ``limit`` bytes (``/dev/zero``, a pipe or a
-    folder would otherwise be read until memory runs out, or block)."""
+    folder would otherwise be read until memory runs out, or block).  ``kind`` says in the
+    messages what the file should be.  Raises :class:`RobotError`; ``OSError`` passes."""
     info = path.stat()
     if not stat.S_ISREG(info.st_mode):
-        raise RobotError(f"{shown}: not a regular file (a robot file is a .toml or .urdf file)")
+        raise RobotError(f"{shown}: not a regular file ({kind})")
     with path.open("rb") as handle:
         data = handle.read(limit + 1)
     if len(data) > limit:
-        raise RobotError(
-            f"{shown}: the file is larger than {limit // 1024} KiB; a robot file is a short text"
-        )
+        raise RobotError(f"{shown}: the file is larger than {limit // 1024:,} KiB ({kind})")
     return data
 
 

@@ -20,9 +20,14 @@ from pathlib import Path
 
 import numpy as np
 
-from symkin.errors import ParameterError
+from symkin.errors import SymkinError
+from symkin.io.robot_file import read_limited
 
 FILTER_ORDER = 4
+# A data file is read whole and parsed in memory (about ten times its size): 256 MiB holds
+# over an hour of a 7-joint arm's q, dq, ddq, tau at 100 Hz.
+MAX_DATA_BYTES = 256 * 1024 * 1024
+DATA_FILE_KIND = f"a data file is a CSV file of at most {MAX_DATA_BYTES // 2**20} MiB"
 # Samples within this many cut-off periods of either end are dropped: the filter's start-up
 # (filtfilt pads by odd extension, which bends the second derivative) and the one-sided
 # differences there (measured: the acceleration error falls below 1e-3 of its size after 4).
@@ -42,40 +47,56 @@ class Samples:
 def read_columns(path: Path, names: list[str]) -> dict[str, np.ndarray]:
     """The named columns of a CSV file with a header row, as float arrays.
 
-    Raises :class:`ParameterError` naming the file and the missing columns, a cell that is
-    not a number, a row of the wrong length, or the rows holding NaN.
+    Raises :class:`~symkin.errors.SymkinError` naming the file and what is wrong: not a
+    regular file or over :data:`MAX_DATA_BYTES`, not UTF-8, a column name repeated in the
+    header, missing columns, a cell that is not a number, a row of the wrong length, or the
+    rows holding NaN.
     """
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise ParameterError(f"{path}: cannot read the data file ({error.strerror})") from None
-    rows = list(csv.reader(io.StringIO(text)))
+    rows = list(csv.reader(io.StringIO(_data_text(path))))
     if not rows:
-        raise ParameterError(f"{path}: the data file is empty (a header row is needed)")
+        raise SymkinError(f"{path}: the data file is empty (a header row is needed)")
     header = [h.strip() for h in rows[0]]
+    repeated = sorted({h for h in header if h and header.count(h) > 1})
+    if repeated:
+        raise SymkinError(
+            f"{path}: the header repeats the column {', '.join(repeated)} (each column "
+            "name may appear once)"
+        )
     missing = [name for name in names if name not in header]
     if missing:
-        raise ParameterError(
+        raise SymkinError(
             f"{path}: wrong columns: missing {', '.join(missing)} (the header has "
             f"{len(header)} columns: {', '.join(header) or 'none'}; expected {', '.join(names)})"
         )
     body = [r for r in rows[1:] if any(cell.strip() for cell in r)]
     for line, row in enumerate(body, start=2):
         if len(row) != len(header):
-            raise ParameterError(
+            raise SymkinError(
                 f"{path}: row {line} has {len(row)} values, the header {len(header)} columns"
             )
     index = [header.index(name) for name in names]
     try:
         values = np.array([[float(r[k]) for k in index] for r in body], dtype=float)
     except ValueError as error:
-        raise ParameterError(f"{path}: a value is not a number ({error})") from None
+        raise SymkinError(f"{path}: a value is not a number ({error})") from None
     values = values.reshape(len(body), len(names))
     bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
     if bad.size:
         lines = ", ".join(str(b + 2) for b in bad[:5]) + (" ..." if bad.size > 5 else "")
-        raise ParameterError(f"{path}: {bad.size} rows hold NaN or infinite values (lines {lines})")
+        raise SymkinError(f"{path}: {bad.size} rows hold NaN or infinite values (lines {lines})")
     return {name: values[:, k] for k, name in enumerate(names)}
+
+
+def _data_text(path: Path) -> str:
+    """The text of a data file, read by the robot-file reader's size and file-type check."""
+    try:
+        data = read_limited(path, str(path), MAX_DATA_BYTES, DATA_FILE_KIND)
+    except OSError as error:
+        raise SymkinError(f"{path}: cannot read the data file ({error.strerror})") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SymkinError(f"{path}: the data file is not UTF-8 text") from None
 
 
 def _joint_names(prefix: str, dof: int) -> list[str]:
@@ -103,16 +124,16 @@ def filtered_samples(path: Path, dof: int, cutoff: float) -> Samples:
     t = columns["t"]
     steps = np.diff(t)
     if len(t) < 3 * (FILTER_ORDER + 1) * 2 or steps.min() <= 0:
-        raise ParameterError(
+        raise SymkinError(
             f"{path}: --filter needs at least {6 * (FILTER_ORDER + 1)} samples with "
             "increasing times t"
         )
     dt = float(np.mean(steps))
     if np.max(np.abs(steps - dt)) > 1e-6 * dt + 1e-12:
-        raise ParameterError(f"{path}: --filter needs uniformly spaced times t")
+        raise SymkinError(f"{path}: --filter needs uniformly spaced times t")
     nyquist = 0.5 / dt
     if not 0.0 < cutoff < nyquist:
-        raise ParameterError(
+        raise SymkinError(
             f"--filter cut-off {cutoff:g} Hz must lie between 0 and the Nyquist frequency "
             f"{nyquist:g} Hz of {path}"
         )
@@ -123,7 +144,7 @@ def filtered_samples(path: Path, dof: int, cutoff: float) -> Samples:
     ddq = np.gradient(dq, dt, axis=0)
     edge = int(np.ceil(EDGE_PERIODS / (cutoff * dt)))
     if len(t) <= 2 * edge:
-        raise ParameterError(
+        raise SymkinError(
             f"{path}: --filter {cutoff:g} drops {EDGE_PERIODS:g} cut-off periods "
             f"({edge} samples) at either end, which leaves none of the {len(t)} samples"
         )

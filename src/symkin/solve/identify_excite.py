@@ -27,6 +27,8 @@ from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.identify import base_regressor_function, condition_number
 
 TIME_SAMPLES = 60
+# Harmonics above half the optimiser's instants alias on them: the optimiser cannot see them.
+MAX_HARMONICS = TIME_SAMPLES // 2
 # Unlimited joints move within +-pi; a margin keeps the motion off the limits themselves.
 DEFAULT_RANGE = (-np.pi, np.pi)
 MARGIN = 0.05
@@ -65,6 +67,18 @@ def fourier_states(
     return q, dq, ddq
 
 
+def check_excitation(harmonics: int, period: float) -> None:
+    """A :class:`ParameterError` unless 1 <= ``harmonics`` <= :data:`MAX_HARMONICS` and the
+    period is a positive number of seconds (called by :func:`exciting_trajectory`)."""
+    if not 1 <= harmonics <= MAX_HARMONICS:
+        raise ParameterError(
+            f"{{harmonics}}: 1 to {MAX_HARMONICS} (the motion is optimised on {TIME_SAMPLES} "
+            f"instants of a period, which resolve {MAX_HARMONICS} harmonics), got {harmonics}"
+        )
+    if not (np.isfinite(period) and period > 0):
+        raise ParameterError(f"{{period}}: a positive number of seconds, got {period:g}")
+
+
 def exciting_trajectory(
     model: Model,
     harmonics: int = 5,
@@ -78,8 +92,7 @@ def exciting_trajectory(
 
     robot = model.robot
     n = robot.dof
-    if harmonics < 1 or period <= 0:
-        raise ParameterError("the excitation needs at least one harmonic and a positive period")
+    check_excitation(harmonics, period)
     lower, upper = (
         np.array([(j.limits or DEFAULT_RANGE)[k] for j in robot.joints]) for k in (0, 1)
     )

@@ -34,7 +34,7 @@ import numpy as np
 
 from symkin.derive import Model
 from symkin.derive.jacobians import rows_from_names
-from symkin.errors import SymkinError
+from symkin.errors import ParameterError, SymkinError
 from symkin.runtime.modules import generated_numpy_module
 from symkin.solve.ik.joints import PRISMATIC_RANGE, joint_bounds, parameter_vector
 from symkin.solve.plotting import png_bytes
@@ -42,6 +42,11 @@ from symkin.solve.plotting import png_bytes
 PLANES = {"xy": (0, 1, 2), "xz": (0, 2, 1), "yz": (1, 2, 0)}
 DEFAULT_SAMPLES = 200_000
 DEFAULT_CHUNK = 100_000
+# One chunk is held in memory (q, the positions and the Jacobian rows: under 0.5 GB for seven
+# joints at the cap); the chunks are a tuple here and a task each on Dask, so their number is
+# capped too: at most MAX_CHUNK * MAX_CHUNKS = 10^11 samples, days of CPU time.
+MAX_CHUNK = 1_000_000
+MAX_CHUNKS = 100_000
 ANGLE_BINS = 180
 AZIMUTH_BINS, ELEVATION_BINS = 72, 35  # odd: a bin centred on the horizontal
 GRID_CELLS = 80
@@ -124,6 +129,19 @@ def sample_block(plan: SamplingPlan, index: int) -> np.ndarray:
     return rng.uniform(plan.low, plan.high, size=(size, len(plan.low)))
 
 
+def _check_sizes(samples: int, chunk: int) -> None:
+    """At most :data:`MAX_CHUNK` configurations a chunk and :data:`MAX_CHUNKS` chunks."""
+    if chunk > MAX_CHUNK:
+        raise ParameterError(f"{{chunk}} {chunk:.3g} is over the cap of {MAX_CHUNK:,} (memory)")
+    chunks = -(-samples // chunk)
+    if chunks > MAX_CHUNKS:
+        raise ParameterError(
+            f"{{samples}} {samples:.3g} in chunks of {chunk:,} makes {chunks:.3g} chunks; at "
+            f"most {MAX_CHUNKS:,} chunks of at most {MAX_CHUNK:,} ({{chunk}}), so {{samples}} "
+            f"at most {MAX_CHUNK * MAX_CHUNKS:.0e}"
+        )
+
+
 def plan_sampling(
     model: Model,
     samples: int = DEFAULT_SAMPLES,
@@ -137,6 +155,7 @@ def plan_sampling(
         raise SymkinError(f"plane must be one of {', '.join(PLANES)}, got {plane!r}")
     if samples < 1 or chunk < 1:
         raise SymkinError(f"samples and chunk size must be positive, got {samples} and {chunk}")
+    _check_sizes(samples, chunk)
     lower, upper = joint_bounds(model)
     revolute = np.array([j.type == "revolute" for j in model.robot.joints])
     default = np.where(revolute, np.pi, PRISMATIC_RANGE)
