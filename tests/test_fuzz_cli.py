@@ -515,3 +515,32 @@ def test_generate_keeps_user_file(generate_run: dict) -> None:
     notes = generate_run["root"] / "scara" / "notes.txt"
     assert notes.exists(), _generate_report(generate_run)
     assert notes.read_text() == NOTES, _generate_report(generate_run)
+
+
+@pytest.mark.parametrize(
+    ("key", "expression", "integer"),
+    [
+        ("a", "2**100", 2**100),
+        ("a", "L1*3**60", 3**60),
+        ("d", "(2**60+1)", 2**60 + 1),
+        ("d", "(2**53+2)/3", 2**53 + 2),  # a fraction: its numerator
+        ("a", "L1*2**30*2**24", 2**54),
+    ],
+)
+def test_integer_beyond_2_53_made_by_an_expression(key: str, expression: str, integer: int):
+    """SymPy evaluates integer arithmetic exactly: "2**100" reached C as the integer literal
+    1267650600228229401496703205376 (gcc: 1.49e19, NumPy: 1.27e30).  Held to the 2**53 of a
+    literal: exit 2, one located line naming the integer (computed here in Python)."""
+    joint = f'type = "revolute"\n{key} = "{expression}"\n{LINK}'
+    outcome = run_case(("derive", *derive_argv()[1:]), {"robot.toml": robot_text(joint)})
+    lines = outcome.stderr.strip().splitlines()
+    assert outcome.returncode == 2 and len(lines) == 1, outcome.report()
+    assert f"joint 1: '{key}' holds the integer {integer} (integers beyond 2**53" in lines[0]
+    assert "Traceback" not in outcome.stderr
+
+
+def test_integer_expression_at_2_53_is_allowed() -> None:
+    """2**53 = 9007199254740992 is exact in double precision: the limit is inclusive."""
+    joint = f'type = "revolute"\na = "L1*2**53/2**53"\nd = "2**53"\n{LINK}'
+    outcome = run_case(("show", ROBOT), {"robot.toml": robot_text(joint)})
+    assert outcome.returncode == 0 and "9007199254740992" in outcome.stdout, outcome.report()

@@ -150,13 +150,16 @@ def _check_expression_value(expr: sp.Expr, shown: str, text: str, ctx: Context) 
         raise ctx.error(f"{shown!r} is not finite (division by zero?): {show(text)}")
     # SymPy folds the numbers of a product (L1*1e-300*1e-300 -> 1e-600*L1): every constant
     # left in the formula must be a double, or the C compiler truncates or overflows it.
-    for number in expr.atoms(sp.Number):
+    numbers = expr.atoms(sp.Number)
+    for number in numbers:
         magnitude = abs(number)  # compared exactly: float() would flush 1e-600 to 0
         if magnitude > MAX_MAGNITUDE or (magnitude != 0 and magnitude < MIN_MAGNITUDE):
             raise ctx.error(
                 f"{shown!r} holds the constant {sp.sstr(number.evalf(3))}, outside "
                 f"1e-300..1e300 in magnitude: {show(text)}"
             )
+    for number in numbers:
+        _check_exact_integers(number, shown, text, ctx)
     if not expr.is_number:
         _check_value_at_defaults(expr, shown, text, ctx)
         return
@@ -165,6 +168,19 @@ def _check_expression_value(expr: sp.Expr, shown: str, text: str, ctx: Context) 
         raise ctx.error(
             f"{shown!r} is not a finite real number of magnitude <= 1e300: {show(text)}"
         )
+
+
+def _check_exact_integers(number: sp.Number, shown: str, text: str, ctx: Context) -> None:
+    """SymPy evaluates integer arithmetic exactly ("2**100", "L*3**60"): an integer it makes,
+    or the numerator or denominator of a fraction, is held to the 2**53 of a literal, or the
+    C backend would print an integer literal that overflows."""
+    if not number.is_Rational:
+        return
+    for part in (number.p, number.q):
+        if abs(part) > MAX_EXACT_INTEGER:
+            raise ctx.error(
+                f"{shown!r} holds the integer {part} ({_INEXACT_INTEGER}): {show(text)}"
+            )
 
 
 def _check_value_at_defaults(expr: sp.Expr, shown: str, text: str, ctx: Context) -> None:
