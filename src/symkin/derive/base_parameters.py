@@ -28,9 +28,9 @@ from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
 from symkin.derive.recursion import (
     BarycentricParameters,
-    Recorder,
     barycentric_definitions,
     joint_torques,
+    robot_recorder,
 )
 from symkin.robot import Robot
 
@@ -108,7 +108,7 @@ def _regressor(robot: Robot, kinematics: Kinematics):
     flat = barycentric_symbols(n)
     dq = sp.symbols(f"dq1:{n + 1}", real=True)
     ddq = sp.symbols(f"ddq1:{n + 1}", real=True)
-    recorder = Recorder("b")
+    recorder = robot_recorder(robot, "b")
     links = barycentric_links(flat)
     torque = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, links)
     # All columns of Y in one call: the parameters are passed as the rows of the identity.

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from symkin.derive.recursion import Recorder
+from symkin.derive.recursion import Recorder, robot_recorder
 from symkin.robot import Robot
 from symkin.symbols import joint_symbols
 
@@ -107,10 +107,10 @@ def motor_side_dynamics(
     d3q, d4q = jerk_symbols(robot.dof)
     elastic = robot.elastic_joints
     rates = dict(zip(q, dq, strict=True)) | dict(zip(dq, ddq, strict=True))
-    first = Recorder("dts")
+    first = robot_recorder(robot, "dts")
     rates_first = rates | dict(zip(ddq, d3q, strict=True))
     tau_dot = time_derivative(assignments, list(tau_link), rates_first, first)
-    second = Recorder("ddts")
+    second = robot_recorder(robot, "ddts")
     rates_second = rates_first | dict(zip(d3q, d4q, strict=True))
     tau_ddot = time_derivative(
         (*assignments, *first.assignments),

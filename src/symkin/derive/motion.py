@@ -33,7 +33,7 @@ from functools import cached_property
 import sympy as sp
 
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import Recorder, point_motion_recursion
+from symkin.derive.recursion import Recorder, point_motion_recursion, robot_recorder
 from symkin.errors import SymkinError
 from symkin.robot import Robot
 from symkin.spatial import transform_inverse
@@ -75,7 +75,7 @@ class PointMotion:
 
     @cached_property
     def _recursion(self) -> tuple[Recorder, tuple[sp.Matrix, sp.Matrix, sp.Matrix]]:
-        recorder = Recorder("m")
+        recorder = robot_recorder(self.robot, "m")
         outputs = point_motion_recursion(
             self.robot, self.kinematics, self.link, self.point, recorder, self.dq, self.ddq
         )

@@ -23,6 +23,7 @@ from symkin.derive.recursion import (
     Recorder,
     barycentric_definitions,
     joint_torques,
+    robot_recorder,
 )
 from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.robot import Robot
@@ -39,7 +40,7 @@ def newton_euler_dynamics(
     n = robot.dof
     zeros = [sp.Integer(0)] * n
     no_gravity = [sp.Integer(0)] * 3
-    recorder = Recorder("r")
+    recorder = robot_recorder(robot, "r")
     inertial = base_parameters(robot, kinematics)
     gravity = joint_torques(robot, kinematics, recorder, zeros, zeros, robot.gravity, inertial)
     coriolis = joint_torques(robot, kinematics, recorder, dq, zeros, no_gravity, inertial)
@@ -130,7 +131,7 @@ def inverse_dynamics_recursion(
     """``tau(q, dq, ddq)`` in one recursion (the cheapest form for code), with friction and
     rotor inertia added after it.  Returns the named intermediates and ``tau``.  ``tip``: the
     load of an external wrench as the outer boundary (:func:`symkin.derive.wrench.tip_load`)."""
-    recorder = Recorder("s")
+    recorder = robot_recorder(robot, "s")
     inertial = base_parameters(robot, kinematics)
     rigid = joint_torques(robot, kinematics, recorder, dq, ddq, robot.gravity, inertial, tip)
     rotor = motor_inertia_matrix(robot) * sp.Matrix(ddq)

@@ -49,6 +49,7 @@ import sympy as sp
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics, joint_axis_sign, joint_placement
 from symkin.robot import Link, Robot
+from symkin.symbols import unused_prefix
 
 
 @dataclass(frozen=True)
@@ -164,6 +165,14 @@ class Recorder:
         if key not in self._derivatives:
             self._derivatives[key] = self.derivative(self._definitions[symbol], variable)
         return self._derivatives[key]
+
+
+def robot_recorder(robot: Robot, prefix: str) -> Recorder:
+    """A :class:`Recorder` for ``robot`` whose names ``<prefix><k>`` are none of its parameters:
+    ``prefix`` with ``_`` appended while a parameter is named ``<prefix><digits>``
+    (:func:`symkin.symbols.unused_prefix`; a parameter ``s1`` makes ``s_0, s_1, ...``).  A
+    clash would make the intermediate the parameter itself: same name, same assumptions."""
+    return Recorder(unused_prefix(prefix, (name for name, _ in robot.parameters)))
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ from symkin.derive.base_parameters import (
 )
 from symkin.derive.dynamics import link_inertial_data
 from symkin.derive.kinematics import Kinematics
-from symkin.derive.recursion import Recorder, barycentric_definitions, joint_torques
+from symkin.derive.recursion import barycentric_definitions, joint_torques, robot_recorder
 from symkin.derive.regressor_mass import composite_mass_matrix
 from symkin.errors import RobotError
 from symkin.robot import Link, Robot
@@ -105,7 +105,7 @@ def regressor(robot: Robot, kinematics: Kinematics) -> Regressor:
     n = robot.dof
     dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
     delta = barycentric_symbols(n)
-    recorder = Recorder("y")
+    recorder = robot_recorder(robot, "y")
     torque = joint_torques(
         robot, kinematics, recorder, dq, ddq, robot.gravity, barycentric_links(delta)
     )
@@ -186,7 +186,7 @@ def barycentric_dynamics(robot: Robot, kinematics: Kinematics) -> BarycentricDyn
     n = robot.dof
     dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
     links = barycentric_links(barycentric_symbols(n))
-    torque_recorder, mass_recorder = Recorder("s"), Recorder("s")
+    torque_recorder, mass_recorder = robot_recorder(robot, "s"), robot_recorder(robot, "s")
     torque = sp.Matrix(
         joint_torques(robot, kinematics, torque_recorder, dq, ddq, robot.gravity, links)
     )

@@ -18,6 +18,8 @@ from collections.abc import Mapping, Sequence
 
 import sympy as sp
 
+from symkin.symbols import unused_prefix
+
 Assignments = tuple[tuple[sp.Symbol, sp.Expr], ...]
 
 
@@ -47,6 +49,9 @@ def tangent_assignments(
     """
     tangents: dict[sp.Symbol, sp.Expr] = {s: v for s, v in seeds.items() if v != 0}
     named: list[tuple[sp.Symbol, sp.Expr]] = []
+    # A robot parameter named <prefix><k> would be taken for the intermediate: avoid it.
+    used = {s.name for _, e in assignments for s in e.free_symbols}
+    prefix = unused_prefix(prefix, used | {s.name for m in outputs for s in m.free_symbols})
     for symbol, expr in assignments:
         rate = _directional(expr, tangents)
         if rate == 0:
