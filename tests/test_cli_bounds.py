@@ -135,3 +135,16 @@ def test_trajopt_resampling_rows_are_capped(tmp_path, capsys):
 def test_workspace_sizes_are_capped(capsys, options, words):
     line = one_error(capsys, "workspace", "planar_2r", *options)
     assert all(word in line for word in words), line
+
+
+def test_trajopt_rows_over_a_free_time_are_checked_before_anything_is_written(tmp_path, capsys):
+    """Minimum time: T is known after the solve; the cap is checked before any output."""
+    argv = ["trajopt", "planar_2r", "--from", "0,0", "--to", "1,1", "--min-time"]
+    argv += ["--objective", "time", "--torque-limit", "50"]
+    code = main([*argv, "--out", str(tmp_path / "tj"), "--rate", "1e12"])
+    out, err = capsys.readouterr()
+    errors = [line for line in err.splitlines() if "error" in line]
+    assert code == 2 and out == "" and "Traceback" not in err
+    assert len(errors) == 1 and "--rate 1e+12 over the optimal time" in errors[0]
+    assert "at most 1,000,000 rows" in errors[0]
+    assert not (tmp_path / "tj").exists()

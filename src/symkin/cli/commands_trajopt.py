@@ -190,6 +190,8 @@ def command_trajopt(args: argparse.Namespace) -> None:
     check_problem(model, problem)  # input mistakes before the progress line
     progress(f"setting up and solving the {problem.method} problem with IPOPT ...")
     trajectory = optimal_trajectory(model, problem)
+    if args.rate is not None:  # a free time is known now: check before printing or writing
+        sampled_rows(args.rate, trajectory.final_time, "--rate", "the optimal time")
     if args.json:
         print(json_text(trajectory_json(trajectory)))
     else:
@@ -200,7 +202,6 @@ def command_trajopt(args: argparse.Namespace) -> None:
         )
         paths = write_trajectory(trajectory, args.out, plot=args.plot, functions=functions)
         if args.rate is not None:
-            sampled_rows(args.rate, trajectory.final_time, "--rate", "the optimal time")
             paths += write_resampled(resampled(trajectory, functions, args.rate), args.out)
         if not args.json:
             print(f"wrote {', '.join(str(path) for path in paths)}")
