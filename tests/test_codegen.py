@@ -180,6 +180,21 @@ def test_numpy_batch_equals_loop(gen):
                     assert_close(a[i, j], b, 1e-13, f"{gen.name}.{kernel.name} batch [{i},{j}]")
 
 
+def test_numpy_refuses_vectors_of_the_wrong_length(gen):
+    """One value too many was ignored and one too few raised IndexError; the C extension
+    already refused both.  A batch keeps working."""
+    n = gen.robot.dof
+    for kernel in gen.kernels:
+        function = getattr(gen.numpy, kernel.name)
+        for q in (np.zeros(n + 1), np.zeros(n - 1), np.zeros((3, n + 2))):
+            with pytest.raises(ValueError, match=rf"^q: expected {n} values"):
+                function(q)
+        if gen.p.size:
+            with pytest.raises(ValueError, match=rf"^p: expected {gen.p.size} values"):
+                function(np.zeros(n), np.zeros(gen.p.size + 1))
+        assert len(as_outputs(function(np.zeros((3, n))), kernel)[0]) == 3
+
+
 def test_numpy_parameters_are_used_in_file_order(gen):
     overrides = {n: 0.5 + 0.1 * i for i, (n, _) in enumerate(gen.robot.parameters)}
     p = np.array([overrides[n] for n, _ in gen.robot.parameters])

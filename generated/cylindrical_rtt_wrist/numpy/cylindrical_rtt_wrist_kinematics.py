@@ -35,6 +35,15 @@ DEFAULT_PARAMETERS = numpy.array([0.5, 0.1], dtype=float)
 BLOCK_ROWS = 8192  # a large batch runs in blocks of this many states (see _blocks)
 
 
+def _vector(name, value, size):
+    """``value`` as floats, checked to hold ``size`` values in its last axis (per state, for
+    a batch): a vector of the wrong length is an error, not read short or broadcast."""
+    value = numpy.asarray(value, dtype=float)
+    if value.shape[-1:] != (size,):
+        raise ValueError(f"{name}: expected {size} values (per state), got shape {value.shape}")
+    return value
+
+
 def _blocks(kernel, states, shared, outputs):
     """Run ``kernel(*states, *shared, *outputs)``, which writes into ``outputs``.
 
@@ -95,8 +104,8 @@ def fk(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     T = numpy.zeros(batch + (4, 4))
     _blocks(_fk, (q, ), (p, ), (T, ))
@@ -150,8 +159,8 @@ def position(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns p_tool: tool position in the base frame (3x1), shape (..., 3).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     p_tool = numpy.zeros(batch + (3,))
     _blocks(_position, (q, ), (p, ), (p_tool, ))
@@ -185,8 +194,8 @@ def jacobian(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     J = numpy.zeros(batch + (6, 6))
     _blocks(_jacobian, (q, ), (p, ), (J, ))
@@ -241,8 +250,8 @@ def position_jacobian(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns Jp: dp/dq (3x6), shape (..., 3, 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     Jp = numpy.zeros(batch + (3, 6))
     _blocks(_position_jacobian, (q, ), (p, ), (Jp, ))
@@ -286,8 +295,8 @@ def fk_jacobian(q, p=DEFAULT_PARAMETERS):
     Returns T: pose of the tool in the base frame (4x4), shape (..., 4, 4).
     Returns J: geometric Jacobian (6x6, rows x y z wx wy wz, base frame), shape (..., 6, 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     T = numpy.zeros(batch + (4, 4))
     J = numpy.zeros(batch + (6, 6))
@@ -371,8 +380,8 @@ def det(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns det: det J, shape (..., ).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     det = numpy.zeros(batch + ())
     _blocks(_det, (q, ), (p, ), (det, ))
@@ -394,8 +403,8 @@ def manipulability(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns mu: sqrt(det(J J^T)), shape (..., ).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     mu = numpy.zeros(batch + ())
     _blocks(_manipulability, (q, ), (p, ), (mu, ))
@@ -417,8 +426,8 @@ def mass_matrix(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns M: M(q) (6x6), shape (..., 6, 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     M = numpy.zeros(batch + (6, 6))
     _blocks(_mass_matrix, (q, ), (p, ), (M, ))
@@ -491,8 +500,8 @@ def gravity(q, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns G: G(q) (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     G = numpy.zeros(batch + (6,))
     _blocks(_gravity, (q, ), (p, ), (G, ))
@@ -548,9 +557,9 @@ def coriolis(q, dq, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns c: c = C(q, dq) dq (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    dq = numpy.asarray(dq, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    dq = _vector("dq", dq, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     c = numpy.zeros(batch + (6,))
     _blocks(_coriolis, (q, dq, ), (p, ), (c, ))
@@ -645,9 +654,9 @@ def coriolis_matrix(q, dq, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns C: C(q, dq) (6x6), dM/dt - 2C skew-symmetric, shape (..., 6, 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    dq = numpy.asarray(dq, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    dq = _vector("dq", dq, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     C = numpy.zeros(batch + (6, 6))
     _blocks(_coriolis_matrix, (q, dq, ), (p, ), (C, ))
@@ -754,9 +763,9 @@ def mass_matrix_bias(q, dq, p=DEFAULT_PARAMETERS):
     Returns M: M(q) (6x6), shape (..., 6, 6).
     Returns bias: bias = C dq + G + F, the torques at ddq = 0 (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    dq = numpy.asarray(dq, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    dq = _vector("dq", dq, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     M = numpy.zeros(batch + (6, 6))
     bias = numpy.zeros(batch + (6,))
@@ -902,10 +911,10 @@ def inverse_dynamics(q, dq, ddq, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns tau: tau = M ddq + C dq + G + F (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    dq = numpy.asarray(dq, dtype=float)
-    ddq = numpy.asarray(ddq, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    dq = _vector("dq", dq, 6)
+    ddq = _vector("ddq", ddq, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     tau = numpy.zeros(batch + (6,))
     _blocks(_inverse_dynamics, (q, dq, ddq, ), (p, ), (tau, ))
@@ -1011,9 +1020,9 @@ def wrench_torque(q, wrench, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns tau_w: -J^T w (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    wrench = numpy.asarray(wrench, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    wrench = _vector("wrench", wrench, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     tau_w = numpy.zeros(batch + (6,))
     _blocks(_wrench_torque, (q, wrench, ), (p, ), (tau_w, ))
@@ -1059,9 +1068,9 @@ def static_torque(q, wrench, p=DEFAULT_PARAMETERS):
     p: parameters (d1, d6; SI units, angles in rad), 2 values.
     Returns tau_s: G - J^T w (6x1), shape (..., 6).
     """
-    q = numpy.asarray(q, dtype=float)
-    wrench = numpy.asarray(wrench, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    wrench = _vector("wrench", wrench, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     tau_s = numpy.zeros(batch + (6,))
     _blocks(_static_torque, (q, wrench, ), (p, ), (tau_s, ))
@@ -1149,9 +1158,9 @@ def energy(q, dq, p=DEFAULT_PARAMETERS):
     Returns potential: potential energy V = -sum m_i g^T p_ci, shape (..., ).
     Returns lagrangian: Lagrangian L = T - V, shape (..., ).
     """
-    q = numpy.asarray(q, dtype=float)
-    dq = numpy.asarray(dq, dtype=float)
-    p = numpy.asarray(p, dtype=float)
+    q = _vector("q", q, 6)
+    dq = _vector("dq", dq, 6)
+    p = _vector("p", p, 2)
     batch = q.shape[:-1]
     kinetic = numpy.zeros(batch + ())
     potential = numpy.zeros(batch + ())
@@ -1233,8 +1242,8 @@ def forward_dynamics(q, dq, tau, p=DEFAULT_PARAMETERS):
 
     c + G + F is the inverse dynamics at ddq = 0; shapes as for inverse_dynamics.
     """
-    q = numpy.asarray(q, dtype=float)
+    q = _vector("q", q, DOF)
     extra = {}
     mass, bias = mass_matrix_bias(q, dq, p, **extra)
-    rhs = numpy.asarray(tau, dtype=float) - bias
+    rhs = _vector("tau", tau, DOF) - bias
     return numpy.linalg.solve(mass, rhs[..., None])[..., 0]
