@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from codegen_helpers import import_path, write_tree
+from symkin.errors import RobotError
 from symkin.generate import files_for_robot
 from symkin.io import robot_from_toml
 
@@ -107,3 +108,12 @@ def test_a_parameter_named_like_an_intermediate_gives_the_numbers_of_the_arm_wit
     for kernel in KERNELS:
         for got, expected in zip(outputs(module, kernel), outputs(reference, kernel), strict=True):
             np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-12, err_msg=kernel)
+
+
+@pytest.mark.parametrize(("name", "link"), [("m1", 1), ("xx2", 2), ("mz3", 3), ("fv2", 2)])
+def test_a_parameter_named_like_a_regressor_column_is_a_robot_error(name, link) -> None:
+    """The identification kernels name their columns xx<i> .. m<i>, ia<i>, fv<i>, fc<i>: a
+    parameter of that name was a NameError inside the derivation (an internal error)."""
+    robot = robot_from_toml(rrp_arm(name), "arm.toml")
+    with pytest.raises(RobotError, match=rf"arm.toml: parameter '{name}' .* of link {link}"):
+        files_for_robot(robot, ("numpy",), regressor=True)

@@ -22,6 +22,7 @@ the robot file's centre-of-mass form costs.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -98,10 +99,31 @@ def _drive_columns(
     ]  # fmt: skip
 
 
+# The names of Y's columns: PARAMETER_NAMES and the drive columns of _drive_columns, per link.
+DRIVE_NAMES = ("ia", "fv", "fc", "fcp", "fcn")
+_COLUMN_NAME = re.compile(rf"({'|'.join(PARAMETER_NAMES + DRIVE_NAMES)})([0-9]+)")
+
+
+def check_column_names(robot: Robot) -> None:
+    """A parameter named like a column of ``Y`` (``m1``, ``xx2``, ``fv3``) would be that
+    column's symbol in the derivation and a second variable of that name in generated code:
+    a :class:`RobotError` naming it."""
+    for name, _ in robot.parameters:
+        match = _COLUMN_NAME.fullmatch(name)
+        if match and 1 <= int(match.group(2)) <= robot.dof:
+            where = f"{robot.file}: " if robot.file else ""
+            raise RobotError(
+                f"{where}parameter {name!r} has the name of a barycentric or drive parameter "
+                f"of link {int(match.group(2))}, a column of the identification kernels; "
+                "rename it"
+            )
+
+
 @lru_cache(maxsize=16)
 def regressor(robot: Robot, kinematics: Kinematics) -> Regressor:
     """``Y`` of the robot: per link the columns of :data:`PARAMETER_NAMES`, then its joint's
     drive columns (module docstring)."""
+    check_column_names(robot)
     n = robot.dof
     dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
     delta = barycentric_symbols(n)
@@ -183,6 +205,7 @@ def barycentric_dynamics(robot: Robot, kinematics: Kinematics) -> BarycentricDyn
     """``tau`` and ``M`` of the recursion run on the symbols of :func:`parameter_symbols`
     (the class docstring): the drive parameters add ``ia_i ddq_i``, ``fv_i dq_i`` and the
     Coulomb terms to ``tau_i``, and ``ia_i`` to ``M_ii``."""
+    check_column_names(robot)
     n = robot.dof
     dq, ddq = joint_symbols(n, "dq"), joint_symbols(n, "ddq")
     links = barycentric_links(barycentric_symbols(n))
