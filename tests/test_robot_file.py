@@ -987,3 +987,17 @@ def test_random_expressions_give_a_value_or_a_robot_error(text: str) -> None:
         {"type": "revolute", "a": text, "alpha": text, "link": {"mass": text}}
     ]}  # fmt: skip
     loads_or_robot_error(to_toml(doc))
+
+
+def test_a_name_longer_than_the_limit_is_refused_at_load() -> None:
+    """A 301-character name loaded and failed only when a file named after it was written."""
+    text = f'name = "{"a" * 65}"\n[[joints]]\ntype = "revolute"\n'
+    with pytest.raises(RobotError, match=r"^long\.toml: 'name' has 65 characters; at most 64"):
+        robot_from_toml(text, "long.toml")
+    assert robot_from_toml(text.replace("a" * 65, "a" * 64), "ok.toml").name == "a" * 64
+
+
+def test_a_byte_order_mark_is_dropped(tmp_path: Path) -> None:
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + b'name = "bom"\n[[joints]]\ntype = "revolute"\n')
+    assert load_robot(path).name == "bom"

@@ -253,3 +253,10 @@ def test_cli_asks_for_missing_inertials_naming_the_file(tmp_path, capsys):
         f"symkin: error: {path}: bare_cli has no inertial data for m1"
     )
     assert len(err.strip().splitlines()) == 1
+
+
+def test_a_long_robot_name_is_shortened_to_the_limit():
+    robot = robot_from_urdf(
+        TWO_LINK.replace('robot name="two_link"', f'robot name="{"R" * 300}"'), "u.urdf"
+    )
+    assert robot.name == "r" * 58  # 64 characters less room for the "_robot" suffix

@@ -39,6 +39,9 @@ Convention = Literal["standard", "modified", "placement"]
 CONVENTIONS: tuple[str, ...] = ("standard", "modified", "placement")
 
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
+# A robot's name starts file names (<name>_ik_closed.h, a staging folder's name) and C
+# symbols; file systems allow 255 bytes per name, so keep it well short of that.
+MAX_NAME_LENGTH = 64
 DEFAULT_GRAVITY: tuple[sp.Expr, sp.Expr, sp.Expr] = (
     sp.Integer(0),
     sp.Integer(0),

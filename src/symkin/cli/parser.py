@@ -221,7 +221,7 @@ def add_eval(commands: Commands) -> None:
         "--dynamics",
         action="store_true",
         help="add M, c, G, tau and the energies T, V, L (c, T and L need --dq, tau --dq and "
-        "--ddq); links without inertial data need --set m1=...,cx1=...",
+        "--ddq); links without inertial data need --set m1=... --set cx1=... (one --set each)",
     )
     evaluate.add_argument(
         "--wrench",

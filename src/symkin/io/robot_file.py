@@ -40,7 +40,7 @@ from symkin.io.robot_tables import (
 )
 from symkin.io.urdf import robot_from_urdf
 from symkin.names import robot_name_reason
-from symkin.robot import NAME_PATTERN, Robot
+from symkin.robot import MAX_NAME_LENGTH, NAME_PATTERN, Robot
 from symkin.symbols import parameter_symbol
 
 __all__ = ["catalogue_names", "load_robot", "robot_from_toml"]
@@ -135,7 +135,7 @@ def _load_path(path: Path, shown: str, tip: str | None = None, base: str | None 
     if _is_urdf(path):
         return robot_from_urdf(data, shown, tip=tip, base=base)
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark some editors write is dropped
     except UnicodeDecodeError:
         raise RobotError(f"{shown}: the file is not UTF-8 text") from None
     return robot_from_toml(text, shown)
@@ -240,6 +240,11 @@ def _robot_name(document: Mapping[str, Any], ctx: Context) -> str:
     name = document["name"]
     if not isinstance(name, str) or not NAME_PATTERN.match(name):
         raise ctx.error(f"'name' must match [a-z][a-z0-9_]*, got {show(name)}")
+    if len(name) > MAX_NAME_LENGTH:
+        raise ctx.error(
+            f"'name' has {len(name)} characters; at most {MAX_NAME_LENGTH} (it starts the "
+            "generated files' names and C symbols)"
+        )
     reason = robot_name_reason(name)
     if reason:
         raise ctx.error(f"'name' {show(name)} is reserved ({reason}); rename the robot")

@@ -50,7 +50,7 @@ from symkin.io.placement import (
 from symkin.io.urdf_checks import check_urdf_model
 from symkin.io.urdf_inertia import body_link
 from symkin.names import robot_name_reason
-from symkin.robot import NAME_PATTERN, Joint, Link, Robot
+from symkin.robot import MAX_NAME_LENGTH, NAME_PATTERN, Joint, Link, Robot
 from symkin.spatial import rotation_from_rpy, transform_from_rotation_translation
 
 __all__ = ["robot_from_urdf"]
@@ -351,10 +351,12 @@ def _joint_names(joints: Sequence[Any]) -> dict[str, str | None]:
 
 
 def _robot_name(urdf_name: str | None) -> str:
-    """The URDF's robot name made a symkin robot name (``[a-z][a-z0-9_]*``, not reserved)."""
+    """The URDF's robot name made a symkin robot name (``[a-z][a-z0-9_]*``, not reserved, at
+    most ``MAX_NAME_LENGTH`` characters)."""
     name = re.sub(r"[^a-z0-9_]", "_", (urdf_name or "robot").lower())
     if not NAME_PATTERN.match(name):
         name = f"robot_{name}"
+    name = name[: MAX_NAME_LENGTH - len("_robot")]
     if robot_name_reason(name):
         name = f"{name}_robot"
     return name
