@@ -65,7 +65,7 @@ def test_time_limit_stops_a_derivation_too_large_for_it(tmp_path: Path):
     *warnings, error = done.stderr.strip().splitlines()
     assert error == (
         f"symkin: error: show {robot}: stopped at the time limit of 3 s (--time-limit SECONDS, "
-        "0 for none); the closed form is too large for this budget"
+        "0 for none); the derivation or the task is too large for it"
     )
     # Before the limit, the size guards may say what they skipped (one line each).
     assert all(line.startswith("symkin: warning: chain20: ") for line in warnings), warnings

@@ -158,6 +158,10 @@ BAD = {
         urdf(link("a"), link("b"), joint("j", "a", "b", kind="floating")),
         "joint 'j' is floating",
     ),
+    "negative-effort": (
+        TWO_LINK.replace('effort="30"', 'effort="-1"', 1),
+        "joint 'shoulder': <limit effort> must be positive (0: not given), got -1",
+    ),
     "planar": (urdf(link("a"), link("b"), joint("j", "a", "b", kind="planar")),
                "joint 'j' is planar"),
     "mimic": (

@@ -75,7 +75,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except TimeLimitReached:
         print(
             f"symkin: error: {subject}: stopped at the time limit of {args.time_limit:g} s "
-            "(--time-limit SECONDS, 0 for none); the closed form is too large for this budget",
+            "(--time-limit SECONDS, 0 for none); the derivation or the task is too large for it",
             file=sys.stderr,
         )
         return 2

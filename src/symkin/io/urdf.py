@@ -288,8 +288,8 @@ def _placed_joints(
                 limits=limits,
                 link=link,
                 placement=sp.ImmutableMatrix(fixed),
-                max_velocity=_positive(joint, "velocity"),
-                max_effort=_positive(joint, "effort"),
+                max_velocity=_positive(tree.file, joint, "velocity"),
+                max_effort=_positive(tree.file, joint, "effort"),
             )
         )
         axes.append(axis)
@@ -321,8 +321,15 @@ def _limits(joint: Any) -> tuple[float, float] | None:
     return (low, high) if low < high else None
 
 
-def _positive(joint: Any, key: str) -> float | None:
+def _positive(file: str, joint: Any, key: str) -> float | None:
+    """``<limit velocity>`` or ``effort``: ``None`` when absent or 0 (URDF files write 0 for
+    "not given"); a negative value is an error, not dropped."""
     value = None if joint.limit is None else getattr(joint.limit, key, None)
+    if value is not None and float(value) < 0:
+        raise RobotError(
+            f"{file}: joint {joint.name!r}: <limit {key}> must be positive (0: not given), "
+            f"got {float(value):g}"
+        )
     return float(value) if value is not None and float(value) > 0 else None
 
 
