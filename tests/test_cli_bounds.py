@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 
 from symkin.cli import main
+from symkin.errors import SymkinError
 
 # planar_2r's logged columns; the values do not matter, every case fails before the fit.
 LOG_COLUMNS = "q1,q2,dq1,dq2,ddq1,ddq2,tau1,tau2"
@@ -88,8 +89,8 @@ def test_braces_in_a_header_are_data_not_a_message_template(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("options", "words"),
     [
-        (("--rate", "1e12"), ("--rate 1e+12 over --period 10 s", "1,000,000 rows")),
-        (("--period", "1e12"), ("--rate 100 over --period 1e+12 s", "1,000,000 rows")),
+        (("--rate", "1e12"), ("--rate 1e+12 over --period 10 s", "at most 1,000,000")),
+        (("--period", "1e12"), ("--rate 100 over --period 1e+12 s", "at most 1,000,000")),
         (("--rate", "0"), ("--rate: expected a positive finite number",)),
         (("--period", "-1"), ("--period: a positive number of seconds", "got -1")),
         (("--simulate", "--noise", "-1"), ("--noise", ">= 0", "got -1")),
@@ -119,7 +120,7 @@ def test_excitation_sizes_and_noise_are_checked_first(tmp_path, capsys, options,
 def test_trajopt_resampling_rows_are_capped(tmp_path, capsys):
     argv = ["trajopt", "planar_2r", "--from", "0,0", "--to", "1,1", "--time", "2"]
     line = one_error(capsys, *argv, "--out", str(tmp_path / "tj"), "--rate", "1e12")
-    assert "--rate 1e+12 over --time 2 s gives 2e+12 rows; at most 1,000,000" in line
+    assert "--rate 1e+12 over --time 2 s is 2,000,000,000,000 samples; at most 1,000,000" in line
     assert not Path(tmp_path / "tj").exists()
 
 
@@ -146,5 +147,15 @@ def test_trajopt_rows_over_a_free_time_are_checked_before_anything_is_written(tm
     errors = [line for line in err.splitlines() if "error" in line]
     assert code == 2 and out == "" and "Traceback" not in err
     assert len(errors) == 1 and "--rate 1e+12 over the optimal time" in errors[0]
-    assert "at most 1,000,000 rows" in errors[0]
+    assert "samples; at most 1,000,000" in errors[0]
     assert not (tmp_path / "tj").exists()
+
+
+def test_the_row_cap_allows_what_the_docs_promise() -> None:
+    """The docs: --period x --rate (or --rate x T) at most 10^6 samples; the table has one row
+    more (both ends), and that is allowed."""
+    from symkin.cli.values import sampled_rows
+
+    assert sampled_rows(100.0, 10_000.0, "--rate", "--period") == 1_000_001
+    with pytest.raises(SymkinError, match="is 1,000,100 samples; at most 1,000,000"):
+        sampled_rows(100.0, 10_001.0, "--rate", "--period")

@@ -120,3 +120,8 @@ def test_set_takes_deg_for_an_angle_parameter_only(tmp_path: Path, capsys) -> No
     radians = str(30 * 3.141592653589793 / 180)
     assert main(["eval", str(robot), "--q", "0.2,0.4", "--set", f"beta={radians}", "--json"]) == 0
     assert capsys.readouterr().out == in_degrees
+
+
+def test_set_deg_on_an_unknown_name_says_the_name_is_unknown(capsys) -> None:
+    assert main(["eval", "planar_2r", "--q", "0,0", "--set", "L9=30deg"]) == 2
+    assert "unknown parameter" in capsys.readouterr().err

@@ -117,3 +117,10 @@ def test_a_parameter_named_like_a_regressor_column_is_a_robot_error(name, link) 
     robot = robot_from_toml(rrp_arm(name), "arm.toml")
     with pytest.raises(RobotError, match=rf"arm.toml: parameter '{name}' .* of link {link}"):
         files_for_robot(robot, ("numpy",), regressor=True)
+
+
+def test_a_name_with_a_leading_zero_is_not_a_regressor_column() -> None:
+    """``m01`` is no column's name (the columns are m1, m2, ...): it derives."""
+    robot = robot_from_toml(rrp_arm("m01"), "arm.toml")
+    files = files_for_robot(robot, ("numpy",), regressor=True)
+    assert any(path.endswith(".py") for path in files)

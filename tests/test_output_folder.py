@@ -226,9 +226,35 @@ def test_a_pipe_or_a_link_to_one_is_not_replaced_by_a_file(tmp_path, kind, capsy
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted({"pipe", target.name})
 
 
-@pytest.mark.parametrize("command", [["derive", "planar_2r", "--emit", "c"], ["urdf", "planar_2r"]])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["derive", "planar_2r", "--emit", "c", "--out", "/"],
+        ["trajopt", "planar_2r", "--from", "0,0", "--to", "1,1", "--time", "2", "--out", "/"],
+    ],
+)
 def test_the_file_system_root_is_refused_as_an_output_folder(command, capsys):
-    option = ["--out", "/"] if command[0] == "derive" else ["-o", "/planar_2r.urdf"]
-    assert main([*command, *option]) == 2
+    assert main(command) == 2
     assert "file system's root" in capsys.readouterr().err
-    assert not Path("/planar_2r.urdf").exists() and not Path("/c").exists()
+    assert not Path("/c").exists() and not Path("/trajectory.csv").exists()
+
+
+def test_a_file_named_in_the_root_folder_is_written_beside_the_others(tmp_path, monkeypatch):
+    """Only an output *folder* at the root is refused: a single file named relative to a
+    working folder (any folder, the root of a container among them) is written there."""
+    monkeypatch.chdir(tmp_path)
+    assert output_folder.replace_file(Path("."), "one.txt", "text\n") == Path("one.txt")
+    assert (tmp_path / "one.txt").read_text(encoding="utf-8") == "text\n"
+
+
+def test_a_link_into_proc_is_refused_even_when_it_ends_at_a_regular_file(tmp_path, capsys):
+    """``--csv /dev/stdout > out.csv``: the chain /dev/stdout -> /proc/self/fd/1 ends at the
+    regular file out.csv, and renaming over the link would replace /dev/stdout itself."""
+    real = tmp_path / "real.csv"
+    real.write_text("mine\n", encoding="utf-8")
+    link = tmp_path / "stdout"
+    with open(real, "a", encoding="utf-8") as handle:
+        link.symlink_to(f"/proc/{os.getpid()}/fd/{handle.fileno()}")
+        assert main(["workspace", "planar_2r", "--samples", "100", "--csv", str(link)]) == 2
+    assert "not a regular file" in capsys.readouterr().err
+    assert link.is_symlink() and real.read_text(encoding="utf-8") == "mine\n"

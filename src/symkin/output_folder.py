@@ -110,15 +110,32 @@ def _check_regular(target: Path) -> None:
     except FileNotFoundError:
         return
     if stat.S_ISLNK(mode):
-        try:
-            mode = target.stat().st_mode
-        except OSError:  # a dangling link: replaced by the file, as any link
-            return
+        # /dev/stdout -> /proc/self/fd/1 ends at whatever stdout is, a regular file when
+        # redirected: a chain through the system's device or process tree counts as a device.
+        if _through_devices(target):
+            mode = stat.S_IFCHR
+        else:
+            try:
+                mode = target.stat().st_mode
+            except OSError:  # a dangling link: replaced by the file, as any link
+                return
     if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
         raise SymkinError(
             f"refusing to write {target}: it is a device, pipe or socket (or a link to one), "
             "not a regular file; give a file name"
         )
+
+
+def _through_devices(link: Path, hops: int = 40) -> bool:
+    """Whether the chain of links from ``link`` passes through ``/dev`` or ``/proc``."""
+    path = link
+    for _ in range(hops):
+        if not path.is_symlink():
+            return False
+        path = path.parent / os.readlink(path)
+        if path.parts[1:2] in (("dev",), ("proc",)) and path.is_absolute():
+            return True
+    return True  # a loop of links: nothing a file should replace
 
 
 def _write_new(path: Path, content: str | bytes) -> None:
@@ -233,7 +250,6 @@ def replace_file(root: Path, relative: str, content: str | bytes) -> Path:
     """Write one file that no manifest tracks (a PDF and its log beside the document): to a
     temporary name, then renamed into place, never through a link."""
     check_relative(relative)
-    check_output_root(root)
     check_no_symlink(root, PurePosixPath(relative))
     target = root / relative
     _check_regular(target)  # before the content is written beside it

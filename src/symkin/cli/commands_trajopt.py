@@ -4,6 +4,7 @@ and the command, a thin layer over :func:`symkin.solve.trajopt.optimal_trajector
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from symkin.cli.report import json_text, progress
 from symkin.cli.values import (
@@ -17,6 +18,7 @@ from symkin.cli.values import (
 )
 from symkin.derive import derive
 from symkin.errors import SymkinError
+from symkin.output_folder import check_output_root
 from symkin.robot import Robot
 from symkin.solve.trajopt import (
     DEFAULT_TOLERANCE,
@@ -183,6 +185,8 @@ def command_trajopt(args: argparse.Namespace) -> None:
         raise SymkinError("--plot needs --out DIR, the folder for trajectory.png")
     if args.rate is not None and (args.out is None or not args.rate > 0):
         raise SymkinError("--rate needs --out DIR and a positive number of samples per second")
+    if args.out is not None:
+        check_output_root(Path(args.out))  # before the solve, not after it
     problem = problem_from_args(args, robot)
     if args.rate is not None and problem.final_time is not None:
         sampled_rows(args.rate, problem.final_time, "--rate", "--time")

@@ -136,7 +136,8 @@ def parameter_overrides(items: Sequence[str], robot: Robot) -> dict[str, float]:
             raise SymkinError(f"--set: expected NAME=VALUE, got {item!r}")
         if value.strip().endswith("deg"):
             angles = angle_parameters(robot) if angles is None else angles
-            if name not in angles:
+            known = any(name == parameter for parameter, _ in robot.parameters)
+            if known and name not in angles:  # an unknown name is said where all are checked
                 raise SymkinError(
                     f"--set {name}: 'deg' is for a parameter that is an angle of the robot "
                     f"(alpha, theta, rpy); {name} is not one: give its value in SI units"
@@ -245,17 +246,16 @@ def seconds_from_text(text: str, option: str) -> float:
 def sampled_rows(rate: float, seconds: float, rate_option: str, time_option: str) -> int:
     """The rows of a table sampled at ``rate`` Hz over ``seconds`` (both ends: ``seconds *
     rate + 1``); a :class:`SymkinError` naming the options when either is not a positive
-    finite number or the table would exceed :data:`MAX_ROWS`."""
+    finite number or ``rate * seconds`` exceeds :data:`MAX_ROWS`."""
     for value, option in ((rate, rate_option), (seconds, time_option)):
         if not (math.isfinite(value) and value > 0):
             raise SymkinError(f"{option}: expected a positive finite number, got {value:g}")
-    rows = math.floor(seconds * rate) + 1
-    if rows > MAX_ROWS:
+    if seconds * rate > MAX_ROWS:  # the docs' "rate x time at most 10^6 samples"
         raise SymkinError(
-            f"{rate_option} {rate:g} over {time_option} {seconds:g} s gives {rows:.3g} rows; "
-            f"at most {MAX_ROWS:,} rows (lower {rate_option} or {time_option})"
+            f"{rate_option} {rate:g} over {time_option} {seconds:g} s is {seconds * rate:,.0f} "
+            f"samples; at most {MAX_ROWS:,} (lower {rate_option} or {time_option})"
         )
-    return rows
+    return math.floor(seconds * rate) + 1
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:

@@ -101,7 +101,7 @@ def _drive_columns(
 
 # The names of Y's columns: PARAMETER_NAMES and the drive columns of _drive_columns, per link.
 DRIVE_NAMES = ("ia", "fv", "fc", "fcp", "fcn")
-_COLUMN_NAME = re.compile(rf"({'|'.join(PARAMETER_NAMES + DRIVE_NAMES)})([0-9]+)")
+_COLUMN_NAME = re.compile(rf"({'|'.join(PARAMETER_NAMES + DRIVE_NAMES)})([1-9][0-9]*)")
 
 
 def check_column_names(robot: Robot) -> None:
