@@ -254,7 +254,12 @@ def test_a_link_into_proc_is_refused_even_when_it_ends_at_a_regular_file(tmp_pat
     real.write_text("mine\n", encoding="utf-8")
     link = tmp_path / "stdout"
     with open(real, "a", encoding="utf-8") as handle:
-        link.symlink_to(f"/proc/{os.getpid()}/fd/{handle.fileno()}")
-        assert main(["workspace", "planar_2r", "--samples", "100", "--csv", str(link)]) == 2
-    assert "not a regular file" in capsys.readouterr().err
-    assert link.is_symlink() and real.read_text(encoding="utf-8") == "mine\n"
+        fd = f"proc/{os.getpid()}/fd/{handle.fileno()}"
+        # absolute, and relative with ".." up to the root (not normalised by the link)
+        for text in (f"/{fd}", "../" * len(tmp_path.parts) + fd):
+            link.unlink(missing_ok=True)
+            link.symlink_to(text)
+            argv = ["workspace", "planar_2r", "--samples", "100", "--csv", str(link)]
+            assert main(argv) == 2, text
+            assert "not a regular file" in capsys.readouterr().err
+            assert link.is_symlink() and real.read_text(encoding="utf-8") == "mine\n"

@@ -132,7 +132,7 @@ def _through_devices(link: Path, hops: int = 40) -> bool:
     for _ in range(hops):
         if not path.is_symlink():
             return False
-        path = path.parent / os.readlink(path)
+        path = Path(os.path.normpath(path.parent / os.readlink(path)))  # "../../proc/..." too
         if path.parts[1:2] in (("dev",), ("proc",)) and path.is_absolute():
             return True
     return True  # a loop of links: nothing a file should replace
