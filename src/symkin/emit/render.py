@@ -53,18 +53,16 @@ def parameter_context(
 def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] | None:
     """What the forward-dynamics template needs, or ``None`` without dynamics kernels.
 
-    Forward dynamics is composed from the ``mass_matrix`` and ``inverse_dynamics`` kernels
-    (or from ``mass_matrix_bias``, see ``bias``); ``pi`` is the number of inertial symbols
-    they take (0: the file gives all the data);
+    Forward dynamics takes M and the torques at ``ddq = 0`` from the ``mass_matrix_bias``
+    kernel (one CSE, sin and cos shared), which the dynamics kernels always include; ``pi`` is
+    the number of inertial symbols they take (0: the file gives all the data);
     ``derivatives`` is 1 when the ``inverse_dynamics_derivatives`` kernel is there too, so
     the forward dynamics' derivatives are composed as well (``-M^-1 dtau/dx``, ``M^-1``).
     ``elastic``: 0-based indices of the elastic joints, whose 2n-state forward dynamics also
     uses ``elastic_constants`` (empty for a rigid robot: no elastic code is printed).
-    ``bias`` is 1 when the ``mass_matrix_bias`` kernel is there: M and the torques at
-    ``ddq = 0`` then come from that one kernel (one CSE, sin and cos shared) instead of two.
     """
     names = {k.name: k for k in kernels}
-    if not {"mass_matrix", "inverse_dynamics"} <= names.keys():
+    if not {"mass_matrix", "mass_matrix_bias", "inverse_dynamics"} <= names.keys():
         return None
     inputs = {i.name: i for i in names["inverse_dynamics"].inputs}
     elastic: list[int] = []
@@ -74,7 +72,6 @@ def forward_dynamics_context(kernels: tuple[Kernel, ...]) -> dict[str, object] |
     return {
         "pi": len(inputs["pi"].symbols) if "pi" in inputs else 0,
         "derivatives": int("inverse_dynamics_derivatives" in names),
-        "bias": int("mass_matrix_bias" in names),
         "elastic": elastic,
     }
 
