@@ -175,13 +175,8 @@ def base_parameters(
     folding = base_parameter_folding(robot, kinematics)
     if folding is None:
         return None
-    delta = np.array(
-        [
-            float(barycentric_definitions(link_inertial_data(robot, i))[name])
-            for i in range(robot.dof)
-            for name in PARAMETER_NAMES
-        ]
-    )
+    links = [barycentric_definitions(link_inertial_data(robot, i)) for i in range(robot.dof)]
+    delta = np.array([float(link[name]) for link in links for name in PARAMETER_NAMES])
     beta = folding.beta(delta)
     # Each value is rounded relative to itself (the shortest decimal within SNAP of its own
     # size), never relative to the largest parameter: one large first moment must not coarsen
