@@ -107,19 +107,13 @@ def _check_regular(target: Path) -> None:
     plain file in its place."""
     try:
         mode = target.lstat().st_mode
-    except FileNotFoundError:
-        return
-    if stat.S_ISLNK(mode):
         # /dev/stdout -> /proc/self/fd/1 ends at whatever stdout is, a regular file when
         # redirected: a chain through the system's device or process tree counts as a device.
-        if _through_devices(target):
-            mode = stat.S_IFCHR
-        else:
-            try:
-                mode = target.stat().st_mode
-            except OSError:  # a dangling link: replaced by the file, as any link
-                return
-    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        if stat.S_ISLNK(mode) and not _through_devices(target):
+            mode = target.stat().st_mode
+    except OSError:  # nothing there, or a dangling link: replaced by the file, as any link
+        return
+    if stat.S_ISLNK(mode) or not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
         raise SymkinError(
             f"refusing to write {target}: it is a device, pipe or socket (or a link to one), "
             "not a regular file; give a file name"
@@ -252,7 +246,6 @@ def replace_file(root: Path, relative: str, content: str | bytes) -> Path:
     check_relative(relative)
     check_no_symlink(root, PurePosixPath(relative))
     target = root / relative
-    _check_regular(target)  # before the content is written beside it
     temporary = target.with_name(f".{target.name}.symkin-{secrets.token_hex(4)}")
     try:
         _write_new(temporary, content)
