@@ -26,6 +26,7 @@ from symkin.solve.identify_data import FILTER_ORDER, filtered_samples, logged_sa
 from symkin.solve.identify_excite import (
     Excitation,
     check_excitation,
+    check_noise,
     exciting_trajectory,
     simulated_torques,
 )
@@ -158,8 +159,8 @@ def _excite(args: argparse.Namespace, model) -> None:
         raise SymkinError("--excite writes the trajectory to --out FILE.csv")
     check_excitation(args.harmonics, args.period)
     sampled_rows(args.rate, args.period, "--rate", "--period")
-    if args.simulate and not (np.isfinite(args.noise) and args.noise >= 0):
-        raise SymkinError(f"--noise: a standard deviation >= 0 (N m, N), got {args.noise:g}")
+    if args.simulate:
+        check_noise(args.noise)  # before the optimisation, not after it
     velocity = limit_values(args.velocity_limit, "--velocity-limit", robot, rates=True)
     progress(f"optimising a {args.harmonics}-harmonic motion of period {args.period:g} s ...")
     excitation = exciting_trajectory(

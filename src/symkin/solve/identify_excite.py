@@ -79,6 +79,13 @@ def check_excitation(harmonics: int, period: float) -> None:
         raise ParameterError(f"{{period}}: a positive number of seconds, got {period:g}")
 
 
+def check_noise(noise: float) -> None:
+    """A :class:`ParameterError` unless the torque noise is a standard deviation >= 0 (called
+    by :func:`simulated_torques`)."""
+    if not (np.isfinite(noise) and noise >= 0):
+        raise ParameterError(f"{{noise}}: a standard deviation >= 0 (N m, N), got {noise:g}")
+
+
 def exciting_trajectory(
     model: Model,
     harmonics: int = 5,
@@ -191,6 +198,7 @@ def simulated_torques(
 ) -> np.ndarray:
     """``tau`` of the robot file's model along a motion (N x n), plus Gaussian noise of
     standard deviation ``noise`` (N m or N): simulated measurements to try identification on."""
+    check_noise(noise)
     if any(j.link is None for j in model.robot.joints):
         raise ParameterError(
             f"{model.robot.name}: simulating torques needs inertial data for every link"
